@@ -1,0 +1,33 @@
+//! # gbsurf
+//!
+//! Smooth, exact surfaces made of n-sided Generalized Bézier (GB) patches from polygon control
+//! meshes, with tangent-plane (G1) continuity between patches; exact offsets of curves and surfaces
+//! (PH curves, PN surfaces).
+//!
+//! Layers, each depending only on the ones above it in this list:
+//! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers.
+//! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed 001).
+//! - [`gb`]: the n-sided domain, Wachspress coordinates, the GB patch and its ribbon-only (CGB)
+//!   variant, degree elevation, the `.gbp` format, per-(n, d, r) weight tables (seeds 000, 002).
+//! - [`mesh`]: polygon meshes, half-edge topology, validation and file I/O.
+//! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
+//! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
+//! - [`tessellate`]: watertight sampling of all patches into triangle meshes through sinks.
+//! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
+//! - [`offset`]: PH curves and PN surfaces (seeds 003/004).
+//! - [`ffi`]: the C ABI, the only module with `unsafe`.
+
+#[macro_use]
+pub mod tol;
+
+pub mod bezier;
+pub mod construct;
+pub mod ffi;
+pub mod gb;
+pub mod mesh;
+pub mod offset;
+pub mod quality;
+pub mod subdiv;
+pub mod tessellate;
+
+pub use glam::{DVec2, DVec3};

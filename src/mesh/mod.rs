@@ -1,0 +1,74 @@
+//! Polygon meshes: plain face lists ([`PolyMesh`]), triangle output ([`TriMesh`]) and the
+//! [`MeshSink`] trait through which algorithms emit triangles; half-edge topology, validation and
+//! file I/O live in submodules.
+
+use glam::DVec3;
+use std::io::{self, Write};
+
+/// A polygon mesh as plain face lists: the exchange type between layers.
+/// Faces are counter-clockwise seen from outside; indices are 0-based into `positions`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PolyMesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Faces as vertex-index loops (3 or more entries each).
+    pub faces: Vec<Vec<u32>>,
+}
+
+impl PolyMesh {
+    /// A mesh from positions and faces (no validation here; see the validation module).
+    pub fn new(positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Self {
+        Self { positions, faces }
+    }
+}
+
+/// Receives an output triangle mesh piece by piece. Algorithms write through this trait and never
+/// own the output format (OBJ/PLY/STL writers, C ABI buffers, OpenMesh, Blender all implement it
+/// or consume a [`TriMesh`]).
+pub trait MeshSink {
+    /// Adds a vertex with its unit normal and returns its index.
+    fn add_vertex(&mut self, position: DVec3, normal: DVec3) -> u32;
+    /// Adds a counter-clockwise triangle of earlier vertex indices.
+    fn add_triangle(&mut self, tri: [u32; 3]);
+}
+
+/// A triangle mesh with per-vertex normals: the simplest [`MeshSink`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriMesh {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl MeshSink for TriMesh {
+    fn add_vertex(&mut self, position: DVec3, normal: DVec3) -> u32 {
+        self.positions.push(position);
+        self.normals.push(normal);
+        (self.positions.len() - 1) as u32
+    }
+    fn add_triangle(&mut self, tri: [u32; 3]) {
+        self.triangles.push(tri);
+    }
+}
+
+impl TriMesh {
+    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
+    pub fn write_obj<W: Write>(&self, mut w: W) -> io::Result<()> {
+        for p in &self.positions {
+            writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
+        }
+        for n in &self.normals {
+            writeln!(w, "vn {:.17e} {:.17e} {:.17e}", n.x, n.y, n.z)?;
+        }
+        let with_normals = self.normals.len() == self.positions.len();
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| i + 1);
+            if with_normals {
+                writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
+            } else {
+                writeln!(w, "f {a} {b} {c}")?;
+            }
+        }
+        w.flush()
+    }
+}

@@ -1,0 +1,1 @@
+//! Exact offsets: Pythagorean-hodograph curves and Pythagorean-normal surfaces (seeds 003/004).

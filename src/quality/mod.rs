@@ -1,0 +1,1 @@
+//! Quality measures: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).

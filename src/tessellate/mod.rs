@@ -1,0 +1,1 @@
+//! Watertight tessellation of patch collections; output goes through sink builders.
