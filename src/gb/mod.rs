@@ -2,4 +2,6 @@
 
 pub mod patch;
 
+pub mod connected;
+
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
