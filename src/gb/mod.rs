@@ -3,5 +3,6 @@
 pub mod patch;
 
 pub mod connected;
+pub mod gbp;
 
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
