@@ -58,13 +58,26 @@ pub enum ShapeError {
     ZeroDegree { degree: usize },
     /// A ribbon whose degree differs from side 0's.
     #[error("ribbon {side} has degree {degree}, side 0 has degree {expected}")]
-    MixedDegree { side: usize, degree: usize, expected: usize },
+    MixedDegree {
+        side: usize,
+        degree: usize,
+        expected: usize,
+    },
     /// A ribbon with the wrong number of rows.
     #[error("ribbon {side} has {rows} rows, expected l = {expected}")]
-    RowCount { side: usize, rows: usize, expected: usize },
+    RowCount {
+        side: usize,
+        rows: usize,
+        expected: usize,
+    },
     /// A row with the wrong number of points.
     #[error("ribbon {side} row {row} has {len} points, expected d + 1 = {expected}")]
-    RowLength { side: usize, row: usize, len: usize, expected: usize },
+    RowLength {
+        side: usize,
+        row: usize,
+        len: usize,
+        expected: usize,
+    },
     /// A listing whose length is not 1 + listed_point_count(n, d) (central point first).
     #[error("connected listing has {got} points, expected {expected}")]
     ListingLength { got: usize, expected: usize },
@@ -96,10 +109,18 @@ impl GbPatch {
         let l = layers(degree);
         for (side, r) in self.ribbons.iter().enumerate() {
             if r.degree != degree {
-                return Err(ShapeError::MixedDegree { side, degree: r.degree, expected: degree });
+                return Err(ShapeError::MixedDegree {
+                    side,
+                    degree: r.degree,
+                    expected: degree,
+                });
             }
             if r.rows.len() != l {
-                return Err(ShapeError::RowCount { side, rows: r.rows.len(), expected: l });
+                return Err(ShapeError::RowCount {
+                    side,
+                    rows: r.rows.len(),
+                    expected: l,
+                });
             }
             for (row, pts) in r.rows.iter().enumerate() {
                 if pts.len() != degree + 1 {
@@ -127,7 +148,10 @@ impl GbPatch {
         check_nd(n, degree)?;
         let l = layers(degree);
         let mut ribbons: Vec<Ribbon> = (0..n)
-            .map(|_| Ribbon { degree, rows: vec![vec![DVec3::ZERO; degree + 1]; l] })
+            .map(|_| Ribbon {
+                degree,
+                rows: vec![vec![DVec3::ZERO; degree + 1]; l],
+            })
             .collect();
         for (i, j, k) in listed_positions(n, degree) {
             ribbons[i].rows[k][j] = unique(i, j, k);
@@ -155,7 +179,10 @@ impl GbPatch {
         check_nd(n, degree)?;
         let expected = 1 + listed_point_count(n, degree);
         if points.len() != expected {
-            return Err(ShapeError::ListingLength { got: points.len(), expected });
+            return Err(ShapeError::ListingLength {
+                got: points.len(),
+                expected,
+            });
         }
         let mut it = points[1..].iter();
         // `it` has exactly as many points as listed positions, so `next()` never runs out.
@@ -188,7 +215,10 @@ impl GbPatch {
                     let dist = self.ribbons[i].rows[k][j].distance(self.ribbons[ri].rows[rk][rj]);
                     // `!(dist <= worst)` also catches NaN coordinates.
                     if !(dist <= worst.0) {
-                        worst = (if dist.is_nan() { f64::INFINITY } else { dist }, Some((i, j, k)));
+                        worst = (
+                            if dist.is_nan() { f64::INFINITY } else { dist },
+                            Some((i, j, k)),
+                        );
                     }
                 }
             }
