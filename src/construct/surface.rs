@@ -1,0 +1,49 @@
+//! The result of surface construction: patches plus how their sides meet. This is the contract
+//! between construction (networks, ribbons, twists) and tessellation/quality.
+
+use crate::gb::{CgbPatch, GbPatch};
+use glam::DVec3;
+
+/// One patch of a constructed surface.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
+pub enum Patch {
+    /// A Generalized Bézier patch (dual structure: one per mesh vertex).
+    Gb(GbPatch),
+    /// A ribbon-only patch (topology-preserving structure: one per mesh face).
+    Cgb(CgbPatch),
+}
+
+/// Where a patch side continues: the neighbouring patch and its side. Both sides share one
+/// boundary curve, traversed in opposite directions: side `i` of patch A at parameter s is side
+/// `side` of patch `patch` at 1 − s.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub struct SideRef {
+    pub patch: usize,
+    pub side: usize,
+}
+
+/// What element of the control mesh a patch stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", content = "index", rename_all = "lowercase")]
+pub enum PatchSource {
+    /// A mesh vertex (dual structure).
+    Vertex(usize),
+    /// A mesh face (topology-preserving structure).
+    Face(usize),
+}
+
+/// A patchwork surface: patches, side adjacency and the curve network it interpolates.
+///
+/// Orientation: each patch's sides run counter-clockwise seen from outside, so the patch normal
+/// (∂S/∂u × ∂S/∂v in the domain convention of [`crate::gb`]) points outward for a closed input.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Surface {
+    pub patches: Vec<Patch>,
+    /// `neighbors[p][i]`: the side across side i of patch p; `None` on an open boundary.
+    pub neighbors: Vec<Vec<Option<SideRef>>>,
+    /// `sources[p]`: the control-mesh element patch p was built for.
+    pub sources: Vec<PatchSource>,
+    /// The curve network: every boundary curve once, as cubic (or degree-d) Bézier control points.
+    pub curves: Vec<Vec<DVec3>>,
+}
