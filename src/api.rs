@@ -346,6 +346,199 @@ pub fn convert_file(path: impl AsRef<Path>, options: &ConvertOptions, progress: 
     convert(&mesh, options, progress)
 }
 
+// ------------------------------------------------------------------ exact descriptions
+
+/// The ribbons of a patch.
+fn ribbons(p: &crate::construct::Patch) -> &[crate::gb::Ribbon] {
+    match p {
+        crate::construct::Patch::Gb(g) => &g.ribbons,
+        crate::construct::Patch::Cgb(c) => &c.ribbons,
+    }
+}
+
+fn obj_v(out: &mut String, p: glam::DVec3) {
+    use std::fmt::Write as _;
+    let _ = writeln!(out, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z);
+}
+
+/// The curve network as Wavefront OBJ: every boundary curve once, as the polyline of its Bézier
+/// control points (`v` lines, then one `l` line per curve, in [`Surface::curves`] order; object
+/// `curve_<k>`). The curves are exact: the control polygon, not a sampling.
+pub fn curves_obj(surface: &Surface) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from("# gbsurf curve network: Bézier control polygons, one l line per curve\n");
+    let mut base = 1usize;
+    for (k, c) in surface.curves.iter().enumerate() {
+        let _ = writeln!(out, "o curve_{k}");
+        for &p in c {
+            obj_v(&mut out, p);
+        }
+        let idx: Vec<String> = (base..base + c.len()).map(|x| x.to_string()).collect();
+        if idx.len() >= 2 {
+            let _ = writeln!(out, "l {}", idx.join(" "));
+        }
+        base += c.len();
+    }
+    out
+}
+
+/// The control nets of every patch as Wavefront OBJ (object `patch_<p>`): for each ribbon the
+/// polylines of its rows (k fixed) and of its columns (j fixed); for GB patches the central
+/// control point as a `p` element, joined by `l` lines to the innermost row's middle points.
+pub fn nets_obj(surface: &Surface) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from("# gbsurf control nets: ribbon rows and columns per patch\n");
+    let mut base = 1usize;
+    for (pi, patch) in surface.patches.iter().enumerate() {
+        let _ = writeln!(out, "o patch_{pi}");
+        let mut lines: Vec<Vec<usize>> = Vec::new();
+        let mut ribbon_first = Vec::new();
+        for rb in ribbons(patch) {
+            let first = base;
+            ribbon_first.push(first);
+            for row in &rb.rows {
+                for &p in row {
+                    obj_v(&mut out, p);
+                }
+                base += row.len();
+            }
+            let width = rb.degree + 1;
+            for k in 0..rb.rows.len() {
+                lines.push((0..rb.rows[k].len()).map(|j| first + k * width + j).collect());
+            }
+            if rb.rows.len() >= 2 {
+                for j in 0..width {
+                    lines.push((0..rb.rows.len()).filter(|&k| j < rb.rows[k].len()).map(|k| first + k * width + j).collect());
+                }
+            }
+        }
+        if let crate::construct::Patch::Gb(g) = patch {
+            obj_v(&mut out, g.center);
+            let c = base;
+            base += 1;
+            let _ = writeln!(out, "p {c}");
+            for (rb, first) in g.ribbons.iter().zip(&ribbon_first) {
+                if let Some(k) = rb.rows.len().checked_sub(1) {
+                    lines.push(vec![first + k * (rb.degree + 1) + rb.degree / 2, c]);
+                }
+            }
+        }
+        for l in lines {
+            if l.len() >= 2 {
+                let idx: Vec<String> = l.iter().map(|x| x.to_string()).collect();
+                let _ = writeln!(out, "l {}", idx.join(" "));
+            }
+        }
+    }
+    out
+}
+
+/// The exact description of a surface as JSON: for every patch its index, `type` (`gb`/`cgb`),
+/// `n`, `degree` (per ribbon), the control-mesh element it stands for, its neighbours (per
+/// side: `{patch, side}` or null) and its control points (`ribbons[i].rows[k][j]` as [x, y, z];
+/// `center` for GB patches), plus the curve network. `gbp_files[p]` (if given) names the `.gbp`
+/// file written for patch p.
+pub fn patches_json(surface: &Surface, gbp_files: &[Option<String>]) -> serde_json::Value {
+    use serde_json::json;
+    let pt = |p: &glam::DVec3| json!([p.x, p.y, p.z]);
+    let patches: Vec<serde_json::Value> = surface
+        .patches
+        .iter()
+        .enumerate()
+        .map(|(i, patch)| {
+            let rbs = ribbons(patch);
+            let ribbons_json: Vec<serde_json::Value> = rbs
+                .iter()
+                .map(|r| json!({"degree": r.degree, "rows": r.rows.iter().map(|row| row.iter().map(pt).collect::<Vec<_>>()).collect::<Vec<_>>()}))
+                .collect();
+            let (kind, center) = match patch {
+                crate::construct::Patch::Gb(g) => ("gb", Some(pt(&g.center))),
+                crate::construct::Patch::Cgb(_) => ("cgb", None),
+            };
+            let degree: Vec<usize> = rbs.iter().map(|r| r.degree).collect();
+            let mut v = json!({
+                "index": i,
+                "type": kind,
+                "n": rbs.len(),
+                "degree": degree,
+                "source": surface.sources.get(i),
+                "neighbors": surface.neighbors.get(i),
+                "ribbons": ribbons_json,
+            });
+            if let Some(c) = center {
+                v["center"] = c;
+            }
+            if let Some(Some(f)) = gbp_files.get(i) {
+                v["gbp"] = json!(f);
+            }
+            v
+        })
+        .collect();
+    let curves: Vec<serde_json::Value> = surface.curves.iter().map(|c| json!(c.iter().map(pt).collect::<Vec<_>>())).collect();
+    json!({"format": "gbsurf-surface", "version": 1, "patches": patches, "curves": curves})
+}
+
+/// The `.gbp` text of every GB patch that has one (a connected net, see [`crate::gb::gbp`]);
+/// `None` for CGB patches and for GB patches whose corner blocks are independent (direction-blend
+/// twists), which only the JSON describes exactly.
+pub fn gbp_texts(surface: &Surface) -> Vec<Option<String>> {
+    surface
+        .patches
+        .iter()
+        .map(|p| match p {
+            crate::construct::Patch::Gb(g) => crate::gb::gbp::to_gbp_string(g).ok(),
+            crate::construct::Patch::Cgb(_) => None,
+        })
+        .collect()
+}
+
+/// Writes a [`SurfaceMesh`] by the extension of `path` (`obj`, `ply`, `stl`) into memory.
+pub fn encode_mesh(mesh: &SurfaceMesh, path: &Path) -> Result<Vec<u8>, ConvertError> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let mut buf = Vec::new();
+    let r = match ext.as_str() {
+        "obj" => mesh.write_obj(&mut buf),
+        "ply" => mesh.write_ply(&mut buf),
+        "stl" => mesh.write_stl(&mut buf),
+        _ => return Err(invalid("output", path.display(), "the output extension must be .obj, .ply or .stl")),
+    };
+    r.map_err(|e| ConvertError::Io { path: path.display().to_string(), message: e.to_string() })?;
+    Ok(buf)
+}
+
+/// Writes several files all or nothing: each goes to a temporary file beside its target, and only
+/// when all are written are they renamed into place; on failure the temporaries are removed and
+/// no target is touched (a failing rename after the first can still leave earlier ones in place).
+pub fn write_files_atomic(files: &[(std::path::PathBuf, Vec<u8>)]) -> Result<(), ConvertError> {
+    let mut temps: Vec<std::path::PathBuf> = Vec::new();
+    let io = |p: &Path, e: std::io::Error| ConvertError::Io { path: p.display().to_string(), message: e.to_string() };
+    let cleanup = |temps: &[std::path::PathBuf]| {
+        for t in temps {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (path, data) in files {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        if name.is_empty() {
+            cleanup(&temps);
+            return Err(invalid("output", path.display(), "not a file name"));
+        }
+        let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
+        if let Err(e) = std::fs::write(&tmp, data) {
+            cleanup(&temps);
+            return Err(io(path, e));
+        }
+        temps.push(tmp);
+    }
+    for ((path, _), tmp) in files.iter().zip(&temps) {
+        if let Err(e) = std::fs::rename(tmp, path) {
+            cleanup(&temps);
+            return Err(io(path, e));
+        }
+    }
+    Ok(())
+}
+
 #[allow(unused)]
 fn _assert_send_sync() {
     fn f<T: Send + Sync>() {}
