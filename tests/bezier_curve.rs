@@ -25,7 +25,10 @@ fn cubic_known_points_and_seed000_eq_2_10() {
     for &t in &[0.0f64, 0.13, 0.5, 0.71, 1.0] {
         let s = 1.0 - t;
         let p = c.points();
-        let explicit = p[0] * s.powi(3) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t) + p[3] * t.powi(3);
+        let explicit = p[0] * s.powi(3)
+            + p[1] * (3.0 * s * s * t)
+            + p[2] * (3.0 * s * t * t)
+            + p[3] * t.powi(3);
         assert_near!(c.eval(t), explicit);
         assert_near!(c.eval_bernstein(t), explicit);
     }
@@ -46,7 +49,10 @@ fn cubic_derivatives_by_hand() {
     assert_near!(c.derivative(0.0, 2), v(6.0, -6.0));
     assert_near!(c.derivative(1.0, 2), v(-6.0, -24.0));
     let d = c.derivatives(0.5, 3);
-    assert_near!(d, vec![c.eval(0.5), v(4.5, 0.75), v(0.0, -15.0), v(-12.0, -18.0)]);
+    assert_near!(
+        d,
+        vec![c.eval(0.5), v(4.5, 0.75), v(0.0, -15.0), v(-12.0, -18.0)]
+    );
     assert_eq!(c.forward_differences(3), vec![v(-2.0, -3.0)]);
     assert!(c.forward_differences(4).is_empty());
 }
@@ -56,10 +62,19 @@ fn elevation_subdivision_reversal_exact() {
     let q = BezierCurve::new(vec![0.0, 3.0, 6.0 + 3.0]).unwrap();
     // Seed 001 eq. 1.22: p̄ = (p0, p0/3 + 2p1/3, 2p1/3 + p2/3, p2).
     assert_near!(q.elevate().points().to_vec(), vec![0.0, 2.0, 5.0, 9.0]);
-    assert_near!(q.elevate_by(2).points().to_vec(), q.elevate().elevate().points().to_vec());
+    assert_near!(
+        q.elevate_by(2).points().to_vec(),
+        q.elevate().elevate().points().to_vec()
+    );
     let (l, r) = cubic().subdivide(0.5);
-    assert_near!(l.points().to_vec(), vec![v(0.0, 0.0), v(0.5, 1.0), v(1.25, 1.75), v(2.0, 15.0 / 8.0)]);
-    assert_near!(r.points().to_vec(), vec![v(2.0, 15.0 / 8.0), v(2.75, 2.0), v(3.5, 1.5), v(4.0, 0.0)]);
+    assert_near!(
+        l.points().to_vec(),
+        vec![v(0.0, 0.0), v(0.5, 1.0), v(1.25, 1.75), v(2.0, 15.0 / 8.0)]
+    );
+    assert_near!(
+        r.points().to_vec(),
+        vec![v(2.0, 15.0 / 8.0), v(2.75, 2.0), v(3.5, 1.5), v(4.0, 0.0)]
+    );
     assert_near!(cubic().reversed().eval(0.3), cubic().eval(0.7));
 }
 
@@ -69,10 +84,17 @@ fn power_basis() {
     let a = vec![1.0, -2.0, 3.0, 4.0];
     let c = BezierCurve::from_power_basis(a.clone()).unwrap();
     for &t in &[-0.5f64, 0.0, 0.3, 1.0, 1.7] {
-        assert_near!(c.eval(t), 1.0 - 2.0 * t + 3.0 * t * t + 4.0 * t.powi(3), 1e-12);
+        assert_near!(
+            c.eval(t),
+            1.0 - 2.0 * t + 3.0 * t * t + 4.0 * t.powi(3),
+            1e-12
+        );
     }
     assert_near!(c.to_power_basis(), a);
-    assert_near!(cubic().to_power_basis(), vec![v(0.0, 0.0), v(3.0, 6.0), v(3.0, -3.0), v(-2.0, -3.0)]);
+    assert_near!(
+        cubic().to_power_basis(),
+        vec![v(0.0, 0.0), v(3.0, 6.0), v(3.0, -3.0), v(-2.0, -3.0)]
+    );
 }
 
 #[test]
@@ -80,13 +102,24 @@ fn arc_length_and_quadrature() {
     let line = BezierCurve::new(vec![v(0.0, 0.0), v(0.1, 0.0), v(2.5, 0.0), v(3.0, 0.0)]).unwrap();
     assert_near!(line.arc_length(), 3.0);
     // x = t, y = t²: length of y = x² on [0, 1] is (2√5 + asinh 2)/4.
-    let parabola = BezierCurve::new(vec![DVec2::new(0.0, 0.0), DVec2::new(0.5, 0.0), DVec2::new(1.0, 1.0)]).unwrap();
-    assert_near!(parabola.arc_length(), (2.0 * 5f64.sqrt() + 2f64.asinh()) / 4.0);
+    let parabola = BezierCurve::new(vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(0.5, 0.0),
+        DVec2::new(1.0, 1.0),
+    ])
+    .unwrap();
+    assert_near!(
+        parabola.arc_length(),
+        (2.0 * 5f64.sqrt() + 2f64.asinh()) / 4.0
+    );
     assert!(parabola.arc_length() <= parabola.control_polygon_length());
     let (x, w) = gauss_legendre(5);
     assert_near!(w.iter().sum::<f64>(), 2.0);
     // ∫_{−1}^{1} x^8 dx = 2/9, exact for 5 nodes (degree ≤ 9).
-    assert_near!(x.iter().zip(&w).map(|(x, w)| w * x.powi(8)).sum::<f64>(), 2.0 / 9.0);
+    assert_near!(
+        x.iter().zip(&w).map(|(x, w)| w * x.powi(8)).sum::<f64>(),
+        2.0 / 9.0
+    );
 }
 
 #[test]
@@ -99,17 +132,29 @@ fn bad_input_is_an_error() {
     let c = cubic();
     assert_eq!(
         CompositeCurve::new(vec![c.clone(), c.clone()], vec![0.0, 1.0]),
-        Err(BezierError::BreakCount { breaks: 2, segments: 2 })
+        Err(BezierError::BreakCount {
+            breaks: 2,
+            segments: 2
+        })
     );
     assert_eq!(
         CompositeCurve::new(vec![c.clone(), c.clone()], vec![0.0, 1.0, 1.0]),
         Err(BezierError::BadBreak { index: 2 })
     );
     let s = CompositeCurve::uniform(vec![c.clone(), c.clone()]).unwrap();
-    assert_eq!(s.g1_angle(1), Err(BezierError::NoSuchJoint { joint: 1, joints: 1 }));
+    assert_eq!(
+        s.g1_angle(1),
+        Err(BezierError::NoSuchJoint {
+            joint: 1,
+            joints: 1
+        })
+    );
     let dot = BezierCurve::new(vec![v(4.0, 0.0); 3]).unwrap();
     let s = CompositeCurve::uniform(vec![c, dot]).unwrap();
-    assert_eq!(s.g1_angle(0), Err(BezierError::DegenerateTangent { segment: 1 }));
+    assert_eq!(
+        s.g1_angle(0),
+        Err(BezierError::DegenerateTangent { segment: 1 })
+    );
 }
 
 /// Two cubics over [a, b] and [b, c] with p4 from the collinearity rule of seed 001 eq. 1.18:
@@ -129,7 +174,11 @@ fn c1_join_by_collinearity_rule() {
     assert_eq!(s.continuity_order(0, 3, 1e-12).unwrap(), Some(1));
     assert!(s.joint_gaps(0, 1).unwrap()[1] <= 1e-12);
     assert_near!(s.g1_angle(0).unwrap(), 0.0);
-    assert_near!(s.derivative(2.0 - 1e-9, 1), s.derivative(2.0 + 1e-9, 1), 1e-6);
+    assert_near!(
+        s.derivative(2.0 - 1e-9, 1),
+        s.derivative(2.0 + 1e-9, 1),
+        1e-6
+    );
     // Perturbed along the tangent: still G1, no longer C1.
     let g1 = c1_pair(v(0.5, -1.5) * 0.1);
     assert_eq!(g1.continuity_order(0, 3, 1e-12).unwrap(), Some(0));
@@ -144,7 +193,11 @@ fn c1_join_by_collinearity_rule() {
     let cusp = CompositeCurve::uniform(vec![cubic(), back]).unwrap();
     assert_near!(cusp.g1_angle(0).unwrap(), std::f64::consts::PI);
     // Not even C0.
-    let gap = CompositeCurve::uniform(vec![cubic(), BezierCurve::new(vec![v(9.0, 9.0), v(10.0, 9.0)]).unwrap()]).unwrap();
+    let gap = CompositeCurve::uniform(vec![
+        cubic(),
+        BezierCurve::new(vec![v(9.0, 9.0), v(10.0, 9.0)]).unwrap(),
+    ])
+    .unwrap();
     assert_eq!(gap.continuity_order(0, 2, 1e-12).unwrap(), None);
 }
 
@@ -162,8 +215,11 @@ fn subdivided_curve_is_c_infinity() {
 }
 
 fn points3(max_deg: usize) -> impl Strategy<Value = Vec<DVec3>> {
-    prop::collection::vec((-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64), 1..=max_deg + 1)
-        .prop_map(|v| v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect())
+    prop::collection::vec(
+        (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64),
+        1..=max_deg + 1,
+    )
+    .prop_map(|v| v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect())
 }
 
 fn scale(c: &BezierCurve<DVec3>) -> f64 {

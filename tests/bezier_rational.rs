@@ -14,16 +14,30 @@ fn curvature(d: &[DVec3]) -> f64 {
 fn full_circle_is_exact() {
     let arcs = RationalCurve::full_circle(DVec3::ZERO, 1.0).unwrap();
     // Control polygon = circumscribed square, weights 1, √2/2, 1 (seed 001 fig. 3.3).
-    assert_near!(arcs[0].points().to_vec(), vec![DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y]);
+    assert_near!(
+        arcs[0].points().to_vec(),
+        vec![DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y]
+    );
     assert_near!(arcs[0].weights().to_vec(), vec![1.0, FRAC_1_SQRT_2, 1.0]);
     let mut worst: f64 = 0.0;
     for (k, arc) in arcs.iter().enumerate() {
-        assert_near!(arc.eval(0.0), DVec3::new((k as f64 * FRAC_PI_2).cos(), (k as f64 * FRAC_PI_2).sin(), 0.0), 1e-15);
+        assert_near!(
+            arc.eval(0.0),
+            DVec3::new(
+                (k as f64 * FRAC_PI_2).cos(),
+                (k as f64 * FRAC_PI_2).sin(),
+                0.0
+            ),
+            1e-15
+        );
         for s in 0..=1000 {
             let t = s as f64 / 1000.0;
             let d = arc.derivatives(t, 2);
             worst = worst.max((d[0].length() - 1.0).abs());
-            assert!(d[0].dot(d[1]).abs() <= 1e-14 * d[1].length(), "tangent not ⟂ radius at t = {t}");
+            assert!(
+                d[0].dot(d[1]).abs() <= 1e-14 * d[1].length(),
+                "tangent not ⟂ radius at t = {t}"
+            );
             assert_near!(curvature(&d), 1.0, 1e-13);
             // Counter-clockwise orientation.
             assert!(d[0].cross(d[1]).z > 0.0);
@@ -34,7 +48,11 @@ fn full_circle_is_exact() {
     for k in 0..4 {
         let (a, b) = (&arcs[k], &arcs[(k + 1) % 4]);
         assert_near!(a.eval(1.0), b.eval(0.0), 1e-15);
-        assert_near!(a.derivative(1.0, 1).normalize(), b.derivative(0.0, 1).normalize(), 1e-15);
+        assert_near!(
+            a.derivative(1.0, 1).normalize(),
+            b.derivative(0.0, 1).normalize(),
+            1e-15
+        );
     }
 }
 
@@ -67,7 +85,12 @@ fn derivatives_by_quotient_rule_by_hand() {
 
 #[test]
 fn unit_weights_and_common_factors() {
-    let p = BezierCurve::new(vec![DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(4.0, 0.0, -1.0)]).unwrap();
+    let p = BezierCurve::new(vec![
+        DVec3::ZERO,
+        DVec3::new(1.0, 2.0, 3.0),
+        DVec3::new(4.0, 0.0, -1.0),
+    ])
+    .unwrap();
     let r = RationalCurve::from_polynomial(&p);
     let scaled = RationalCurve::new(p.points().to_vec(), vec![3.0; 3]).unwrap();
     for &t in &[0.0, 0.3, 0.8, 1.0] {
@@ -80,11 +103,32 @@ fn unit_weights_and_common_factors() {
 #[test]
 fn bad_input_is_an_error() {
     let p = vec![DVec3::X, DVec3::Y];
-    assert_eq!(RationalCurve::new(p.clone(), vec![1.0]), Err(BezierError::WeightCount { got: 1, expected: 2 }));
-    assert_eq!(RationalCurve::new(p.clone(), vec![1.0, 0.0]), Err(BezierError::BadWeight { index: 1, value: 0.0 }));
-    assert!(matches!(RationalCurve::new(p, vec![f64::NAN, 1.0]), Err(BezierError::BadWeight { index: 0, .. })));
-    assert_eq!(RationalCurve::circular_arc(DVec3::ZERO, 1.0, 0.0, PI), Err(BezierError::BadSweep { sweep: PI }));
-    assert_eq!(RationalCurve::circular_arc(DVec3::ZERO, -1.0, 0.0, 1.0), Err(BezierError::BadRadius { radius: -1.0 }));
+    assert_eq!(
+        RationalCurve::new(p.clone(), vec![1.0]),
+        Err(BezierError::WeightCount {
+            got: 1,
+            expected: 2
+        })
+    );
+    assert_eq!(
+        RationalCurve::new(p.clone(), vec![1.0, 0.0]),
+        Err(BezierError::BadWeight {
+            index: 1,
+            value: 0.0
+        })
+    );
+    assert!(matches!(
+        RationalCurve::new(p, vec![f64::NAN, 1.0]),
+        Err(BezierError::BadWeight { index: 0, .. })
+    ));
+    assert_eq!(
+        RationalCurve::circular_arc(DVec3::ZERO, 1.0, 0.0, PI),
+        Err(BezierError::BadSweep { sweep: PI })
+    );
+    assert_eq!(
+        RationalCurve::circular_arc(DVec3::ZERO, -1.0, 0.0, 1.0),
+        Err(BezierError::BadRadius { radius: -1.0 })
+    );
 }
 
 fn rational3(max_deg: usize) -> impl Strategy<Value = (Vec<DVec3>, Vec<f64>)> {

@@ -20,7 +20,10 @@ impl<P: Point> CompositeCurve<P> {
             return Err(BezierError::Empty);
         }
         if breaks.len() != segments.len() + 1 {
-            return Err(BezierError::BreakCount { breaks: breaks.len(), segments: segments.len() });
+            return Err(BezierError::BreakCount {
+                breaks: breaks.len(),
+                segments: segments.len(),
+            });
         }
         if let Some(index) = (0..breaks.len())
             .find(|&i| !breaks[i].is_finite() || (i > 0 && breaks[i] <= breaks[i - 1]))
@@ -73,12 +76,19 @@ impl<P: Point> CompositeCurve<P> {
     /// For k = 0..=r, |S_j^{(k)}(1)/Δ_j^k − S_{j+1}^{(k)}(0)/Δ_{j+1}^k| at joint j: the gaps of
     /// the one-sided derivatives with respect to the global parameter (seed 001 eq. 1.18).
     pub fn joint_gaps(&self, joint: usize, r: usize) -> Result<Vec<f64>, BezierError> {
-        Ok(self.joint_derivatives(joint, r)?.into_iter().map(|(l, rr)| (l - rr).norm()).collect())
+        Ok(self
+            .joint_derivatives(joint, r)?
+            .into_iter()
+            .map(|(l, rr)| (l - rr).norm())
+            .collect())
     }
 
     fn joint_derivatives(&self, joint: usize, r: usize) -> Result<Vec<(P, P)>, BezierError> {
         if joint >= self.joint_count() {
-            return Err(BezierError::NoSuchJoint { joint, joints: self.joint_count() });
+            return Err(BezierError::NoSuchJoint {
+                joint,
+                joints: self.joint_count(),
+            });
         }
         let (a, b) = (&self.segments[joint], &self.segments[joint + 1]);
         let da = self.breaks[joint + 1] - self.breaks[joint];
@@ -86,7 +96,12 @@ impl<P: Point> CompositeCurve<P> {
         let left = a.derivatives(1.0, r);
         let right = b.derivatives(0.0, r);
         Ok((0..=r)
-            .map(|k| (left[k] * da.powi(-(k as i32)), right[k] * db.powi(-(k as i32))))
+            .map(|k| {
+                (
+                    left[k] * da.powi(-(k as i32)),
+                    right[k] * db.powi(-(k as i32)),
+                )
+            })
             .collect())
     }
 
@@ -110,7 +125,10 @@ impl<P: Point> CompositeCurve<P> {
     /// end point, so a vanishing first derivative still gives the geometric tangent.
     pub fn g1_angle(&self, joint: usize) -> Result<f64, BezierError> {
         if joint >= self.joint_count() {
-            return Err(BezierError::NoSuchJoint { joint, joints: self.joint_count() });
+            return Err(BezierError::NoSuchJoint {
+                joint,
+                joints: self.joint_count(),
+            });
         }
         let left = end_tangent(&self.segments[joint].reversed())
             .ok_or(BezierError::DegenerateTangent { segment: joint })?;

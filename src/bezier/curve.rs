@@ -58,7 +58,10 @@ impl<P: Point> BezierCurve<P> {
     /// Point at t from the Bernstein form Σ p_i B^n_i(t) (seed 001 eq. 1.13, seed 000 eq. 2.3).
     pub fn eval_bernstein(&self, t: f64) -> P {
         let b = bernstein_all(self.degree(), t);
-        self.points.iter().zip(&b).fold(P::ZERO, |acc, (&p, &w)| acc + p * w)
+        self.points
+            .iter()
+            .zip(&b)
+            .fold(P::ZERO, |acc, (&p, &w)| acc + p * w)
     }
 
     /// The full de Casteljau triangle at t: level j holds p^j_0 … p^j_{n−j} (seed 001 eq. 1.5).
@@ -98,7 +101,12 @@ impl<P: Point> BezierCurve<P> {
             return Self::from_vec(vec![P::ZERO]);
         }
         let factor: f64 = ((n - r + 1)..=n).map(|k| k as f64).product();
-        Self::from_vec(self.forward_differences(r).into_iter().map(|d| d * factor).collect())
+        Self::from_vec(
+            self.forward_differences(r)
+                .into_iter()
+                .map(|d| d * factor)
+                .collect(),
+        )
     }
 
     /// The r-th derivative at t (r = 0 is the point).
@@ -145,7 +153,11 @@ impl<P: Point> BezierCurve<P> {
     pub fn subdivide(&self, t: f64) -> (Self, Self) {
         let tri = self.de_casteljau(t);
         let left = tri.iter().map(|l| l[0]).collect();
-        let right = tri.iter().rev().map(|l| *l.last().expect("levels are non-empty")).collect();
+        let right = tri
+            .iter()
+            .rev()
+            .map(|l| *l.last().expect("levels are non-empty"))
+            .collect();
         (Self::from_vec(left), Self::from_vec(right))
     }
 
@@ -183,7 +195,9 @@ impl<P: Point> BezierCurve<P> {
     /// (Taylor expansion at 0 with seed 001 eq. 1.17).
     pub fn to_power_basis(&self) -> Vec<P> {
         let n = self.degree();
-        (0..=n).map(|k| self.forward_differences(k)[0] * binomial(n, k)).collect()
+        (0..=n)
+            .map(|k| self.forward_differences(k)[0] * binomial(n, k))
+            .collect()
     }
 
     /// Curve from power-basis coefficients a_0 … a_n: p_i = Σ_{k≤i} C(i, k)/C(n, k) a_k.
@@ -193,7 +207,11 @@ impl<P: Point> BezierCurve<P> {
         }
         let n = coeffs.len() - 1;
         let pts = (0..=n)
-            .map(|i| (0..=i).fold(P::ZERO, |acc, k| acc + coeffs[k] * (binomial(i, k) / binomial(n, k))))
+            .map(|i| {
+                (0..=i).fold(P::ZERO, |acc, k| {
+                    acc + coeffs[k] * (binomial(i, k) / binomial(n, k))
+                })
+            })
             .collect();
         Self::new(pts)
     }
@@ -213,7 +231,10 @@ impl<P: Point> BezierCurve<P> {
             (0..pieces)
                 .map(|k| {
                     let a = k as f64 * h;
-                    x.iter().zip(&w).map(|(&xi, &wi)| wi * d.eval(a + 0.5 * h * (xi + 1.0)).norm()).sum::<f64>()
+                    x.iter()
+                        .zip(&w)
+                        .map(|(&xi, &wi)| wi * d.eval(a + 0.5 * h * (xi + 1.0)).norm())
+                        .sum::<f64>()
                         * 0.5
                         * h
                 })

@@ -33,7 +33,11 @@ impl PartialsSurface for RationalSurface<DVec3> {
 fn curve_deviation<P: Point>(x: &BezierCurve<P>, y: &BezierCurve<P>) -> f64 {
     let d = x.degree().max(y.degree());
     let (x, y) = (x.elevate_by(d - x.degree()), y.elevate_by(d - y.degree()));
-    x.points().iter().zip(y.points()).map(|(&p, &q)| (p - q).norm()).fold(0.0, f64::max)
+    x.points()
+        .iter()
+        .zip(y.points())
+        .map(|(&p, &q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 /// The scaled cross-boundary derivative curves for k = 0..=r:
@@ -50,7 +54,13 @@ fn cross_derivatives<P: Point>(
     for k in 0..=r {
         let sa = delta_a.powi(-(k as i32));
         let sb = delta_b.powi(-(k as i32));
-        let row_a = da.points().last().expect("non-empty grid").iter().map(|&p| p * sa).collect();
+        let row_a = da
+            .points()
+            .last()
+            .expect("non-empty grid")
+            .iter()
+            .map(|&p| p * sa)
+            .collect();
         let row_b = db.points()[0].iter().map(|&p| p * sb).collect();
         out.push((BezierCurve::from_vec(row_a), BezierCurve::from_vec(row_b)));
         da = da.derivative_u();
@@ -70,7 +80,10 @@ pub fn cross_derivative_deviations<P: Point>(
     delta_a: f64,
     delta_b: f64,
 ) -> Vec<f64> {
-    cross_derivatives(a, b, r, delta_a, delta_b).iter().map(|(x, y)| curve_deviation(x, y)).collect()
+    cross_derivatives(a, b, r, delta_a, delta_b)
+        .iter()
+        .map(|(x, y)| curve_deviation(x, y))
+        .collect()
 }
 
 /// C0 gap: max control-point distance of the boundary curves a(1, v) and b(0, v).
@@ -79,7 +92,12 @@ pub fn c0_deviation<P: Point>(a: &BezierSurface<P>, b: &BezierSurface<P>) -> f64
 }
 
 /// C1 gap across the boundary: the k = 1 entry of [`cross_derivative_deviations`].
-pub fn c1_deviation<P: Point>(a: &BezierSurface<P>, b: &BezierSurface<P>, delta_a: f64, delta_b: f64) -> f64 {
+pub fn c1_deviation<P: Point>(
+    a: &BezierSurface<P>,
+    b: &BezierSurface<P>,
+    delta_a: f64,
+    delta_b: f64,
+) -> f64 {
     cross_derivative_deviations(a, b, 1, delta_a, delta_b)[1]
 }
 
@@ -95,10 +113,19 @@ pub fn continuity_order<P: Point>(
     tol: f64,
 ) -> Option<usize> {
     let ok = |(x, y): &(BezierCurve<P>, BezierCurve<P>)| {
-        let scale = x.points().iter().chain(y.points()).map(|p| p.norm()).fold(1.0, f64::max);
+        let scale = x
+            .points()
+            .iter()
+            .chain(y.points())
+            .map(|p| p.norm())
+            .fold(1.0, f64::max);
         curve_deviation(x, y) <= tol * scale
     };
-    cross_derivatives(a, b, max_order, delta_a, delta_b).iter().take_while(|c| ok(c)).count().checked_sub(1)
+    cross_derivatives(a, b, max_order, delta_a, delta_b)
+        .iter()
+        .take_while(|c| ok(c))
+        .count()
+        .checked_sub(1)
 }
 
 /// G1 check: the largest angle in [0, π] between the unit normals of a at (1, v) and b at (0, v)
@@ -110,8 +137,14 @@ pub fn g1_max_angle<S: PartialsSurface>(a: &S, b: &S, samples: usize) -> Result<
     let mut worst: f64 = 0.0;
     for s in 0..samples {
         let v = s as f64 / (samples - 1) as f64;
-        let na = a.partials_at(1.0, v).normal().ok_or(BezierError::DegenerateNormal { patch: 0, v })?;
-        let nb = b.partials_at(0.0, v).normal().ok_or(BezierError::DegenerateNormal { patch: 1, v })?;
+        let na = a
+            .partials_at(1.0, v)
+            .normal()
+            .ok_or(BezierError::DegenerateNormal { patch: 0, v })?;
+        let nb = b
+            .partials_at(0.0, v)
+            .normal()
+            .ok_or(BezierError::DegenerateNormal { patch: 1, v })?;
         worst = worst.max(angle_between(na, nb));
     }
     Ok(worst)

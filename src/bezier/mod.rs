@@ -104,7 +104,11 @@ pub enum BezierError {
     NonFinitePoint { index: usize },
     /// A surface control grid is not rectangular.
     #[error("control-grid row {row} has {len} points, expected {expected}")]
-    RaggedRow { row: usize, len: usize, expected: usize },
+    RaggedRow {
+        row: usize,
+        len: usize,
+        expected: usize,
+    },
     /// The number of weights differs from the number of control points.
     #[error("{got} weights given for {expected} control points")]
     WeightCount { got: usize, expected: usize },

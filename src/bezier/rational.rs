@@ -26,17 +26,26 @@ impl<P: Point> RationalCurve<P> {
         // Validates the points (non-empty, finite).
         BezierCurve::new(points.clone())?;
         if weights.len() != points.len() {
-            return Err(BezierError::WeightCount { got: weights.len(), expected: points.len() });
+            return Err(BezierError::WeightCount {
+                got: weights.len(),
+                expected: points.len(),
+            });
         }
         if let Some(index) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
-            return Err(BezierError::BadWeight { index, value: weights[index] });
+            return Err(BezierError::BadWeight {
+                index,
+                value: weights[index],
+            });
         }
         Ok(Self { points, weights })
     }
 
     /// A polynomial curve as a rational one with unit weights.
     pub fn from_polynomial(c: &BezierCurve<P>) -> Self {
-        Self { points: c.points().to_vec(), weights: vec![1.0; c.points().len()] }
+        Self {
+            points: c.points().to_vec(),
+            weights: vec![1.0; c.points().len()],
+        }
     }
 
     /// Degree n.
@@ -56,7 +65,13 @@ impl<P: Point> RationalCurve<P> {
 
     /// The numerator curve N(t) = Σ (w_i p_i) B^n_i(t) (homogeneous coordinates).
     pub fn numerator(&self) -> BezierCurve<P> {
-        BezierCurve::from_vec(self.points.iter().zip(&self.weights).map(|(&p, &w)| p * w).collect())
+        BezierCurve::from_vec(
+            self.points
+                .iter()
+                .zip(&self.weights)
+                .map(|(&p, &w)| p * w)
+                .collect(),
+        )
     }
 
     /// The denominator W(t) = Σ w_i B^n_i(t).
@@ -66,7 +81,12 @@ impl<P: Point> RationalCurve<P> {
 
     fn from_homogeneous(num: BezierCurve<P>, den: BezierCurve<f64>) -> Self {
         let weights = den.into_points();
-        let points = num.into_points().into_iter().zip(&weights).map(|(p, &w)| p * (1.0 / w)).collect();
+        let points = num
+            .into_points()
+            .into_iter()
+            .zip(&weights)
+            .map(|(p, &w)| p * (1.0 / w))
+            .collect();
         Self { points, weights }
     }
 
@@ -97,7 +117,10 @@ impl<P: Point> RationalCurve<P> {
 
     /// Degree elevation by k: elevate the homogeneous curve (w_i p_i, w_i) (seed 001 eq. 1.22).
     pub fn elevate_by(&self, k: usize) -> Self {
-        Self::from_homogeneous(self.numerator().elevate_by(k), self.denominator().elevate_by(k))
+        Self::from_homogeneous(
+            self.numerator().elevate_by(k),
+            self.denominator().elevate_by(k),
+        )
     }
 
     /// Degree elevation by one.
@@ -109,7 +132,10 @@ impl<P: Point> RationalCurve<P> {
     pub fn subdivide(&self, t: f64) -> (Self, Self) {
         let (nl, nr) = self.numerator().subdivide(t);
         let (wl, wr) = self.denominator().subdivide(t);
-        (Self::from_homogeneous(nl, wl), Self::from_homogeneous(nr, wr))
+        (
+            Self::from_homogeneous(nl, wl),
+            Self::from_homogeneous(nr, wr),
+        )
     }
 
     /// The same curve traversed backwards.
@@ -122,7 +148,10 @@ impl<P: Point> RationalCurve<P> {
 
     /// Map the control points, keeping the weights: maps the curve for affine maps.
     pub fn map<Q: Point>(&self, f: impl FnMut(P) -> Q) -> RationalCurve<Q> {
-        RationalCurve { points: self.points.iter().copied().map(f).collect(), weights: self.weights.clone() }
+        RationalCurve {
+            points: self.points.iter().copied().map(f).collect(),
+            weights: self.weights.clone(),
+        }
     }
 }
 
@@ -130,7 +159,12 @@ impl RationalCurve<DVec3> {
     /// Exact circular arc in the plane z = center.z: a quadratic rational curve with control
     /// points c + r(cos θ0, sin θ0), c + r/cos(φ/2)·(cos(θ0+φ/2), sin(θ0+φ/2)), c + r(cos(θ0+φ),
     /// sin(θ0+φ)) and weights 1, cos(φ/2), 1, for a sweep φ ∈ (0, π).
-    pub fn circular_arc(center: DVec3, radius: f64, theta0: f64, sweep: f64) -> Result<Self, BezierError> {
+    pub fn circular_arc(
+        center: DVec3,
+        radius: f64,
+        theta0: f64,
+        sweep: f64,
+    ) -> Result<Self, BezierError> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(BezierError::BadRadius { radius });
         }

@@ -39,7 +39,10 @@ impl SurfacePartials<DVec3> {
         let (e, f, g) = (self.u.dot(self.u), self.u.dot(self.v), self.v.dot(self.v));
         let (l, m, nn) = (self.uu.dot(n), self.uv.dot(n), self.vv.dot(n));
         let det = e * g - f * f;
-        Some(((e * nn - 2.0 * f * m + g * l) / (2.0 * det), (l * nn - m * m) / det))
+        Some((
+            (e * nn - 2.0 * f * m + g * l) / (2.0 * det),
+            (l * nn - m * m) / det,
+        ))
     }
 }
 
@@ -51,17 +54,26 @@ fn check_grid<P: Point>(grid: &[Vec<P>]) -> Result<(usize, usize), BezierError> 
     }
     for (row, r) in grid.iter().enumerate() {
         if r.len() != cols {
-            return Err(BezierError::RaggedRow { row, len: r.len(), expected: cols });
+            return Err(BezierError::RaggedRow {
+                row,
+                len: r.len(),
+                expected: cols,
+            });
         }
         if let Some(j) = r.iter().position(|p| !p.is_finite()) {
-            return Err(BezierError::NonFinitePoint { index: row * cols + j });
+            return Err(BezierError::NonFinitePoint {
+                index: row * cols + j,
+            });
         }
     }
     Ok((grid.len() - 1, cols - 1))
 }
 
 /// Apply a curve operation to every column (fixed j: the u-direction curves).
-fn map_columns<P: Point>(grid: &[Vec<P>], f: impl Fn(BezierCurve<P>) -> BezierCurve<P>) -> Vec<Vec<P>> {
+fn map_columns<P: Point>(
+    grid: &[Vec<P>],
+    f: impl Fn(BezierCurve<P>) -> BezierCurve<P>,
+) -> Vec<Vec<P>> {
     let cols: Vec<Vec<P>> = (0..grid[0].len())
         .map(|j| f(BezierCurve::from_vec(grid.iter().map(|r| r[j]).collect())).into_points())
         .collect();
@@ -69,7 +81,9 @@ fn map_columns<P: Point>(grid: &[Vec<P>], f: impl Fn(BezierCurve<P>) -> BezierCu
 }
 
 fn transpose<P: Copy>(grid: &[Vec<P>]) -> Vec<Vec<P>> {
-    (0..grid[0].len()).map(|j| grid.iter().map(|r| r[j]).collect()).collect()
+    (0..grid[0].len())
+        .map(|j| grid.iter().map(|r| r[j]).collect())
+        .collect()
 }
 
 /// A polynomial tensor-product Bézier surface of degree (m, n) (seed 001 eq. 2.4).
@@ -85,11 +99,19 @@ impl<P: Point> BezierSurface<P> {
     /// grid (the index of a non-finite point is i·(n+1) + j).
     pub fn new(points: Vec<Vec<P>>) -> Result<Self, BezierError> {
         let (degree_u, degree_v) = check_grid(&points)?;
-        Ok(Self { degree_u, degree_v, points })
+        Ok(Self {
+            degree_u,
+            degree_v,
+            points,
+        })
     }
 
     fn from_grid(points: Vec<Vec<P>>) -> Self {
-        Self { degree_u: points.len() - 1, degree_v: points[0].len() - 1, points }
+        Self {
+            degree_u: points.len() - 1,
+            degree_v: points[0].len() - 1,
+            points,
+        }
     }
 
     /// Degree m in u.
@@ -114,7 +136,10 @@ impl<P: Point> BezierSurface<P> {
 
     /// x(u, v) = Σ_i Σ_j p_ij B^m_i(u) B^n_j(v) (seed 001 eq. 2.4).
     pub fn eval(&self, u: f64, v: f64) -> P {
-        let (bu, bv) = (bernstein_all(self.degree_u, u), bernstein_all(self.degree_v, v));
+        let (bu, bv) = (
+            bernstein_all(self.degree_u, u),
+            bernstein_all(self.degree_v, v),
+        );
         self.points.iter().zip(&bu).fold(P::ZERO, |acc, (row, &a)| {
             acc + row.iter().zip(&bv).fold(P::ZERO, |s, (&p, &b)| s + p * b) * a
         })
@@ -126,7 +151,14 @@ impl<P: Point> BezierSurface<P> {
         let (b, db, ddb) = bernstein_all_d2(self.degree_u, u);
         let (c, dc, ddc) = bernstein_all_d2(self.degree_v, v);
         let z = P::ZERO;
-        let mut s = SurfacePartials { p: z, u: z, v: z, uu: z, uv: z, vv: z };
+        let mut s = SurfacePartials {
+            p: z,
+            u: z,
+            v: z,
+            uu: z,
+            uv: z,
+            vv: z,
+        };
         for (i, row) in self.points.iter().enumerate() {
             let (mut r, mut rv, mut rvv) = (z, z, z);
             for (j, &p) in row.iter().enumerate() {
@@ -152,7 +184,12 @@ impl<P: Point> BezierSurface<P> {
 
     /// The derivative surface ∂x/∂v of degree (m, n−1).
     pub fn derivative_v(&self) -> Self {
-        Self::from_grid(self.points.iter().map(|r| BezierCurve::from_vec(r.clone()).hodograph().into_points()).collect())
+        Self::from_grid(
+            self.points
+                .iter()
+                .map(|r| BezierCurve::from_vec(r.clone()).hodograph().into_points())
+                .collect(),
+        )
     }
 
     /// The iso-parametric curve u = u0, a degree-n curve in v with control points
@@ -161,14 +198,24 @@ impl<P: Point> BezierSurface<P> {
         let b = bernstein_all(self.degree_u, u0);
         BezierCurve::from_vec(
             (0..=self.degree_v)
-                .map(|j| self.points.iter().zip(&b).fold(P::ZERO, |acc, (r, &w)| acc + r[j] * w))
+                .map(|j| {
+                    self.points
+                        .iter()
+                        .zip(&b)
+                        .fold(P::ZERO, |acc, (r, &w)| acc + r[j] * w)
+                })
                 .collect(),
         )
     }
 
     /// The iso-parametric curve v = v0, a degree-m curve in u.
     pub fn iso_v(&self, v0: f64) -> BezierCurve<P> {
-        BezierCurve::from_vec(self.points.iter().map(|r| BezierCurve::from_vec(r.clone()).eval(v0)).collect())
+        BezierCurve::from_vec(
+            self.points
+                .iter()
+                .map(|r| BezierCurve::from_vec(r.clone()).eval(v0))
+                .collect(),
+        )
     }
 
     /// Degree elevation in u by k: every column is elevated as a curve (seed 001 eq. 2.5).
@@ -178,7 +225,12 @@ impl<P: Point> BezierSurface<P> {
 
     /// Degree elevation in v by k: every row is elevated as a curve.
     pub fn elevate_v(&self, k: usize) -> Self {
-        Self::from_grid(self.points.iter().map(|r| BezierCurve::from_vec(r.clone()).elevate_by(k).into_points()).collect())
+        Self::from_grid(
+            self.points
+                .iter()
+                .map(|r| BezierCurve::from_vec(r.clone()).elevate_by(k).into_points())
+                .collect(),
+        )
     }
 
     /// Subdivision at u = t into the patches over [0, t] and [t, 1] in u.
@@ -206,12 +258,22 @@ impl<P: Point> BezierSurface<P> {
 
     /// x̃(u, v) = x(u, 1 − v).
     pub fn reversed_v(&self) -> Self {
-        Self::from_grid(self.points.iter().map(|r| r.iter().rev().copied().collect()).collect())
+        Self::from_grid(
+            self.points
+                .iter()
+                .map(|r| r.iter().rev().copied().collect())
+                .collect(),
+        )
     }
 
     /// Apply a map to every control point (maps the surface for affine maps).
     pub fn map<Q: Point>(&self, mut f: impl FnMut(P) -> Q) -> BezierSurface<Q> {
-        BezierSurface::from_grid(self.points.iter().map(|r| r.iter().map(|&p| f(p)).collect()).collect())
+        BezierSurface::from_grid(
+            self.points
+                .iter()
+                .map(|r| r.iter().map(|&p| f(p)).collect())
+                .collect(),
+        )
     }
 }
 
@@ -243,11 +305,17 @@ impl<P: Point> RationalSurface<P> {
         let cols = points.degree_v + 1;
         let count = |g: &[Vec<f64>]| g.iter().map(Vec::len).sum::<usize>();
         if weights.len() != points.degree_u + 1 || weights.iter().any(|r| r.len() != cols) {
-            return Err(BezierError::WeightCount { got: count(&weights), expected: (points.degree_u + 1) * cols });
+            return Err(BezierError::WeightCount {
+                got: count(&weights),
+                expected: (points.degree_u + 1) * cols,
+            });
         }
         for (i, r) in weights.iter().enumerate() {
             if let Some(j) = r.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
-                return Err(BezierError::BadWeight { index: i * cols + j, value: r[j] });
+                return Err(BezierError::BadWeight {
+                    index: i * cols + j,
+                    value: r[j],
+                });
             }
         }
         Ok(Self { points, weights })
@@ -255,7 +323,10 @@ impl<P: Point> RationalSurface<P> {
 
     /// A polynomial surface with unit weights.
     pub fn from_polynomial(s: &BezierSurface<P>) -> Self {
-        Self { points: s.clone(), weights: vec![vec![1.0; s.degree_v + 1]; s.degree_u + 1] }
+        Self {
+            points: s.clone(),
+            weights: vec![vec![1.0; s.degree_v + 1]; s.degree_u + 1],
+        }
     }
 
     /// Degree m in u.
@@ -281,7 +352,12 @@ impl<P: Point> RationalSurface<P> {
     /// The homogeneous numerator surface with control points w_ij p_ij.
     pub fn numerator(&self) -> BezierSurface<P> {
         BezierSurface::from_grid(
-            self.points.points.iter().zip(&self.weights).map(|(r, w)| r.iter().zip(w).map(|(&p, &w)| p * w).collect()).collect(),
+            self.points
+                .points
+                .iter()
+                .zip(&self.weights)
+                .map(|(r, w)| r.iter().zip(w).map(|(&p, &w)| p * w).collect())
+                .collect(),
         )
     }
 
@@ -291,8 +367,16 @@ impl<P: Point> RationalSurface<P> {
     }
 
     fn from_homogeneous(num: BezierSurface<P>, den: BezierSurface<f64>) -> Self {
-        let points = num.points.iter().zip(&den.points).map(|(r, w)| r.iter().zip(w).map(|(&p, &w)| p * (1.0 / w)).collect()).collect();
-        Self { points: BezierSurface::from_grid(points), weights: den.points }
+        let points = num
+            .points
+            .iter()
+            .zip(&den.points)
+            .map(|(r, w)| r.iter().zip(w).map(|(&p, &w)| p * (1.0 / w)).collect())
+            .collect();
+        Self {
+            points: BezierSurface::from_grid(points),
+            weights: den.points,
+        }
     }
 
     /// x(u, v) = N(u, v) / W(u, v).
@@ -324,7 +408,11 @@ impl<P: Point> RationalSurface<P> {
     pub fn iso_u(&self, u0: f64) -> RationalCurve<P> {
         let num = self.numerator().iso_u(u0).into_points();
         let den = self.denominator().iso_u(u0).into_points();
-        let pts = num.into_iter().zip(&den).map(|(p, &w)| p * (1.0 / w)).collect();
+        let pts = num
+            .into_iter()
+            .zip(&den)
+            .map(|(p, &w)| p * (1.0 / w))
+            .collect();
         RationalCurve::new(pts, den).expect("iso curve of a valid rational surface is valid")
     }
 
@@ -335,27 +423,42 @@ impl<P: Point> RationalSurface<P> {
 
     /// Degree elevation in u by k (on the homogeneous surface).
     pub fn elevate_u(&self, k: usize) -> Self {
-        Self::from_homogeneous(self.numerator().elevate_u(k), self.denominator().elevate_u(k))
+        Self::from_homogeneous(
+            self.numerator().elevate_u(k),
+            self.denominator().elevate_u(k),
+        )
     }
 
     /// Degree elevation in v by k.
     pub fn elevate_v(&self, k: usize) -> Self {
-        Self::from_homogeneous(self.numerator().elevate_v(k), self.denominator().elevate_v(k))
+        Self::from_homogeneous(
+            self.numerator().elevate_v(k),
+            self.denominator().elevate_v(k),
+        )
     }
 
     /// u and v swapped.
     pub fn transposed(&self) -> Self {
-        Self { points: self.points.transposed(), weights: transpose(&self.weights) }
+        Self {
+            points: self.points.transposed(),
+            weights: transpose(&self.weights),
+        }
     }
 
     /// x̃(u, v) = x(1 − u, v).
     pub fn reversed_u(&self) -> Self {
-        Self { points: self.points.reversed_u(), weights: self.weights.iter().rev().cloned().collect() }
+        Self {
+            points: self.points.reversed_u(),
+            weights: self.weights.iter().rev().cloned().collect(),
+        }
     }
 
     /// Map the control points, keeping the weights (maps the surface for affine maps).
     pub fn map<Q: Point>(&self, f: impl FnMut(P) -> Q) -> RationalSurface<Q> {
-        RationalSurface { points: self.points.map(f), weights: self.weights.clone() }
+        RationalSurface {
+            points: self.points.map(f),
+            weights: self.weights.clone(),
+        }
     }
 }
 
@@ -374,26 +477,59 @@ impl RationalSurface<DVec3> {
     /// circular arc in the xy-plane around the z axis through `center`: the tensor product of
     /// the two rational curves with product weights w_ij = ω_i·w_j, which factorizes as
     /// x(u, v) = center + r(v)·c(u) + z(v)·e_z exactly (seed 001 §2.4, §3).
-    pub fn revolution(center: DVec3, arc: &RationalCurve<DVec3>, profile: &RationalCurve<DVec3>) -> Self {
+    pub fn revolution(
+        center: DVec3,
+        arc: &RationalCurve<DVec3>,
+        profile: &RationalCurve<DVec3>,
+    ) -> Self {
         let points = arc
             .points()
             .iter()
-            .map(|c| profile.points().iter().map(|q| center + DVec3::new(q.x * c.x, q.x * c.y, q.z)).collect())
+            .map(|c| {
+                profile
+                    .points()
+                    .iter()
+                    .map(|q| center + DVec3::new(q.x * c.x, q.x * c.y, q.z))
+                    .collect()
+            })
             .collect();
-        let weights = arc.weights().iter().map(|a| profile.weights().iter().map(|b| a * b).collect()).collect();
-        Self { points: BezierSurface::from_grid(points), weights }
+        let weights = arc
+            .weights()
+            .iter()
+            .map(|a| profile.weights().iter().map(|b| a * b).collect())
+            .collect();
+        Self {
+            points: BezierSurface::from_grid(points),
+            weights,
+        }
     }
 
     /// One octant of the exact sphere as a biquadratic rational patch: quarter circle in u
     /// (azimuth from `phi0` to `phi0 + π/2`), quarter meridian in v from the equator to the north
     /// pole (`north`) or south pole; the pole edge v = 1 is degenerate. Weights are products of
     /// (1, √2/2, 1) (the seed's weights up to a common factor per row, seed 001 fig. 3.4).
-    pub fn sphere_octant(center: DVec3, radius: f64, phi0: f64, north: bool) -> Result<Self, BezierError> {
+    pub fn sphere_octant(
+        center: DVec3,
+        radius: f64,
+        phi0: f64,
+        north: bool,
+    ) -> Result<Self, BezierError> {
         let q = std::f64::consts::FRAC_PI_2;
         let arc = RationalCurve::circular_arc(DVec3::ZERO, 1.0, phi0, q)?;
-        // Profile in the (x = r, z) plane: arc from (1, 0) to (0, ±1), radius applied here.
-        let meridian = RationalCurve::circular_arc(DVec3::ZERO, radius, 0.0, q)?
-            .map(|p| DVec3::new(p.x, 0.0, if north { p.y } else { -p.y }));
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(BezierError::BadRadius { radius });
+        }
+        // Profile in the (x = r, z) plane: the quarter arc (1, 0), (1, ±1), (0, ±1) times the
+        // radius, written out so that the pole row has r = 0 exactly (a degenerate edge).
+        let z = if north { radius } else { -radius };
+        let meridian = RationalCurve::new(
+            vec![
+                DVec3::new(radius, 0.0, 0.0),
+                DVec3::new(radius, 0.0, z),
+                DVec3::new(0.0, 0.0, z),
+            ],
+            vec![1.0, std::f64::consts::FRAC_1_SQRT_2, 1.0],
+        )?;
         Ok(Self::revolution(center, &arc, &meridian))
     }
 
@@ -410,5 +546,4 @@ impl RationalSurface<DVec3> {
         }
         Ok(out)
     }
-
 }
