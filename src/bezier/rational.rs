@@ -40,6 +40,11 @@ impl<P: Point> RationalCurve<P> {
         Ok(Self { points, weights })
     }
 
+    /// Internal constructor without validation (weights from positive combinations).
+    pub(crate) fn from_parts(points: Vec<P>, weights: Vec<f64>) -> Self {
+        Self { points, weights }
+    }
+
     /// A polynomial curve as a rational one with unit weights.
     pub fn from_polynomial(c: &BezierCurve<P>) -> Self {
         Self {

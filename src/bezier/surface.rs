@@ -404,7 +404,8 @@ impl<P: Point> RationalSurface<P> {
         }
     }
 
-    /// The iso-parametric curve u = u0 (rational, degree n in v).
+    /// The iso-parametric curve u = u0 (rational, degree n in v). For u0 ∈ [0, 1] its weights
+    /// are positive; outside, they may not be (extrapolation).
     pub fn iso_u(&self, u0: f64) -> RationalCurve<P> {
         let num = self.numerator().iso_u(u0).into_points();
         let den = self.denominator().iso_u(u0).into_points();
@@ -413,7 +414,7 @@ impl<P: Point> RationalSurface<P> {
             .zip(&den)
             .map(|(p, &w)| p * (1.0 / w))
             .collect();
-        RationalCurve::new(pts, den).expect("iso curve of a valid rational surface is valid")
+        RationalCurve::from_parts(pts, den)
     }
 
     /// The iso-parametric curve v = v0 (rational, degree m in u).
