@@ -402,7 +402,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
                 let mut c = [0.0; 3];
                 for k in 0..3 {
                     let i = xyz[k].ok_or_else(|| parse_err(None, "PLY vertex without x/y/z"))?;
-                    c[k] = rec[i][0];
+                    c[k] = rec[i].first().copied().ok_or_else(|| parse_err(rec_line, "PLY vertex coordinate is an empty list"))?;
                 }
                 positions.push(DVec3::from_array(c));
                 if let Some(l) = rec_line {
@@ -624,6 +624,9 @@ pub fn write_stl_triangles<W: Write>(mut w: W, positions: &[DVec3], tris: &[[u32
     w.write_all(&header)?;
     let n = u32::try_from(tris.len())
         .map_err(|_| io::Error::new(io::ErrorKind::InvalidInput, "too many triangles for STL"))?;
+    if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= positions.len())) {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("triangle {t:?} names a missing vertex")));
+    }
     w.write_all(&n.to_le_bytes())?;
     for t in tris {
         let [a, b, c] = t.map(|i| positions[i as usize]);
