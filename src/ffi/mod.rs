@@ -67,7 +67,10 @@ pub(crate) struct FfiError {
 
 impl FfiError {
     pub(crate) fn new(code: u32, message: impl Into<String>) -> Self {
-        Self { code, message: message.into() }
+        Self {
+            code,
+            message: message.into(),
+        }
     }
 }
 
@@ -119,7 +122,10 @@ pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
 /// A NULL check naming the argument.
 pub(crate) fn non_null<T>(p: *const T, arg: &str) -> FfiResult<*const T> {
     if p.is_null() {
-        Err(FfiError::new(GBSURF_ERR_NULL, format!("argument `{arg}` is NULL")))
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!("argument `{arg}` is NULL"),
+        ))
     } else {
         Ok(p)
     }
@@ -128,7 +134,10 @@ pub(crate) fn non_null<T>(p: *const T, arg: &str) -> FfiResult<*const T> {
 /// A NULL check for an output pointer.
 pub(crate) fn non_null_mut<T>(p: *mut T, arg: &str) -> FfiResult<*mut T> {
     if p.is_null() {
-        Err(FfiError::new(GBSURF_ERR_NULL, format!("output argument `{arg}` is NULL")))
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!("output argument `{arg}` is NULL"),
+        ))
     } else {
         Ok(p)
     }
@@ -240,7 +249,9 @@ mod tests {
     fn last() -> String {
         // SAFETY: gbsurf_last_error_message never returns NULL and the string lives until the
         // next call on this thread.
-        unsafe { CStr::from_ptr(gbsurf_last_error_message()) }.to_string_lossy().into_owned()
+        unsafe { CStr::from_ptr(gbsurf_last_error_message()) }
+            .to_string_lossy()
+            .into_owned()
     }
 
     #[test]
@@ -258,24 +269,36 @@ mod tests {
 
     #[test]
     fn error_copy_truncates_and_reports_full_length() {
-        boundary("copy", || Err(FfiError::new(GBSURF_ERR_COUNT, "0123456789")));
+        boundary("copy", || {
+            Err(FfiError::new(GBSURF_ERR_COUNT, "0123456789"))
+        });
         let full = "copy: 0123456789";
         let mut buf = [1 as c_char; 8];
         // SAFETY: buf has 8 writable bytes.
         let n = unsafe { gbsurf_last_error_copy(buf.as_mut_ptr(), buf.len()) };
         assert_eq!(n, full.len());
         // SAFETY: the copy is NUL-terminated within the buffer.
-        let got = unsafe { CStr::from_ptr(buf.as_ptr()) }.to_str().unwrap().to_string();
+        let got = unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_string();
         assert_eq!(got, &full[..7]);
         // SAFETY: capacity 0 with NULL is allowed.
-        assert_eq!(unsafe { gbsurf_last_error_copy(std::ptr::null_mut(), 0) }, full.len());
+        assert_eq!(
+            unsafe { gbsurf_last_error_copy(std::ptr::null_mut(), 0) },
+            full.len()
+        );
     }
 
     #[test]
     fn status_names_are_distinct() {
         let names: Vec<String> = (0..=13)
             // SAFETY: static NUL-terminated strings.
-            .map(|c| unsafe { CStr::from_ptr(gbsurf_status_name(c)) }.to_string_lossy().into_owned())
+            .map(|c| {
+                unsafe { CStr::from_ptr(gbsurf_status_name(c)) }
+                    .to_string_lossy()
+                    .into_owned()
+            })
             .collect();
         assert_eq!(names[0], "GBSURF_OK");
         assert_eq!(names[13], "GBSURF_ERR_UNKNOWN");

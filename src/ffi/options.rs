@@ -88,7 +88,10 @@ impl From<&ConvertOptions> for GbsurfOptions {
 }
 
 fn bad_option(name: &str, value: impl std::fmt::Display, expected: &str) -> FfiError {
-    FfiError::new(GBSURF_ERR_INVALID_OPTION, format!("option {name} = {value}: {expected}"))
+    FfiError::new(
+        GBSURF_ERR_INVALID_OPTION,
+        format!("option {name} = {value}: {expected}"),
+    )
 }
 
 impl GbsurfOptions {
@@ -98,7 +101,9 @@ impl GbsurfOptions {
             return Err(bad_option(
                 "struct_size",
                 self.struct_size,
-                &format!("unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"),
+                &format!(
+                    "unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"
+                ),
             ));
         }
         let method = match self.method {
@@ -117,7 +122,13 @@ impl GbsurfOptions {
         let weights = match self.weights {
             GBSURF_WEIGHTS_SQUARED => WeightForm::Squared,
             GBSURF_WEIGHTS_LINEAR => WeightForm::Linear,
-            w => return Err(bad_option("weights", w, "expected GBSURF_WEIGHTS_* (0..=1)")),
+            w => {
+                return Err(bad_option(
+                    "weights",
+                    w,
+                    "expected GBSURF_WEIGHTS_* (0..=1)",
+                ))
+            }
         };
         let best_plane = match self.best_plane {
             0 => false,
@@ -127,9 +138,16 @@ impl GbsurfOptions {
         if self.reserved != 0 {
             return Err(bad_option("reserved", self.reserved, "must be 0"));
         }
-        for (name, v) in [("fullness", self.fullness), ("tile_depth", self.tile_depth), ("mid_scale", self.mid_scale)] {
+        for (name, v) in [
+            ("fullness", self.fullness),
+            ("tile_depth", self.tile_depth),
+            ("mid_scale", self.mid_scale),
+        ] {
             if !v.is_finite() {
-                return Err(FfiError::new(GBSURF_ERR_NAN, format!("option {name} = {v} is not finite")));
+                return Err(FfiError::new(
+                    GBSURF_ERR_NAN,
+                    format!("option {name} = {v} is not finite"),
+                ));
             }
         }
         let o = ConvertOptions {
@@ -143,7 +161,8 @@ impl GbsurfOptions {
             weights,
             levels: self.levels,
         };
-        o.validate().map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;
+        o.validate()
+            .map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;
         Ok(o)
     }
 }
@@ -160,7 +179,9 @@ pub(crate) fn read_options(options: *const GbsurfOptions) -> FfiResult<ConvertOp
         return Err(bad_option(
             "struct_size",
             size,
-            &format!("unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"),
+            &format!(
+                "unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"
+            ),
         ));
     }
     // SAFETY: the caller's struct has our full size (checked above).

@@ -14,7 +14,8 @@ pub const GBSURF_PATCH_CGB: u32 = 1;
 /// Progress callback: called with the finished fraction in [0, 1] and the caller's `user_data`;
 /// return `true` to continue, `false` to cancel (the conversion then fails with
 /// `GBSURF_ERR_CANCELLED`). It runs on the calling thread and must not unwind.
-pub type GbsurfProgressFn = Option<unsafe extern "C" fn(fraction: f32, user_data: *mut c_void) -> bool>;
+pub type GbsurfProgressFn =
+    Option<unsafe extern "C" fn(fraction: f32, user_data: *mut c_void) -> bool>;
 
 /// One ribbon, flattened: `points[3 * (k * (degree + 1) + j) + c]` is coordinate c of P_{j,k}.
 struct FlatRibbon {
@@ -109,7 +110,12 @@ fn build_mesh(positions: &[f64], face_sizes: &[u32], face_indices: &[u32]) -> Ff
     if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
         return Err(FfiError::new(
             GBSURF_ERR_NAN,
-            format!("vertex {}: coordinate {} is {} (not finite)", i / 3, i % 3, positions[i]),
+            format!(
+                "vertex {}: coordinate {} is {} (not finite)",
+                i / 3,
+                i % 3,
+                positions[i]
+            ),
         ));
     }
     let nv = positions.len() / 3;
@@ -148,8 +154,11 @@ fn run(
             None => true,
         }
     };
-    let progress_arg: Option<&mut dyn FnMut(f32) -> bool> =
-        if progress.is_some() { Some(&mut cb) } else { None };
+    let progress_arg: Option<&mut dyn FnMut(f32) -> bool> = if progress.is_some() {
+        Some(&mut cb)
+    } else {
+        None
+    };
     let conv = crate::api::convert(mesh, &opts, progress_arg).map_err(convert_error)?;
     let method = GbsurfOptions::from(&opts).method;
     Ok(Box::new(pack(conv, method)))
@@ -157,7 +166,11 @@ fn run(
 
 fn pack(conv: crate::api::Conversion, method: u32) -> GbsurfResult {
     let m = &conv.mesh;
-    let (patches, curves) = conv.surface.as_ref().map(flatten_surface).unwrap_or_default();
+    let (patches, curves) = conv
+        .surface
+        .as_ref()
+        .map(flatten_surface)
+        .unwrap_or_default();
     GbsurfResult {
         positions: flatten(&m.positions),
         normals: flatten(&m.normals),
@@ -260,9 +273,8 @@ pub unsafe extern "C" fn gbsurf_convert_file(
         let path = unsafe { CStr::from_ptr(path) }
             .to_str()
             .map_err(|_| FfiError::new(GBSURF_ERR_IO, "path is not valid UTF-8"))?;
-        let (mesh, map) = crate::mesh::read_polymesh(path).map_err(|e| {
-            FfiError::new(mesh_error_code(&e), format!("{path}: {e}"))
-        })?;
+        let (mesh, map) = crate::mesh::read_polymesh(path)
+            .map_err(|e| FfiError::new(mesh_error_code(&e), format!("{path}: {e}")))?;
         let r = run(&mesh, options, progress, user_data).map_err(|mut e| {
             e.message = format!("{path}: {}", e.message);
             e
@@ -336,61 +348,249 @@ fn view<T>(src: &[T], data: *mut *const T, len: *mut usize) -> FfiResult {
     Ok(())
 }
 
-/// Defines, for one per-vertex/per-triangle array of the result, a view accessor (pointer into
-/// the handle, valid until it is freed) and a copy-out accessor.
-macro_rules! array_accessors {
-    ($ty:ty, $field:ident, $view:ident, $copy:ident, $doc:literal) => {
-        #[doc = concat!("View of ", $doc, ": `*data` points into the handle (valid until it is freed), `*len` is the number of values.")]
-        ///
-        /// # Safety
-        /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-        #[no_mangle]
-        pub unsafe extern "C" fn $view(
-            result: *const GbsurfResult,
-            data: *mut *const $ty,
-            len: *mut usize,
-        ) -> u32 {
-            boundary(stringify!($view), || view(&handle(result)?.$field, data, len))
-        }
-
-        #[doc = concat!("Copies ", $doc, " into `buf` (`capacity` values); `*written` receives the number of values (also when the buffer is too small: `GBSURF_ERR_CAPACITY`).")]
-        ///
-        /// # Safety
-        /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
-        #[no_mangle]
-        pub unsafe extern "C" fn $copy(
-            result: *const GbsurfResult,
-            buf: *mut $ty,
-            capacity: usize,
-            written: *mut usize,
-        ) -> u32 {
-            boundary(stringify!($copy), || copy_out(&handle(result)?.$field, buf, capacity, written))
-        }
-    };
+/// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_positions(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_positions", || {
+        view(&handle(result)?.positions, data, len)
+    })
 }
 
-array_accessors!(f64, positions, gbsurf_mesh_positions, gbsurf_mesh_copy_positions,
-    "the output vertex positions (x y z per vertex, 3 × vertex count doubles)");
-array_accessors!(f64, normals, gbsurf_mesh_normals, gbsurf_mesh_copy_normals,
-    "the unit vertex normals (x y z per vertex)");
-array_accessors!(u32, triangles, gbsurf_mesh_triangles, gbsurf_mesh_copy_triangles,
-    "the triangles (3 vertex indices each, counter-clockwise seen from outside)");
-array_accessors!(u32, patch_index, gbsurf_mesh_patch_index, gbsurf_mesh_copy_patch_index,
-    "the per-vertex patch index (the patch each vertex was sampled from)");
-array_accessors!(f64, mean_curvature, gbsurf_mesh_mean_curvature, gbsurf_mesh_copy_mean_curvature,
-    "the per-vertex mean curvature H");
-array_accessors!(f64, gaussian_curvature, gbsurf_mesh_gaussian_curvature, gbsurf_mesh_copy_gaussian_curvature,
-    "the per-vertex Gaussian curvature K");
-array_accessors!(f64, g1_deviation_deg, gbsurf_mesh_g1_deviation, gbsurf_mesh_copy_g1_deviation,
-    "the per-vertex G1 deviation in degrees (normal angle across patch boundaries; 0 inside patches)");
+/// Copies the output vertex positions (x y z per vertex: 3 × vertex count doubles) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_positions(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_positions", || {
+        copy_out(&handle(result)?.positions, buf, capacity, written)
+    })
+}
+
+/// View of the unit vertex normals (x y z per vertex): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_normals(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_normals", || {
+        view(&handle(result)?.normals, data, len)
+    })
+}
+
+/// Copies the unit vertex normals (x y z per vertex) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_normals(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_normals", || {
+        copy_out(&handle(result)?.normals, buf, capacity, written)
+    })
+}
+
+/// View of the triangles (3 vertex indices each, counter-clockwise seen from outside): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_triangles(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_triangles", || {
+        view(&handle(result)?.triangles, data, len)
+    })
+}
+
+/// Copies the triangles (3 vertex indices each, counter-clockwise seen from outside) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_triangles(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_triangles", || {
+        copy_out(&handle(result)?.triangles, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_patch_index(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_patch_index", || {
+        view(&handle(result)?.patch_index, data, len)
+    })
+}
+
+/// Copies the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_patch_index(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_patch_index", || {
+        copy_out(&handle(result)?.patch_index, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_mean_curvature(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_mean_curvature", || {
+        view(&handle(result)?.mean_curvature, data, len)
+    })
+}
+
+/// Copies the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_mean_curvature(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_mean_curvature", || {
+        copy_out(&handle(result)?.mean_curvature, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex Gaussian curvature K = k1 k2: `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_gaussian_curvature(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_gaussian_curvature", || {
+        view(&handle(result)?.gaussian_curvature, data, len)
+    })
+}
+
+/// Copies the per-vertex Gaussian curvature K = k1 k2 into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_gaussian_curvature(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_gaussian_curvature", || {
+        copy_out(&handle(result)?.gaussian_curvature, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_g1_deviation(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_g1_deviation", || {
+        view(&handle(result)?.g1_deviation_deg, data, len)
+    })
+}
+
+/// Copies the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_g1_deviation", || {
+        copy_out(&handle(result)?.g1_deviation_deg, buf, capacity, written)
+    })
+}
 
 /// Number of vertices of the output mesh.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `count` writable or NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_mesh_vertex_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
-    boundary("gbsurf_mesh_vertex_count", || put(count, "count", handle(result)?.positions.len() / 3))
+pub unsafe extern "C" fn gbsurf_mesh_vertex_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_vertex_count", || {
+        put(count, "count", handle(result)?.positions.len() / 3)
+    })
 }
 
 /// Number of triangles of the output mesh.
@@ -398,8 +598,13 @@ pub unsafe extern "C" fn gbsurf_mesh_vertex_count(result: *const GbsurfResult, c
 /// # Safety
 /// `result` is a live handle or NULL; `count` writable or NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_mesh_triangle_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
-    boundary("gbsurf_mesh_triangle_count", || put(count, "count", handle(result)?.triangles.len() / 3))
+pub unsafe extern "C" fn gbsurf_mesh_triangle_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_triangle_count", || {
+        put(count, "count", handle(result)?.triangles.len() / 3)
+    })
 }
 
 fn patch_at(r: &GbsurfResult, patch: usize) -> FfiResult<&FlatPatch> {
@@ -416,7 +621,10 @@ fn ribbon_at(r: &GbsurfResult, patch: usize, side: usize) -> FfiResult<&FlatRibb
     p.ribbons.get(side).ok_or_else(|| {
         FfiError::new(
             GBSURF_ERR_INDEX,
-            format!("patch {patch}: side index {side} out of range (0..{})", p.ribbons.len()),
+            format!(
+                "patch {patch}: side index {side} out of range (0..{})",
+                p.ribbons.len()
+            ),
         )
     })
 }
@@ -427,7 +635,9 @@ fn ribbon_at(r: &GbsurfResult, patch: usize, side: usize) -> FfiResult<&FlatRibb
 /// `result` is a live handle or NULL; `count` writable or NULL.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_patch_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
-    boundary("gbsurf_patch_count", || put(count, "count", handle(result)?.patches.len()))
+    boundary("gbsurf_patch_count", || {
+        put(count, "count", handle(result)?.patches.len())
+    })
 }
 
 /// Kind of patch `patch`: `GBSURF_PATCH_GB` or `GBSURF_PATCH_CGB`.
@@ -435,8 +645,14 @@ pub unsafe extern "C" fn gbsurf_patch_count(result: *const GbsurfResult, count: 
 /// # Safety
 /// `result` is a live handle or NULL; `kind` writable or NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_patch_kind(result: *const GbsurfResult, patch: usize, kind: *mut u32) -> u32 {
-    boundary("gbsurf_patch_kind", || put(kind, "kind", patch_at(handle(result)?, patch)?.kind))
+pub unsafe extern "C" fn gbsurf_patch_kind(
+    result: *const GbsurfResult,
+    patch: usize,
+    kind: *mut u32,
+) -> u32 {
+    boundary("gbsurf_patch_kind", || {
+        put(kind, "kind", patch_at(handle(result)?, patch)?.kind)
+    })
 }
 
 /// Number of sides n of patch `patch`.
@@ -444,9 +660,17 @@ pub unsafe extern "C" fn gbsurf_patch_kind(result: *const GbsurfResult, patch: u
 /// # Safety
 /// `result` is a live handle or NULL; `sides` writable or NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_patch_sides(result: *const GbsurfResult, patch: usize, sides: *mut usize) -> u32 {
+pub unsafe extern "C" fn gbsurf_patch_sides(
+    result: *const GbsurfResult,
+    patch: usize,
+    sides: *mut usize,
+) -> u32 {
     boundary("gbsurf_patch_sides", || {
-        put(sides, "sides", patch_at(handle(result)?, patch)?.ribbons.len())
+        put(
+            sides,
+            "sides",
+            patch_at(handle(result)?, patch)?.ribbons.len(),
+        )
     })
 }
 
@@ -504,7 +728,12 @@ pub unsafe extern "C" fn gbsurf_patch_copy_ribbon_points(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_patch_copy_ribbon_points", || {
-        copy_out(&ribbon_at(handle(result)?, patch, side)?.points, buf, capacity, written)
+        copy_out(
+            &ribbon_at(handle(result)?, patch, side)?.points,
+            buf,
+            capacity,
+            written,
+        )
     })
 }
 
@@ -514,7 +743,11 @@ pub unsafe extern "C" fn gbsurf_patch_copy_ribbon_points(
 /// # Safety
 /// `result` is a live handle or NULL; `xyz` has 3 writable doubles or is NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_patch_center(result: *const GbsurfResult, patch: usize, xyz: *mut f64) -> u32 {
+pub unsafe extern "C" fn gbsurf_patch_center(
+    result: *const GbsurfResult,
+    patch: usize,
+    xyz: *mut f64,
+) -> u32 {
     boundary("gbsurf_patch_center", || {
         let p = patch_at(handle(result)?, patch)?;
         let c = p.center.ok_or_else(|| {
@@ -536,7 +769,9 @@ pub unsafe extern "C" fn gbsurf_patch_center(result: *const GbsurfResult, patch:
 /// `result` is a live handle or NULL; `count` writable or NULL.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_curve_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
-    boundary("gbsurf_curve_count", || put(count, "count", handle(result)?.curves.len()))
+    boundary("gbsurf_curve_count", || {
+        put(count, "count", handle(result)?.curves.len())
+    })
 }
 
 fn curve_at(r: &GbsurfResult, curve: usize) -> FfiResult<&[f64]> {
@@ -559,7 +794,9 @@ pub unsafe extern "C" fn gbsurf_curve_points(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_curve_points", || view(curve_at(handle(result)?, curve)?, data, len))
+    boundary("gbsurf_curve_points", || {
+        view(curve_at(handle(result)?, curve)?, data, len)
+    })
 }
 
 /// Copy-out variant of `gbsurf_curve_points`.
@@ -584,8 +821,13 @@ pub unsafe extern "C" fn gbsurf_curve_copy_points(
 /// # Safety
 /// `result` is a live handle or NULL; `count` writable or NULL.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_warning_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
-    boundary("gbsurf_warning_count", || put(count, "count", handle(result)?.warnings.len()))
+pub unsafe extern "C" fn gbsurf_warning_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_warning_count", || {
+        put(count, "count", handle(result)?.warnings.len())
+    })
 }
 
 /// Warning `index` as a NUL-terminated UTF-8 string owned by the handle.
@@ -603,7 +845,10 @@ pub unsafe extern "C" fn gbsurf_warning_message(
         let w = r.warnings.get(index).ok_or_else(|| {
             FfiError::new(
                 GBSURF_ERR_INDEX,
-                format!("warning index {index} out of range (0..{})", r.warnings.len()),
+                format!(
+                    "warning index {index} out of range (0..{})",
+                    r.warnings.len()
+                ),
             )
         })?;
         put(message, "message", w.as_ptr())
@@ -616,7 +861,10 @@ pub unsafe extern "C" fn gbsurf_warning_message(
 /// # Safety
 /// `result` is a live handle or NULL; `report` NULL or a writable `GbsurfReport`.
 #[no_mangle]
-pub unsafe extern "C" fn gbsurf_result_report(result: *const GbsurfResult, report: *mut GbsurfReport) -> u32 {
+pub unsafe extern "C" fn gbsurf_result_report(
+    result: *const GbsurfResult,
+    report: *mut GbsurfReport,
+) -> u32 {
     boundary("gbsurf_result_report", || {
         let r = handle(result)?;
         let out = non_null_mut(report, "report")?;
@@ -646,7 +894,11 @@ pub unsafe extern "C" fn gbsurf_report_patches_with_sides(
 ) -> u32 {
     boundary("gbsurf_report_patches_with_sides", || {
         let r = handle(result)?;
-        let c = r.sides_histogram.iter().find(|(n, _)| *n == sides as u64).map_or(0, |&(_, c)| c);
+        let c = r
+            .sides_histogram
+            .iter()
+            .find(|(n, _)| *n == sides as u64)
+            .map_or(0, |&(_, c)| c);
         put(count, "count", c as usize)
     })
 }
