@@ -1,6 +1,7 @@
 //! The conversion entry points and the opaque result handle with its accessors.
 
 use super::*;
+use crate::api::{Conversion, ConvertError, ConvertOptions};
 use crate::construct::{Patch, Surface};
 use crate::mesh::{MeshError, PolyMesh};
 use glam::DVec3;
@@ -139,27 +140,28 @@ fn build_mesh(positions: &[f64], face_sizes: &[u32], face_indices: &[u32]) -> Ff
     Ok(PolyMesh::new(pts, faces))
 }
 
-/// Runs the conversion with the C progress callback and packs the result.
+/// Runs a conversion (`job`: the options and the progress closure → the result) with the C
+/// progress callback and packs the result.
 fn run(
-    mesh: &PolyMesh,
     options: *const GbsurfOptions,
     progress: GbsurfProgressFn,
     user_data: *mut c_void,
+    job: impl FnOnce(&ConvertOptions, crate::api::Progress<'_>) -> Result<Conversion, ConvertError>,
 ) -> FfiResult<Box<GbsurfResult>> {
     let opts = read_options(options)?;
     let mut cb = |fraction: f32| -> bool {
         match progress {
-            // SAFETY: the caller passed a valid function pointer (or NULL, handled by Option).
+            // SAFETY: the caller passed a valid function pointer (NULL is the None case).
             Some(f) => unsafe { f(fraction, user_data) },
             None => true,
         }
     };
-    let progress_arg: Option<&mut dyn FnMut(f32) -> bool> = if progress.is_some() {
+    let progress_arg: crate::api::Progress<'_> = if progress.is_some() {
         Some(&mut cb)
     } else {
         None
     };
-    let conv = crate::api::convert(mesh, &opts, progress_arg).map_err(convert_error)?;
+    let conv = job(&opts, progress_arg).map_err(convert_error)?;
     let method = GbsurfOptions::from(&opts).method;
     Ok(Box::new(pack(conv, method)))
 }
@@ -244,7 +246,9 @@ pub unsafe extern "C" fn gbsurf_convert(
             )
         };
         let mesh = build_mesh(p, s, i)?;
-        let r = run(&mesh, options, progress, user_data)?;
+        let r = run(options, progress, user_data, |o, cb| {
+            crate::api::convert(&mesh, o, cb)
+        })?;
         write_out(out, r);
         Ok(())
     })
@@ -273,13 +277,13 @@ pub unsafe extern "C" fn gbsurf_convert_file(
         let path = unsafe { CStr::from_ptr(path) }
             .to_str()
             .map_err(|_| FfiError::new(GBSURF_ERR_IO, "path is not valid UTF-8"))?;
-        let (mesh, map) = crate::mesh::read_polymesh(path)
-            .map_err(|e| FfiError::new(mesh_error_code(&e), format!("{path}: {e}")))?;
-        let r = run(&mesh, options, progress, user_data).map_err(|mut e| {
+        let r = run(options, progress, user_data, |o, cb| {
+            crate::api::convert_file(path, o, cb)
+        })
+        .map_err(|mut e| {
             e.message = format!("{path}: {}", e.message);
             e
         });
-        let _ = &map;
         write_out(out, r?);
         Ok(())
     })

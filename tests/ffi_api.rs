@@ -1,0 +1,219 @@
+//! The C ABI called from Rust: every misuse returns its own status code with a message naming the
+//! element, nothing panics across the boundary, handles are freed.
+#![allow(clippy::missing_safety_doc)]
+
+use gbsurf::ffi::*;
+use std::ffi::{c_void, CStr};
+use std::ptr::{null, null_mut};
+
+fn last() -> String {
+    // SAFETY: never NULL, valid until the next call on this thread.
+    unsafe { CStr::from_ptr(gbsurf_last_error_message()) }.to_string_lossy().into_owned()
+}
+
+/// The unit cube as flat arrays (outward CCW quads).
+fn cube() -> (Vec<f64>, Vec<u32>, Vec<u32>) {
+    let p = vec![
+        0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1., 0., 1., 1.,
+    ];
+    let f = vec![
+        0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+    ];
+    (p, vec![4; 6], f)
+}
+
+unsafe fn convert(
+    p: &[f64],
+    s: &[u32],
+    f: &[u32],
+    o: *const GbsurfOptions,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    unsafe { gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), o, None, null_mut(), out) }
+}
+
+#[test]
+fn versions() {
+    // SAFETY: static string.
+    let v = unsafe { CStr::from_ptr(gbsurf_version()) }.to_str().unwrap();
+    assert_eq!(v, env!("CARGO_PKG_VERSION"));
+    assert_eq!(gbsurf_abi_version(), GBSURF_ABI_VERSION);
+}
+
+#[test]
+fn options_init_matches_rust_defaults_and_validates() {
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct.
+    assert_eq!(unsafe { gbsurf_options_init(o.as_mut_ptr()) }, GBSURF_OK);
+    // SAFETY: initialized by gbsurf_options_init.
+    let mut o = unsafe { o.assume_init() };
+    assert_eq!(o.struct_size as usize, std::mem::size_of::<GbsurfOptions>());
+    let d = gbsurf::api::ConvertOptions::default();
+    assert_eq!(o.resolution as usize, d.resolution);
+    assert_eq!(o.method, GBSURF_METHOD_DUAL);
+    assert_eq!(o.twist, GBSURF_TWIST_INTERP);
+    assert_eq!(o.fullness, d.fullness);
+    // SAFETY: valid struct.
+    assert_eq!(unsafe { gbsurf_options_validate(&o) }, GBSURF_OK);
+    // SAFETY: NULL is allowed and reported.
+    assert_eq!(unsafe { gbsurf_options_init(null_mut()) }, GBSURF_ERR_NULL);
+    assert!(last().contains("options"), "{}", last());
+
+    let cases: [(fn(&mut GbsurfOptions), u32, &str); 9] = [
+        (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
+        (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
+        (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
+        (|o| o.weights = 2, GBSURF_ERR_INVALID_OPTION, "weights"),
+        (|o| o.best_plane = 2, GBSURF_ERR_INVALID_OPTION, "best_plane"),
+        (|o| o.resolution = 0, GBSURF_ERR_INVALID_OPTION, "resolution"),
+        (|o| o.levels = 9, GBSURF_ERR_INVALID_OPTION, "levels"),
+        (|o| o.fullness = f64::NAN, GBSURF_ERR_NAN, "fullness"),
+        (|o| o.fullness = 1.0, GBSURF_ERR_INVALID_OPTION, "fullness"),
+    ];
+    for (edit, code, word) in cases {
+        let mut bad = o;
+        edit(&mut bad);
+        // SAFETY: valid struct.
+        assert_eq!(unsafe { gbsurf_options_validate(&bad) }, code, "{word}: {}", last());
+        assert!(last().contains(word), "{word}: {}", last());
+        // The same code from gbsurf_convert, which then leaves `out` NULL.
+        let (p, s, f) = cube();
+        let mut out = 1usize as *mut GbsurfResult;
+        // SAFETY: valid arrays and out pointer.
+        assert_eq!(unsafe { convert(&p, &s, &f, &bad, &mut out) }, code);
+        assert!(out.is_null());
+    }
+    o.tile_depth = 2.5;
+    // SAFETY: valid struct.
+    assert_eq!(unsafe { gbsurf_options_validate(&o) }, GBSURF_OK);
+}
+
+#[test]
+fn null_pointers_each_named() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // SAFETY: each call passes one NULL where a pointer is required; the rest valid.
+    unsafe {
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), null_mut()),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("out"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(null(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("positions"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), null(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("face_sizes"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), null(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("face_indices"), "{}", last());
+        assert_eq!(gbsurf_convert_file(null(), null(), None, null_mut(), &mut out), GBSURF_ERR_NULL);
+        assert!(out.is_null());
+        let mut n = 0usize;
+        assert_eq!(gbsurf_mesh_vertex_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert!(last().contains("result"), "{}", last());
+        let mut d = null();
+        assert_eq!(gbsurf_mesh_positions(null(), &mut d, &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_patch_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_curve_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_result_report(null(), null_mut()), GBSURF_ERR_NULL);
+        // Freeing NULL is a no-op.
+        gbsurf_result_free(null_mut());
+    }
+}
+
+#[test]
+fn wrong_counts_out_of_range_and_nan_get_their_codes() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // SAFETY: all slices valid for the lengths passed.
+    unsafe {
+        assert_eq!(convert(&p[..23], &s, &f, null(), &mut out), GBSURF_ERR_COUNT);
+        assert!(last().contains("23"), "{}", last());
+        assert_eq!(convert(&p, &s, &f[..23], null(), &mut out), GBSURF_ERR_COUNT);
+        assert!(last().contains("24") && last().contains("23"), "{}", last());
+        let mut f2 = f.clone();
+        f2[9] = 8; // face 2 corner 1
+        assert_eq!(convert(&p, &s, &f2, null(), &mut out), GBSURF_ERR_INDEX);
+        assert!(last().contains("face 2 corner 1") && last().contains("vertex index 8"), "{}", last());
+        let mut p2 = p.clone();
+        p2[13] = f64::NAN; // vertex 4, axis 1
+        assert_eq!(convert(&p2, &s, &f, null(), &mut out), GBSURF_ERR_NAN);
+        assert!(last().contains("vertex 4") && last().contains("coordinate 1"), "{}", last());
+        p2[13] = f64::INFINITY;
+        assert_eq!(convert(&p2, &s, &f, null(), &mut out), GBSURF_ERR_NAN);
+        // Validation errors name the element: a face listed twice.
+        let mut s3 = s.clone();
+        s3.push(4);
+        let mut f3 = f.clone();
+        f3.extend_from_slice(&f[..4]);
+        assert_eq!(convert(&p, &s3, &f3, null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(last().contains("face 6"), "{}", last());
+        // A face with two corners.
+        assert_eq!(convert(&p, &[2, 4], &[0, 1, 0, 3, 2, 1], null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(last().contains("face 0"), "{}", last());
+        // Empty input.
+        assert_eq!(convert(&[], &[], &[], null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(out.is_null());
+    }
+}
+
+unsafe extern "C" fn cancel_at_once(fraction: f32, user: *mut c_void) -> bool {
+    // SAFETY: the test passes a pointer to a Vec<f32>.
+    unsafe { (*(user as *mut Vec<f32>)).push(fraction) };
+    false
+}
+
+#[test]
+fn cancelling_progress_gives_cancelled() {
+    let (p, s, f) = cube();
+    let mut seen: Vec<f32> = Vec::new();
+    let mut out = null_mut();
+    // SAFETY: valid arrays; user data is a live Vec<f32>.
+    let code = unsafe {
+        gbsurf_convert(
+            p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(),
+            Some(cancel_at_once), &mut seen as *mut Vec<f32> as *mut c_void, &mut out,
+        )
+    };
+    assert_eq!(code, GBSURF_ERR_CANCELLED, "{}", last());
+    assert!(out.is_null());
+    assert_eq!(seen, vec![0.0]);
+    assert!(last().contains("cancelled"), "{}", last());
+}
+
+#[test]
+fn convert_file_reports_io_and_named_validation_errors() {
+    let bad = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/bad/");
+    let cases = [
+        ("garbage.obj", GBSURF_ERR_IO, "line 1"),
+        ("nan.obj", GBSURF_ERR_NAN, "vertex 0"),
+        ("inf.obj", GBSURF_ERR_NAN, "vertex 0"),
+        ("index_out_of_range.obj", GBSURF_ERR_INDEX, "face 5"),
+        ("duplicate_face.obj", GBSURF_ERR_INVALID_MESH, "face 6"),
+        ("flipped_face.obj", GBSURF_ERR_INVALID_MESH, "line 15"),
+        ("nonmanifold_edge.obj", GBSURF_ERR_INVALID_MESH, "edge"),
+        ("bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH, "vertex 0"),
+        ("repeated_index.obj", GBSURF_ERR_INVALID_MESH, "face"),
+        ("zero_area.obj", GBSURF_ERR_INVALID_MESH, "edge (0, 1)"),
+        ("huge_coordinates.obj", GBSURF_ERR_INVALID_MESH, "exceeds"),
+        ("empty.obj", GBSURF_ERR_INVALID_MESH, "empty"),
+        ("no_such_file.obj", GBSURF_ERR_IO, "no_such_file"),
+    ];
+    for (name, code, word) in cases {
+        let path = std::ffi::CString::new(format!("{bad}{name}")).unwrap();
+        let mut out = null_mut();
+        // SAFETY: NUL-terminated path, valid out pointer.
+        let got = unsafe { gbsurf_convert_file(path.as_ptr(), null(), None, null_mut(), &mut out) };
+        assert_eq!(got, code, "{name}: {}", last());
+        assert!(last().contains(word), "{name}: {}", last());
+        assert!(out.is_null());
+    }
+}
