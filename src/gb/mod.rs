@@ -2,4 +2,7 @@
 
 pub mod patch;
 
+pub mod connected;
+pub mod gbp;
+
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
