@@ -6,10 +6,12 @@
 
 pub mod blend;
 pub mod check;
+pub mod dual;
 pub mod network;
 pub mod surface;
 
 pub use blend::{BlendKind, DirectionBlend};
+pub use dual::{build_dual, dual_network};
 pub use network::{assemble, CurveNetwork, PatchLayout, SideUse};
 pub use surface::{Patch, PatchSource, SideRef, Surface};
 
