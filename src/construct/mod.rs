@@ -9,11 +9,13 @@ pub mod check;
 pub mod dual;
 pub mod network;
 pub mod surface;
+pub mod topology;
 
 pub use blend::{BlendKind, DirectionBlend};
 pub use dual::{build_dual, dual_network};
 pub use network::{assemble, CurveNetwork, PatchLayout, SideUse};
 pub use surface::{Patch, PatchSource, SideRef, Surface};
+pub use topology::{build_topology, tiles, topology_network, Tiles};
 
 /// How the twist control points (row 1, columns 1 and 2 of each ribbon) are set (seed 000 §4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
