@@ -191,3 +191,52 @@ fn single_triangle_and_face_order() {
     assert_eq!([lp[k], lp[(k + 1) % 3], lp[(k + 2) % 3]], [0, 2, 1]);
     assert_eq!(m.vertex_halfedge(VertexId(0)), loops[0][k]);
 }
+
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+    /// Arbitrary face lists never panic; whatever is accepted satisfies all invariants and
+    /// round-trips.
+    #[test]
+    fn arbitrary_face_lists_never_panic(
+        nv in 1usize..9,
+        faces in prop::collection::vec(prop::collection::vec(0u32..10, 0..6), 0..10),
+        seed in 0u64..1000,
+    ) {
+        let positions: Vec<DVec3> = (0..nv)
+            .map(|i| {
+                let a = (i as f64 + 1.0) * (seed as f64 + 1.3);
+                DVec3::new(a.sin(), (1.7 * a).cos(), (0.3 * a).sin() * 2.0)
+            })
+            .collect();
+        let p = PolyMesh::new(positions, faces);
+        if let Ok(m) = HalfEdgeMesh::from_polymesh(&p) {
+            check_invariants(&m);
+            let q = m.to_polymesh();
+            prop_assert_eq!(q.faces.len(), p.faces.len());
+            prop_assert_eq!(HalfEdgeMesh::from_polymesh(&q).map(|m2| m2.to_polymesh()), Ok(q));
+        }
+    }
+
+    /// Random text never panics the OBJ parser.
+    #[test]
+    fn obj_parser_never_panics(text in "([vf#g ]{0,2}[-0-9a-z./ ]{0,12}\n){0,12}") {
+        let _ = gbsurf::mesh::io::parse_obj(&text);
+    }
+
+    /// Random bytes never panic the PLY/STL/OFF parsers.
+    #[test]
+    fn binary_parsers_never_panic(mut bytes in prop::collection::vec(any::<u8>(), 0..300), k in 0usize..3) {
+        if k == 0 {
+            let head = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+            let mut b = head.to_vec();
+            b.append(&mut bytes);
+            let _ = gbsurf::mesh::io::parse_ply(&b);
+        } else if k == 1 {
+            let _ = gbsurf::mesh::io::parse_stl(&bytes);
+        } else {
+            let _ = gbsurf::mesh::io::parse_off(&String::from_utf8_lossy(&bytes));
+        }
+    }
+}

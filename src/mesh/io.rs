@@ -402,7 +402,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
                 let mut c = [0.0; 3];
                 for k in 0..3 {
                     let i = xyz[k].ok_or_else(|| parse_err(None, "PLY vertex without x/y/z"))?;
-                    c[k] = rec[i][0];
+                    c[k] = rec[i].first().copied().ok_or_else(|| parse_err(rec_line, "PLY vertex coordinate is an empty list"))?;
                 }
                 positions.push(DVec3::from_array(c));
                 if let Some(l) = rec_line {
@@ -502,4 +502,236 @@ pub fn parse_stl(bytes: &[u8]) -> Result<PolyMesh, MeshError> {
         faces.push(face);
     }
     Ok(PolyMesh { positions, faces })
+}
+
+// ---------------------------------------------------------------- writers
+
+/// PLY body encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PlyFormat {
+    /// Human-readable text.
+    #[default]
+    Ascii,
+    /// `binary_little_endian 1.0`.
+    BinaryLittleEndian,
+}
+
+/// A named per-vertex scalar written as `property float <name>` (e.g. `quality`, curvature).
+#[derive(Clone, Copy, Debug)]
+pub struct VertexScalar<'a> {
+    pub name: &'a str,
+    pub values: &'a [f64],
+}
+
+/// Writes PLY: `double x y z`, optional `float nx ny nz` (when `normals` has one per vertex),
+/// the given per-vertex scalars as `float`, and faces as `list uchar int vertex_indices`
+/// (faces with more than 255 corners use `list int int`).
+pub fn write_ply<W: Write>(
+    mut w: W,
+    positions: &[DVec3],
+    normals: Option<&[DVec3]>,
+    faces: &[&[u32]],
+    scalars: &[VertexScalar<'_>],
+    format: PlyFormat,
+) -> io::Result<()> {
+    let nv = positions.len();
+    for s in scalars {
+        if s.values.len() != nv || s.name.is_empty() || s.name.contains(char::is_whitespace) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("scalar {:?}: needs one value per vertex and a name without spaces", s.name),
+            ));
+        }
+    }
+    let normals = normals.filter(|n| n.len() == nv);
+    let wide = faces.iter().any(|f| f.len() > 255);
+    writeln!(w, "ply")?;
+    match format {
+        PlyFormat::Ascii => writeln!(w, "format ascii 1.0")?,
+        PlyFormat::BinaryLittleEndian => writeln!(w, "format binary_little_endian 1.0")?,
+    }
+    writeln!(w, "comment written by gbsurf")?;
+    writeln!(w, "element vertex {nv}")?;
+    for c in ["x", "y", "z"] {
+        writeln!(w, "property double {c}")?;
+    }
+    if normals.is_some() {
+        for c in ["nx", "ny", "nz"] {
+            writeln!(w, "property float {c}")?;
+        }
+    }
+    for s in scalars {
+        writeln!(w, "property float {}", s.name)?;
+    }
+    writeln!(w, "element face {}", faces.len())?;
+    writeln!(w, "property list {} int vertex_indices", if wide { "int" } else { "uchar" })?;
+    writeln!(w, "end_header")?;
+    match format {
+        PlyFormat::Ascii => {
+            for (i, p) in positions.iter().enumerate() {
+                write!(w, "{:?} {:?} {:?}", p.x, p.y, p.z)?;
+                if let Some(n) = normals {
+                    write!(w, " {:?} {:?} {:?}", n[i].x as f32, n[i].y as f32, n[i].z as f32)?;
+                }
+                for s in scalars {
+                    write!(w, " {:?}", s.values[i] as f32)?;
+                }
+                writeln!(w)?;
+            }
+            for f in faces {
+                write!(w, "{}", f.len())?;
+                for i in f.iter() {
+                    write!(w, " {i}")?;
+                }
+                writeln!(w)?;
+            }
+        }
+        PlyFormat::BinaryLittleEndian => {
+            for (i, p) in positions.iter().enumerate() {
+                for c in p.to_array() {
+                    w.write_all(&c.to_le_bytes())?;
+                }
+                if let Some(n) = normals {
+                    for c in n[i].to_array() {
+                        w.write_all(&(c as f32).to_le_bytes())?;
+                    }
+                }
+                for s in scalars {
+                    w.write_all(&(s.values[i] as f32).to_le_bytes())?;
+                }
+            }
+            for f in faces {
+                if wide {
+                    w.write_all(&(f.len() as i32).to_le_bytes())?;
+                } else {
+                    w.write_all(&[f.len() as u8])?;
+                }
+                for &i in f.iter() {
+                    w.write_all(&(i as i32).to_le_bytes())?;
+                }
+            }
+        }
+    }
+    w.flush()
+}
+
+/// Writes binary STL triangles (80-byte header, count, per triangle unit normal + 3 corners as
+/// `f32`, zero attribute). The facet normal is that of the triangle (zero if degenerate).
+pub fn write_stl_triangles<W: Write>(mut w: W, positions: &[DVec3], tris: &[[u32; 3]]) -> io::Result<()> {
+    let mut header = [0u8; 80];
+    let tag = b"binary STL written by gbsurf";
+    header[..tag.len()].copy_from_slice(tag);
+    w.write_all(&header)?;
+    let n = u32::try_from(tris.len())
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidInput, "too many triangles for STL"))?;
+    if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= positions.len())) {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("triangle {t:?} names a missing vertex")));
+    }
+    w.write_all(&n.to_le_bytes())?;
+    for t in tris {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let nrm = (b - a).cross(c - a).normalize_or_zero();
+        for v in [nrm, a, b, c] {
+            for x in v.to_array() {
+                w.write_all(&(x as f32).to_le_bytes())?;
+            }
+        }
+        w.write_all(&[0, 0])?;
+    }
+    w.flush()
+}
+
+/// Writes to `path` atomically: into a temporary file in the same directory, then renames it
+/// over `path` (readers never see a half-written file).
+pub fn write_atomic(
+    path: impl AsRef<Path>,
+    write: impl FnOnce(&mut io::BufWriter<fs::File>) -> io::Result<()>,
+) -> Result<(), MeshError> {
+    let path = path.as_ref();
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("mesh");
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut w = io::BufWriter::new(fs::File::create(&tmp)?);
+        write(&mut w)?;
+        w.flush()?;
+        w.get_ref().sync_all()?;
+        drop(w);
+        fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        io_err(path, e)
+    })
+}
+
+fn ext_of(path: &Path) -> String {
+    path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()
+}
+
+impl PolyMesh {
+    /// Writes Wavefront OBJ (`v` with 17 significant digits, `f` with 1-based polygon loops).
+    pub fn write_obj<W: Write>(&self, mut w: W) -> io::Result<()> {
+        for p in &self.positions {
+            writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
+        }
+        for f in &self.faces {
+            write!(w, "f")?;
+            for i in f {
+                write!(w, " {}", i + 1)?;
+            }
+            writeln!(w)?;
+        }
+        w.flush()
+    }
+    /// Writes PLY with polygon faces and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.faces.iter().map(Vec::as_slice).collect();
+        write_ply(w, &self.positions, None, &faces, scalars, format)
+    }
+    /// Writes binary STL; faces are first split into convex pieces ([`super::geometry::convexify`])
+    /// and then fan-triangulated, so concave faces come out right.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        let (convex, _) = super::geometry::convexify(self);
+        let mut tris = Vec::new();
+        for f in &convex.faces {
+            for k in 1..f.len().saturating_sub(1) {
+                tris.push([f[0], f[k], f[k + 1]]);
+            }
+        }
+        write_stl_triangles(w, &self.positions, &tris)
+    }
+    /// Writes the file named by `path` atomically, format by extension: `obj`, `ply` (binary),
+    /// `stl` (binary).
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), MeshError> {
+        let path = path.as_ref();
+        match ext_of(path).as_str() {
+            "obj" => write_atomic(path, |w| self.write_obj(w)),
+            "ply" => write_atomic(path, |w| self.write_ply(w, PlyFormat::BinaryLittleEndian, &[])),
+            "stl" => write_atomic(path, |w| self.write_stl(w)),
+            e => Err(parse_err(None, format!("unknown output extension {e:?}"))),
+        }
+    }
+}
+
+impl TriMesh {
+    /// Writes PLY with per-vertex normals (when present) and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        write_ply(w, &self.positions, Some(&self.normals), &faces, scalars, format)
+    }
+    /// Writes binary STL.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        write_stl_triangles(w, &self.positions, &self.triangles)
+    }
+    /// Writes the file named by `path` atomically, format by extension: `obj`, `ply` (binary),
+    /// `stl` (binary).
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), MeshError> {
+        let path = path.as_ref();
+        match ext_of(path).as_str() {
+            "obj" => write_atomic(path, |w| self.write_obj(w)),
+            "ply" => write_atomic(path, |w| self.write_ply(w, PlyFormat::BinaryLittleEndian, &[])),
+            "stl" => write_atomic(path, |w| self.write_stl(w)),
+            e => Err(parse_err(None, format!("unknown output extension {e:?}"))),
+        }
+    }
 }

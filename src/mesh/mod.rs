@@ -83,3 +83,4 @@ pub use halfedge::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
 pub use validate::{validate, ValidMesh};
 pub mod io;
 pub use io::{read_mesh, read_polymesh};
+pub mod generate;
