@@ -2,7 +2,7 @@
 //! node tangent planes, corner blocks, and G1 of the ribbons along every shared side.
 
 use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap, ribbons};
-use gbsurf::construct::{build_dual, dual_network, ConstructOptions, Patch, TwistMode};
+use gbsurf::construct::{build_dual, convex_mesh, dual_network, ConstructOptions, Patch, TwistMode};
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh};
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
@@ -27,7 +27,8 @@ fn patch_per_vertex_with_valence_sides() {
         assert_eq!(s.patches.len(), m.n_vertices(), "{name}");
         for v in m.vertices() {
             let n = ribbons(&s.patches[v.idx()]).len();
-            let expect = m.valence(v) + usize::from(m.is_boundary_vertex(v));
+            let (cm, _) = convex_mesh(&m).unwrap();
+            let expect = cm.valence(v) + usize::from(m.is_boundary_vertex(v));
             assert_eq!(n, expect, "{name} vertex {}", v.idx());
             let Patch::Gb(g) = &s.patches[v.idx()] else { panic!("dual patches are GB") };
             assert_eq!(g.center, m.position(v));
@@ -41,6 +42,7 @@ fn patch_per_vertex_with_valence_sides() {
 fn curve_tangents_lie_in_node_planes() {
     for name in GOOD {
         let m = load(name);
+        let (m, _) = convex_mesh(&m).unwrap();
         let net = dual_network(&m, &opts(TwistMode::Interp)).unwrap();
         for (c, ends) in net.curves.iter().zip(&net.curve_nodes) {
             let t0 = (c[1] - c[0]).normalize();

@@ -2,7 +2,9 @@
 //! node tangent planes, corner blocks, G1 of the blend twists.
 
 use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap, ribbons};
-use gbsurf::construct::{build_topology, tiles, topology_network, ConstructOptions, Patch, TwistMode};
+use gbsurf::construct::{
+    build_topology, convex_mesh, tiles, topology_network, ConstructOptions, Patch, PatchSource, TwistMode,
+};
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh, PolyMesh};
 use gbsurf::{assert_near, DVec3};
 
@@ -83,10 +85,12 @@ fn patch_per_face_and_node_planes() {
             assert!(net.node_normals[ends[1]].dot(t1).abs() < 1e-12, "{name}");
         }
         let s = build_topology(&m, &opts(TwistMode::Interp)).unwrap();
-        assert_eq!(s.patches.len(), m.n_faces());
-        for f in m.faces() {
+        let (cm, origin) = convex_mesh(&m).unwrap();
+        assert_eq!(s.patches.len(), cm.n_faces());
+        for f in cm.faces() {
             let Patch::Cgb(p) = &s.patches[f.idx()] else { panic!("topology patches are CGB") };
-            assert_eq!(p.ribbons.len(), m.face_size(f));
+            assert_eq!(p.ribbons.len(), cm.face_size(f));
+            assert_eq!(s.sources[f.idx()], PatchSource::Face(origin[f.idx()]));
         }
     }
 }
@@ -124,4 +128,82 @@ fn tile_vertex_twists_report_g1_error() {
         let g = ribbon_g1_angle(&s, 17);
         assert!(g.value < 1e-8, "{name}: {g:?}");
     }
+}
+
+/// n-gonal prism (two n-gon caps, face size n) and bipyramid (two apices of valence n).
+fn prism(n: usize) -> HalfEdgeMesh {
+    let mut pos = Vec::new();
+    for z in [-0.5, 0.5] {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            pos.push(DVec3::new(a.cos(), a.sin(), z));
+        }
+    }
+    let n32 = n as u32;
+    let mut faces = vec![(0..n32).rev().collect::<Vec<_>>(), (n32..2 * n32).collect()];
+    for i in 0..n32 {
+        let j = (i + 1) % n32;
+        faces.push(vec![i, j, j + n32, i + n32]);
+    }
+    HalfEdgeMesh::from_polymesh(&PolyMesh::new(pos, faces)).unwrap()
+}
+
+fn bipyramid(n: usize) -> HalfEdgeMesh {
+    let mut pos: Vec<DVec3> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    pos.push(DVec3::Z);
+    pos.push(-DVec3::Z);
+    let n32 = n as u32;
+    let mut faces = Vec::new();
+    for i in 0..n32 {
+        let j = (i + 1) % n32;
+        faces.push(vec![i, j, n32]);
+        faces.push(vec![j, i, n32 + 1]);
+    }
+    HalfEdgeMesh::from_polymesh(&PolyMesh::new(pos, faces)).unwrap()
+}
+
+#[test]
+fn face_sizes_and_valences_3_to_64() {
+    for n in [3, 5, 8, 17, 33, 64] {
+        for m in [prism(n), bipyramid(n)] {
+            for mode in [TwistMode::Approx, TwistMode::Interp] {
+                let mut max_sides = 0;
+                for s in [build_topology(&m, &opts(mode)).unwrap(), gbsurf::construct::build_dual(&m, &opts(mode)).unwrap()] {
+                    assert_eq!(corner_block_defect(&s).value, 0.0);
+                    let g = ribbon_g1_angle(&s, 33);
+                    assert!(g.value < 1e-8, "n = {n} {mode:?}: {g:?}");
+                    max_sides = max_sides.max(s.patches.iter().map(|p| ribbons(p).len()).max().unwrap());
+                }
+                // Prism: n-gon faces (topology); bipyramid: valence-n apices (dual).
+                assert_eq!(max_sides, n.max(4));
+            }
+        }
+    }
+}
+
+#[test]
+fn concave_faces_are_split_deterministically() {
+    for name in ["l_prism", "star_prism"] {
+        let m = load(name);
+        let (cm, origin) = convex_mesh(&m).unwrap();
+        assert!(cm.n_faces() > m.n_faces(), "{name}");
+        assert_eq!(origin.len(), cm.n_faces());
+        for f in cm.faces() {
+            let pts: Vec<DVec3> = cm.face_vertices(f).map(|v| cm.position(v)).collect();
+            assert!(pts.len() == 3 || gbsurf::mesh::geometry::is_convex_polygon(&pts), "{name} face {}", f.idx());
+        }
+        let a = build_topology(&m, &opts(TwistMode::Interp)).unwrap();
+        let b = build_topology(&m, &opts(TwistMode::Interp)).unwrap();
+        assert_eq!(a, b);
+    }
+    // A convex mesh is used as it is.
+    let m = load("cube");
+    let (cm, origin) = convex_mesh(&m).unwrap();
+    assert!(matches!(cm, std::borrow::Cow::Borrowed(_)));
+    assert_eq!(origin, (0..6).collect::<Vec<_>>());
 }

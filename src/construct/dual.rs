@@ -208,8 +208,10 @@ fn vertex_patch(
     Ok(PatchLayout { sides, corner_twists: twists, center: Some(vp), source: PatchSource::Vertex(v.idx()) })
 }
 
-/// Dual construction (seed 000 §2, §4): [`dual_network`] then [`assemble`].
+/// Dual construction (seed 000 §2, §4): concave faces split by [`super::convex_mesh`], then
+/// [`dual_network`] and [`assemble`]. Patch p stands for vertex p of `mesh`.
 pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
-    let net = dual_network(mesh, opts)?;
+    let (m, _) = super::convex_mesh(mesh)?;
+    let net = dual_network(&m, opts)?;
     assemble(&net, opts)
 }

@@ -89,6 +89,32 @@ pub enum ConstructError {
     DegenerateTile { vertex: usize },
     #[error("non-finite control point in patch {patch}, side {side}")]
     NonFinite { patch: usize, side: usize },
+    #[error("mesh after splitting concave faces: {0}")]
+    Mesh(#[from] crate::mesh::MeshError),
     #[error("internal inconsistency: {0}")]
     Internal(String),
+}
+
+/// The mesh the constructions work on: `mesh` itself when every face is convex in its best-fit
+/// plane, otherwise the result of the mesh layer's deterministic
+/// [`convexify`](crate::mesh::geometry::convexify) (seed 000 §2.2 splits concave faces by hand).
+/// Returns the mesh and, for each of its faces, the index of the input face it came from.
+/// Diagonals join existing vertices, so vertex indices are unchanged.
+pub fn convex_mesh(
+    mesh: &crate::mesh::HalfEdgeMesh,
+) -> Result<(std::borrow::Cow<'_, crate::mesh::HalfEdgeMesh>, Vec<usize>), ConstructError> {
+    use crate::mesh::geometry::{convexify, is_convex_polygon};
+    let all_convex = mesh.faces().all(|f| {
+        let pts: Vec<glam::DVec3> = mesh.face_vertices(f).map(|v| mesh.position(v)).collect();
+        pts.len() == 3 || is_convex_polygon(&pts)
+    });
+    if all_convex {
+        return Ok((std::borrow::Cow::Borrowed(mesh), (0..mesh.n_faces()).collect()));
+    }
+    let (poly, origin) = convexify(&mesh.to_polymesh());
+    let split = crate::mesh::HalfEdgeMesh::from_polymesh(&poly)?;
+    if split.n_vertices() != mesh.n_vertices() {
+        return Err(ConstructError::Internal("convexify changed the vertex set".into()));
+    }
+    Ok((std::borrow::Cow::Owned(split), origin.into_iter().map(|f| f as usize).collect()))
 }

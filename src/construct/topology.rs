@@ -195,8 +195,17 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<
     Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
 }
 
-/// Topology-preserving construction (seed 000 §3, §4): [`topology_network`] then [`assemble`].
+/// Topology-preserving construction (seed 000 §3, §4): concave faces split by
+/// [`super::convex_mesh`], then [`topology_network`] and [`assemble`]. One patch per face of the
+/// split mesh; its source is the input face it came from (a split face gives several patches).
 pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
-    let net = topology_network(mesh, opts)?;
-    assemble(&net, opts)
+    let (m, origin) = super::convex_mesh(mesh)?;
+    let net = topology_network(&m, opts)?;
+    let mut s = assemble(&net, opts)?;
+    for src in &mut s.sources {
+        if let PatchSource::Face(f) = src {
+            *f = origin[*f];
+        }
+    }
+    Ok(s)
 }
