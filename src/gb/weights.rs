@@ -21,6 +21,9 @@ pub fn layers_for_degree(d: usize) -> usize {
 /// The five cases of the correction weight μ^i_{j,k} (MATH-NOTES, any degree d):
 /// k < 2 and j < 2 → α_i; k < 2 and j > d−2 → β_i; otherwise j = k or j = d−k → ½;
 /// otherwise j < k or j > d−k → 0; otherwise 1.
+/// One exception: for d = 2 the middle boundary point (k = 0, j = 1) belongs to side i alone
+/// (it is not in a corner block), so μ = 1 there; the literal rule would give α_i, which breaks the
+/// n = 4 tensor-product reproduction (the `transfinite` evaluator applies the literal rule).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MuKind {
     Alpha,
@@ -32,7 +35,9 @@ pub enum MuKind {
 
 /// μ case of the control point in row k, column j of a degree-d ribbon.
 pub fn mu_kind(d: usize, k: usize, j: usize) -> MuKind {
-    if k < 2 && j < 2 {
+    if d == 2 && k == 0 && j == 1 {
+        MuKind::One
+    } else if k < 2 && j < 2 {
         MuKind::Alpha
     } else if k < 2 && j + 2 > d {
         MuKind::Beta
@@ -45,34 +50,52 @@ pub fn mu_kind(d: usize, k: usize, j: usize) -> MuKind {
     }
 }
 
-/// Below this "radius" a corner counts as reached: the 0/0 weights α, β there are ½ with
-/// zero derivatives. (Closer than ~1e-10 to a corner the analytic derivatives of α would only
-/// add round-off of size ε/r; the point itself changes by O(r²).)
-const CORNER_R: f64 = 1e-10;
+/// Round-off control at the corners, where α_i (β_i) is 0/0 and its derivatives grow like
+/// 1/r and 1/r² with the distance r to the corner. The value is always the exact quotient
+/// (½ exactly at the corner). Its derivatives only multiply the difference of two corner blocks,
+/// which vanishes at the corner, but in a per-control-point basis they are summed with
+/// cancellation (round-off ε/r and ε/r²). So the second derivatives of α are dropped for
+/// r < `CORNER_R2` and the first ones for r < `CORNER_R1`: for shared corner blocks this is
+/// exact (α_i + β_{i−1} = 1), for independent blocks the surface's own second derivatives have no
+/// limit at the corner and the first ones change by O(r).
+const CORNER_R0: f64 = 1e-12;
+const CORNER_R1: f64 = 1e-8;
+const CORNER_R2: f64 = 1e-5;
 
 /// α = a²/(a²+b²) (squared) or a/(a+b) (linear) with derivatives; ½ at the 0/0 corner.
 /// α_i uses (a, b) = (h_{i−1}, h_i); β_i uses (h_{i+1}, h_i).
 #[inline]
 pub fn corner_weight(a: Jet2, b: Jet2, form: WeightForm) -> Jet2 {
-    match form {
+    let (num, den, r) = match form {
         WeightForm::Squared => {
             let a2 = a * a;
             let den = a2 + b * b;
-            if den.val < CORNER_R * CORNER_R {
-                Jet2::constant(0.5)
-            } else {
-                a2.div(den)
-            }
+            (a2, den, den.val.max(0.0).sqrt())
         }
         WeightForm::Linear => {
             let den = a + b;
-            if den.val.abs() < CORNER_R {
-                Jet2::constant(0.5)
-            } else {
-                a.div(den)
-            }
+            (a, den, den.val.abs())
+        }
+    };
+    // Within 1e-12 of the corner the quotient of two round-off-sized numbers is meaningless
+    // (the linear form may even divide by a cancelled sum); ½ changes the point by O(r).
+    if !(r > CORNER_R0) {
+        return Jet2::constant(0.5);
+    }
+    let mut w = num.div(den);
+    if r < CORNER_R2 {
+        w.duu = 0.0;
+        w.duv = 0.0;
+        w.dvv = 0.0;
+        if r < CORNER_R1 {
+            w.du = 0.0;
+            w.dv = 0.0;
         }
     }
+    if !w.is_finite() {
+        return Jet2::constant(w.val.clamp(0.0, 1.0));
+    }
+    w
 }
 
 /// Non-allocating Bernstein values with derivatives of one degree, reusable across calls.
