@@ -8,7 +8,11 @@ use proptest::prelude::*;
 /// A point inside the closed domain from barycentric-like numbers (convex combination of the
 /// centre and two adjacent vertices).
 fn domain_point(dom: &Domain, i: usize, a: f64, b: f64) -> DVec2 {
-    let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+    let (a, b) = if a + b > 1.0 {
+        (1.0 - a, 1.0 - b)
+    } else {
+        (a, b)
+    };
     dom.vertex(i) * a + dom.vertex(i + 1) * b
 }
 
@@ -18,9 +22,21 @@ fn fd_check(f: impl Fn(DVec2) -> Jet2, x: DVec2, tol1: f64, tol2: f64) {
     let fu = |dx: f64, dy: f64| f(x + DVec2::new(dx, dy)).val;
     assert_near!(j.du, (fu(e, 0.0) - fu(-e, 0.0)) / (2.0 * e), tol1);
     assert_near!(j.dv, (fu(0.0, e) - fu(0.0, -e)) / (2.0 * e), tol1);
-    assert_near!(j.duu, (fu(e, 0.0) - 2.0 * j.val + fu(-e, 0.0)) / (e * e), tol2);
-    assert_near!(j.dvv, (fu(0.0, e) - 2.0 * j.val + fu(0.0, -e)) / (e * e), tol2);
-    assert_near!(j.duv, (fu(e, e) - fu(e, -e) - fu(-e, e) + fu(-e, -e)) / (4.0 * e * e), tol2);
+    assert_near!(
+        j.duu,
+        (fu(e, 0.0) - 2.0 * j.val + fu(-e, 0.0)) / (e * e),
+        tol2
+    );
+    assert_near!(
+        j.dvv,
+        (fu(0.0, e) - 2.0 * j.val + fu(0.0, -e)) / (e * e),
+        tol2
+    );
+    assert_near!(
+        j.duv,
+        (fu(e, e) - fu(e, -e) - fu(-e, e) + fu(-e, -e)) / (4.0 * e * e),
+        tol2
+    );
 }
 
 #[test]
@@ -49,12 +65,20 @@ fn wachspress_partition_reproduction_lagrange() {
     for n in 3..=9 {
         let dom = Domain::regular(n).unwrap();
         for i in 0..n {
-            for &(a, b) in &[(0.2, 0.3), (0.5, 0.5), (1.0, 0.0), (0.0, 0.0), (0.7, 0.1), (0.0, 0.6)] {
+            for &(a, b) in &[
+                (0.2, 0.3),
+                (0.5, 0.5),
+                (1.0, 0.0),
+                (0.0, 0.0),
+                (0.7, 0.1),
+                (0.0, 0.6),
+            ] {
                 let x = domain_point(&dom, i, a, b);
                 let l = dom.wachspress(x);
                 let sum: f64 = l.iter().map(|j| j.val).sum();
                 assert_near!(sum, 1.0);
-                let (su, sv): (f64, f64) = (l.iter().map(|j| j.du).sum(), l.iter().map(|j| j.dv).sum());
+                let (su, sv): (f64, f64) =
+                    (l.iter().map(|j| j.du).sum(), l.iter().map(|j| j.dv).sum());
                 assert_near!(su, 0.0, 1e-11);
                 assert_near!(sv, 0.0, 1e-11);
                 let rep: DVec2 = l.iter().zip(dom.vertices()).map(|(j, v)| *v * j.val).sum();
@@ -90,7 +114,10 @@ fn local_parameters_on_sides() {
                 assert_near!(p[(i + 1) % n].h.val, 1.0 - t);
                 assert_near!(p[(i + n - 1) % n].h.val, t);
                 for (q, lp) in p.iter().enumerate() {
-                    assert!(lp.s.is_finite() && lp.h.is_finite(), "n={n} i={i} t={t} q={q}");
+                    assert!(
+                        lp.s.is_finite() && lp.h.is_finite(),
+                        "n={n} i={i} t={t} q={q}"
+                    );
                     assert!(lp.s.val >= -1e-12 && lp.s.val <= 1.0 + 1e-12);
                     let far = q != i && q != (i + 1) % n && q != (i + n - 1) % n;
                     if far {

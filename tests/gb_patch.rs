@@ -2,7 +2,9 @@
 
 use gbsurf::assert_near;
 use gbsurf::bezier::bernstein::bernstein_all_d2;
-use gbsurf::gb::{gb_basis, layers_for_degree, Domain, GbBasis, GbPatch, Ribbon, SurfaceDerivs, WeightForm};
+use gbsurf::gb::{
+    gb_basis, layers_for_degree, Domain, GbBasis, GbPatch, Ribbon, SurfaceDerivs, WeightForm,
+};
 use gbsurf::{DVec2, DVec3};
 use proptest::prelude::*;
 
@@ -18,7 +20,11 @@ impl Rng {
         (self.0.wrapping_mul(0x2545F4914F6CDD1D) >> 11) as f64 / (1u64 << 53) as f64
     }
     fn v(&mut self) -> DVec3 {
-        DVec3::new(self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0)
+        DVec3::new(
+            self.f() * 2.0 - 1.0,
+            self.f() * 2.0 - 1.0,
+            self.f() * 2.0 - 1.0,
+        )
     }
 }
 
@@ -27,13 +33,19 @@ fn random_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     let mut r = Rng(seed.wrapping_mul(2654435761).wrapping_add(12345) | 1);
     let l = layers_for_degree(d);
     let mut ribbons: Vec<Ribbon> = (0..n)
-        .map(|_| Ribbon { degree: d, rows: (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect() })
+        .map(|_| Ribbon {
+            degree: d,
+            rows: (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect(),
+        })
         .collect();
     for i in 0..n {
         let p = ribbons[(i + n - 1) % n].rows[0][d];
         ribbons[i].rows[0][0] = p;
     }
-    GbPatch { ribbons, center: r.v() }
+    GbPatch {
+        ribbons,
+        center: r.v(),
+    }
 }
 
 /// Random patch with the connected-structure sharing of MATH-NOTES: (i, j, k) with j < l is
@@ -140,11 +152,25 @@ fn mu_rule_and_basis_layout() {
     assert_eq!(b.index(2, 1, 3), 1 + (2 * 2 + 1) * 5 + 3);
     assert_eq!(GbBasis::index_for(5, 4, 2, 1, 3), b.index(2, 1, 3));
     use gbsurf::gb::weights::{mu_kind, MuKind::*};
-    assert_eq!([mu_kind(2, 0, 0), mu_kind(2, 0, 1), mu_kind(2, 0, 2)], [Alpha, One, Beta]);
+    assert_eq!(
+        [mu_kind(2, 0, 0), mu_kind(2, 0, 1), mu_kind(2, 0, 2)],
+        [Alpha, One, Beta]
+    );
     // cubic: all 2x2 corner blocks
-    assert_eq!([mu_kind(3, 0, 0), mu_kind(3, 1, 1), mu_kind(3, 0, 2), mu_kind(3, 1, 3)], [Alpha, Alpha, Beta, Beta]);
+    assert_eq!(
+        [
+            mu_kind(3, 0, 0),
+            mu_kind(3, 1, 1),
+            mu_kind(3, 0, 2),
+            mu_kind(3, 1, 3)
+        ],
+        [Alpha, Alpha, Beta, Beta]
+    );
     // degree 6, row 2: j = 2 and j = 4 halves, j = 3 one, j < 2 or j > 4 zero
-    assert_eq!((0..=6).map(|j| mu_kind(6, 2, j)).collect::<Vec<_>>(), vec![Zero, Zero, Half, One, Half, Zero, Zero]);
+    assert_eq!(
+        (0..=6).map(|j| mu_kind(6, 2, j)).collect::<Vec<_>>(),
+        vec![Zero, Zero, Half, One, Half, Zero, Zero]
+    );
     assert_eq!(mu_kind(5, 0, 2), One);
     assert!(gb_basis(2, 3, DVec2::ZERO, WeightForm::Squared).is_err());
     assert!(gb_basis(5, 1, DVec2::ZERO, WeightForm::Squared).is_err());
@@ -159,7 +185,13 @@ fn central_weight_of_cubic_patch_at_centre() {
             assert_near!(b.center().val, (nf - 2.0) * (nf - 4.0) / (nf * nf));
         }
     }
-    assert_near!(gb_basis(3, 3, DVec2::ZERO, WeightForm::Squared).unwrap().center().val, -1.0 / 9.0);
+    assert_near!(
+        gb_basis(3, 3, DVec2::ZERO, WeightForm::Squared)
+            .unwrap()
+            .center()
+            .val,
+        -1.0 / 9.0
+    );
 }
 
 #[test]
@@ -176,8 +208,16 @@ fn basis_is_a_partition_of_unity_everywhere() {
                     assert_near!(s.val, 1.0, 1e-12);
                     // the sum's derivatives vanish up to the round-off of the (large) corner
                     // weight derivatives, which grow like 1/r and 1/r² near a corner
-                    let r = dom.vertices().iter().map(|v| (*v - x).length()).fold(1.0, f64::min);
-                    let (t1, t2) = if r > 1e-3 { (1e-12, 1e-11) } else { (1e-9, 1e-5) };
+                    let r = dom
+                        .vertices()
+                        .iter()
+                        .map(|v| (*v - x).length())
+                        .fold(1.0, f64::min);
+                    let (t1, t2) = if r > 1e-3 {
+                        (1e-12, 1e-11)
+                    } else {
+                        (1e-9, 1e-5)
+                    };
                     assert_near!(s.du, 0.0, t1, "n={n} d={d} x={x}");
                     assert_near!(s.dv, 0.0, t1);
                     assert_near!(s.duu, 0.0, t2, "n={n} d={d} x={x} {form:?}");
@@ -219,17 +259,28 @@ fn no_nan_on_the_closed_domain() {
     for n in 3..=8 {
         let dom = Domain::regular(n).unwrap();
         for d in 2..=6 {
-            for (pi, p) in [random_patch(n, d, 99 + d as u64), shared_patch(n, d, 7 + n as u64)].iter().enumerate() {
+            for (pi, p) in [
+                random_patch(n, d, 99 + d as u64),
+                shared_patch(n, d, 7 + n as u64),
+            ]
+            .iter()
+            .enumerate()
+            {
                 let mut ev = p.evaluator().unwrap();
                 for form in FORMS {
                     for x in closed_domain_samples(&dom) {
                         let s = p.eval_derivs_with_form(&mut ev, x, form);
-                        assert!(s.is_finite(), "n={n} d={d} patch {pi} x={x} {form:?}: {s:?}");
+                        assert!(
+                            s.is_finite(),
+                            "n={n} d={d} patch {pi} x={x} {form:?}: {s:?}"
+                        );
                         if let Some(nv) = s.normal() {
                             assert!(nv.is_finite());
                         }
                         if let Some(c) = s.curvature() {
-                            assert!(c.mean.is_finite() && c.gaussian.is_finite() && c.k1.is_finite());
+                            assert!(
+                                c.mean.is_finite() && c.gaussian.is_finite() && c.k1.is_finite()
+                            );
                         }
                     }
                 }
@@ -253,7 +304,11 @@ fn four_sided_patch_is_the_tensor_product_patch() {
                 assert_near!(g.p, t.p, 1e-12, "d={d} x={x} {form:?}");
                 // derivatives: exact up to round-off, which grows like ε/r and ε/r² at the
                 // distance r from a corner (0/0 weights there)
-                let r = dom.vertices().iter().map(|v| (*v - x).length()).fold(f64::MAX, f64::min);
+                let r = dom
+                    .vertices()
+                    .iter()
+                    .map(|v| (*v - x).length())
+                    .fold(f64::MAX, f64::min);
                 if r > 0.0 {
                     let (t1, t2) = (1e-10 + 1e-15 / r, 1e-9 + 1e-14 / (r * r));
                     assert_near!(g.su, t.su, t1, "d={d} x={x}");
@@ -276,7 +331,11 @@ fn curvature_of_four_sided_patch_matches_tensor_product() {
                 (0..=d)
                     .map(|b| {
                         let (u, v) = (a as f64 / d as f64, b as f64 / d as f64);
-                        DVec3::new(u, v, 0.5 * (u - 0.5).powi(2) - 0.8 * (v - 0.4).powi(2) + 0.1 * u * v)
+                        DVec3::new(
+                            u,
+                            v,
+                            0.5 * (u - 0.5).powi(2) - 0.8 * (v - 0.4).powi(2) + 0.1 * u * v,
+                        )
                     })
                     .collect()
             })
@@ -316,7 +375,10 @@ fn sphere_patch(n: usize, d: usize) -> GbPatch {
             .collect();
         ribbons.push(Ribbon { degree: d, rows });
     }
-    GbPatch { ribbons, center: DVec3::Z }
+    GbPatch {
+        ribbons,
+        center: DVec3::Z,
+    }
 }
 
 #[test]
@@ -326,7 +388,12 @@ fn curvature_matches_finite_differences_of_the_normal() {
             let p = sphere_patch(n, d);
             let dom = Domain::regular(n).unwrap();
             let mut ev = p.evaluator().unwrap();
-            for &(i, t, r) in &[(0usize, 0.3, 0.5), (1, 0.6, 0.9), (2, 0.5, 0.1), (0, 0.8, 0.97)] {
+            for &(i, t, r) in &[
+                (0usize, 0.3, 0.5),
+                (1, 0.6, 0.9),
+                (2, 0.5, 0.1),
+                (0, 0.8, 0.97),
+            ] {
                 let x = dom.side_point(i, t) * r;
                 let s = p.eval_derivs_with(&mut ev, x);
                 let c = s.curvature().unwrap();
@@ -364,7 +431,11 @@ fn max_side_normal_angle(p: &GbPatch, form: WeightForm) -> f64 {
             let s = p.eval_derivs_with_form(&mut ev, dom.side_point(i, t), form);
             let a = s.normal().unwrap();
             let b = p.ribbons[i].boundary_normal(t).unwrap();
-            worst = worst.max(a.cross(b).length().asin().abs().max(if a.dot(b) < 0.0 { 3.0 } else { 0.0 }));
+            worst = worst.max(a.cross(b).length().asin().abs().max(if a.dot(b) < 0.0 {
+                3.0
+            } else {
+                0.0
+            }));
         }
     }
     worst
@@ -386,7 +457,8 @@ fn squared_weights_keep_ribbon_normals_with_independent_corner_blocks() {
                         let a = dom.vertex(i + n - 1);
                         let b = dom.vertex(i);
                         let q = (a + (b - a) * (j as f64 / d as f64)) * (1.0 - k as f64 / d as f64);
-                        p.ribbons[i].rows[k][j] = DVec3::new(q.x, q.y, 0.3 * q.x * q.y + 0.2 * q.x * q.x);
+                        p.ribbons[i].rows[k][j] =
+                            DVec3::new(q.x, q.y, 0.3 * q.x * q.y + 0.2 * q.x * q.x);
                     }
                 }
                 // independent blocks: the row-1 end points and twists of each side
@@ -398,7 +470,10 @@ fn squared_weights_keep_ribbon_normals_with_independent_corner_blocks() {
             let sq = max_side_normal_angle(&p, WeightForm::Squared);
             let lin = max_side_normal_angle(&p, WeightForm::Linear);
             assert!(sq < 1e-7, "n={n} d={d}: squared angle {sq}");
-            assert!(lin > 1e-3, "n={n} d={d}: linear angle {lin} (expected a visible deviation)");
+            assert!(
+                lin > 1e-3,
+                "n={n} d={d}: linear angle {lin} (expected a visible deviation)"
+            );
         }
     }
 }
@@ -462,23 +537,56 @@ fn validate_names_the_offending_element() {
     use gbsurf::gb::GbError;
     let mut p = random_patch(5, 4, 1);
     p.ribbons[3].rows[1].pop();
-    assert_eq!(p.validate(), Err(GbError::RowLength { side: 3, row: 1, expected: 5, found: 4 }));
+    assert_eq!(
+        p.validate(),
+        Err(GbError::RowLength {
+            side: 3,
+            row: 1,
+            expected: 5,
+            found: 4
+        })
+    );
     let mut p = random_patch(5, 4, 1);
     p.ribbons[2].degree = 3;
-    assert!(matches!(p.validate(), Err(GbError::DegreeMismatch { side: 2, .. })));
+    assert!(matches!(
+        p.validate(),
+        Err(GbError::DegreeMismatch { side: 2, .. })
+    ));
     let mut p = random_patch(5, 4, 1);
     p.ribbons[4].rows.pop();
-    assert!(matches!(p.validate(), Err(GbError::LayerCount { side: 4, .. })));
+    assert!(matches!(
+        p.validate(),
+        Err(GbError::LayerCount { side: 4, .. })
+    ));
     let mut p = random_patch(5, 4, 1);
     p.ribbons[1].rows[0][2].x = f64::NAN;
-    assert_eq!(p.validate(), Err(GbError::NonFinite { side: Some(1), row: 0, col: 2 }));
+    assert_eq!(
+        p.validate(),
+        Err(GbError::NonFinite {
+            side: Some(1),
+            row: 0,
+            col: 2
+        })
+    );
     let mut p = random_patch(5, 4, 1);
     p.center.y = f64::INFINITY;
-    assert_eq!(p.validate(), Err(GbError::NonFinite { side: None, row: 0, col: 0 }));
-    let p = GbPatch { ribbons: random_patch(5, 4, 1).ribbons[..2].to_vec(), center: DVec3::ZERO };
+    assert_eq!(
+        p.validate(),
+        Err(GbError::NonFinite {
+            side: None,
+            row: 0,
+            col: 0
+        })
+    );
+    let p = GbPatch {
+        ribbons: random_patch(5, 4, 1).ribbons[..2].to_vec(),
+        center: DVec3::ZERO,
+    };
     assert_eq!(p.validate(), Err(GbError::TooFewSides(2)));
     // malformed patches evaluate without panicking
     let mut q = random_patch(5, 4, 1);
     q.ribbons[3].rows[1].truncate(2);
-    assert!(q.eval(DVec2::new(0.1, 0.1), WeightForm::Squared).is_finite());
+    assert!(q
+        .eval(DVec2::new(0.1, 0.1), WeightForm::Squared)
+        .is_finite());
 }

@@ -19,16 +19,37 @@ pub struct Jet2 {
 
 impl Jet2 {
     /// The zero function.
-    pub const ZERO: Jet2 = Jet2 { val: 0.0, du: 0.0, dv: 0.0, duu: 0.0, duv: 0.0, dvv: 0.0 };
+    pub const ZERO: Jet2 = Jet2 {
+        val: 0.0,
+        du: 0.0,
+        dv: 0.0,
+        duu: 0.0,
+        duv: 0.0,
+        dvv: 0.0,
+    };
 
     /// A constant function.
     pub const fn constant(c: f64) -> Self {
-        Jet2 { val: c, du: 0.0, dv: 0.0, duu: 0.0, duv: 0.0, dvv: 0.0 }
+        Jet2 {
+            val: c,
+            du: 0.0,
+            dv: 0.0,
+            duu: 0.0,
+            duv: 0.0,
+            dvv: 0.0,
+        }
     }
 
     /// An affine function c + g·(u, v).
     pub const fn affine(c: f64, gu: f64, gv: f64) -> Self {
-        Jet2 { val: c, du: gu, dv: gv, duu: 0.0, duv: 0.0, dvv: 0.0 }
+        Jet2 {
+            val: c,
+            du: gu,
+            dv: gv,
+            duu: 0.0,
+            duv: 0.0,
+            dvv: 0.0,
+        }
     }
 
     /// Multiplies every component by `c`.
@@ -172,7 +193,9 @@ impl SurfaceDerivs {
 
     /// True when every component is finite.
     pub fn is_finite(&self) -> bool {
-        [self.p, self.su, self.sv, self.suu, self.suv, self.svv].iter().all(|v| v.is_finite())
+        [self.p, self.su, self.sv, self.suu, self.suv, self.svv]
+            .iter()
+            .all(|v| v.is_finite())
     }
 
     /// Unit normal S_u × S_v / |S_u × S_v|, or `None` where the parameterization degenerates.
@@ -188,7 +211,11 @@ impl SurfaceDerivs {
 
     /// First fundamental form (E, F, G).
     pub fn first_fundamental_form(&self) -> (f64, f64, f64) {
-        (self.su.dot(self.su), self.su.dot(self.sv), self.sv.dot(self.sv))
+        (
+            self.su.dot(self.su),
+            self.su.dot(self.sv),
+            self.sv.dot(self.sv),
+        )
     }
 
     /// Second fundamental form (L, M, N) with respect to [`Self::normal`], or `None` where the
@@ -210,7 +237,12 @@ impl SurfaceDerivs {
         let mean = (l * g - 2.0 * m * f + n * e) / (2.0 * det);
         let gaussian = (l * n - m * m) / det;
         let disc = (mean * mean - gaussian).max(0.0).sqrt();
-        let c = Curvature { mean, gaussian, k1: mean + disc, k2: mean - disc };
+        let c = Curvature {
+            mean,
+            gaussian,
+            k1: mean + disc,
+            k2: mean - disc,
+        };
         if c.mean.is_finite() && c.gaussian.is_finite() {
             Some(c)
         } else {

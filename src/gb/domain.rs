@@ -46,7 +46,12 @@ impl Domain {
             return Err(GbError::TooFewSides(n));
         }
         let vertices: Vec<DVec2> = if n == 4 {
-            vec![DVec2::new(1.0, 1.0), DVec2::new(-1.0, 1.0), DVec2::new(-1.0, -1.0), DVec2::new(1.0, -1.0)]
+            vec![
+                DVec2::new(1.0, 1.0),
+                DVec2::new(-1.0, 1.0),
+                DVec2::new(-1.0, -1.0),
+                DVec2::new(1.0, -1.0),
+            ]
         } else {
             (0..n)
                 .map(|i| {
@@ -57,8 +62,9 @@ impl Domain {
         };
         let prev = |i: usize| (i + n - 1) % n;
         let next = |i: usize| (i + 1) % n;
-        let corner_area =
-            (0..n).map(|i| signed_area(vertices[prev(i)], vertices[i], vertices[next(i)])).collect();
+        let corner_area = (0..n)
+            .map(|i| signed_area(vertices[prev(i)], vertices[i], vertices[next(i)]))
+            .collect();
         // D_i(x) = ½ (v_{i−1} − x) × (v_i − x) = ½ [v_{i−1} × v_i + (v_i − v_{i−1}) × x]
         let side_grad = (0..n)
             .map(|i| {
@@ -66,7 +72,12 @@ impl Domain {
                 DVec2::new(-0.5 * e.y, 0.5 * e.x)
             })
             .collect();
-        Ok(Domain { n, vertices, corner_area, side_grad })
+        Ok(Domain {
+            n,
+            vertices,
+            corner_area,
+            side_grad,
+        })
     }
 
     /// Number of sides.
@@ -173,7 +184,11 @@ impl Domain {
             }
             let num = areas[im].scale(self.corner_area[i]);
             let den = num + areas[ip].scale(self.corner_area[im]);
-            let s = if den.val.abs() < S_DEN_EPS { Jet2::constant(0.5) } else { num.div(den) };
+            let s = if den.val.abs() < S_DEN_EPS {
+                Jet2::constant(0.5)
+            } else {
+                num.div(den)
+            };
             out[i] = LocalParam { s, h };
         }
     }

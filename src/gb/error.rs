@@ -13,16 +13,33 @@ pub enum GbError {
     DegreeTooLow { side: usize, degree: usize },
     /// Side `side` has a different degree from side 0.
     #[error("side {side}: degree {found} differs from the patch degree {expected}")]
-    DegreeMismatch { side: usize, expected: usize, found: usize },
+    DegreeMismatch {
+        side: usize,
+        expected: usize,
+        found: usize,
+    },
     /// Wrong number of rows (layers) in a ribbon.
     #[error("side {side}: {found} rows, expected {expected}")]
-    LayerCount { side: usize, expected: usize, found: usize },
+    LayerCount {
+        side: usize,
+        expected: usize,
+        found: usize,
+    },
     /// A row has the wrong number of points.
     #[error("side {side}, row {row}: {found} points, expected {expected}")]
-    RowLength { side: usize, row: usize, expected: usize, found: usize },
+    RowLength {
+        side: usize,
+        row: usize,
+        expected: usize,
+        found: usize,
+    },
     /// A control point is NaN or infinite (`side` = None means the central point).
     #[error("control point side {side:?}, row {row}, column {col} is not finite")]
-    NonFinite { side: Option<usize>, row: usize, col: usize },
+    NonFinite {
+        side: Option<usize>,
+        row: usize,
+        col: usize,
+    },
     /// An output buffer of the wrong length was passed.
     #[error("buffer of length {found}, expected {expected}")]
     BufferLength { expected: usize, found: usize },

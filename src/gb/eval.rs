@@ -16,7 +16,9 @@ impl Ribbon {
 
     /// Row k as a Bézier curve of degree `degree` at s (zero vector for a missing row).
     pub fn row_point(&self, k: usize, s: f64) -> DVec3 {
-        let Some(row) = self.rows.get(k) else { return DVec3::ZERO };
+        let Some(row) = self.rows.get(k) else {
+            return DVec3::ZERO;
+        };
         let mut b = vec![0.0; row.len().max(1)];
         bernstein_all_into(row.len().saturating_sub(1), s, &mut b);
         row.iter().zip(&b).map(|(p, w)| *p * *w).sum()
@@ -29,14 +31,18 @@ impl Ribbon {
 
     /// d/ds of the boundary curve: d Σ_j (P_{j+1,0} − P_{j,0}) B^{d−1}_j(s).
     pub fn boundary_tangent(&self, s: f64) -> DVec3 {
-        let Some(row) = self.rows.first() else { return DVec3::ZERO };
+        let Some(row) = self.rows.first() else {
+            return DVec3::ZERO;
+        };
         if row.len() < 2 {
             return DVec3::ZERO;
         }
         let d = row.len() - 1;
         let mut b = vec![0.0; d];
         bernstein_all_into(d - 1, s, &mut b);
-        (0..d).map(|j| (row[j + 1] - row[j]) * (d as f64 * b[j])).sum()
+        (0..d)
+            .map(|j| (row[j + 1] - row[j]) * (d as f64 * b[j]))
+            .sum()
     }
 
     /// The ribbon's cross-boundary derivative d Σ_j (P_{j,1} − P_{j,0}) B^d_j(s) (derivative
@@ -85,15 +91,27 @@ impl GbPatch {
         let d = self.degree();
         validate_ribbons(&self.ribbons, |i, r| {
             if r.degree != d {
-                return Err(GbError::DegreeMismatch { side: i, expected: d, found: r.degree });
+                return Err(GbError::DegreeMismatch {
+                    side: i,
+                    expected: d,
+                    found: r.degree,
+                });
             }
             if r.rows.len() != layers_for_degree(d) {
-                return Err(GbError::LayerCount { side: i, expected: layers_for_degree(d), found: r.rows.len() });
+                return Err(GbError::LayerCount {
+                    side: i,
+                    expected: layers_for_degree(d),
+                    found: r.rows.len(),
+                });
             }
             Ok(())
         })?;
         if !self.center.is_finite() {
-            return Err(GbError::NonFinite { side: None, row: 0, col: 0 });
+            return Err(GbError::NonFinite {
+                side: None,
+                row: 0,
+                col: 0,
+            });
         }
         Ok(())
     }
@@ -124,7 +142,12 @@ impl GbPatch {
     }
 
     /// As [`Self::eval_derivs_with`] with an explicit weight form.
-    pub fn eval_derivs_with_form(&self, ev: &mut GbBasisEvaluator, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+    pub fn eval_derivs_with_form(
+        &self,
+        ev: &mut GbBasisEvaluator,
+        uv: DVec2,
+        form: WeightForm,
+    ) -> SurfaceDerivs {
         let l = ev.layers();
         let d1 = ev.degree() + 1;
         let mut out = SurfaceDerivs::default();
@@ -132,7 +155,12 @@ impl GbPatch {
             let q = idx - 1;
             let (i, rest) = (q / (l * d1), q % (l * d1));
             let (k, j) = (rest / d1, rest % d1);
-            if let Some(p) = self.ribbons.get(i).and_then(|r| r.rows.get(k)).and_then(|row| row.get(j)) {
+            if let Some(p) = self
+                .ribbons
+                .get(i)
+                .and_then(|r| r.rows.get(k))
+                .and_then(|row| row.get(j))
+            {
                 out.add_weighted(&w, *p);
             }
         });
@@ -145,7 +173,10 @@ impl GbPatch {
     pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
         match self.evaluator() {
             Ok(mut ev) => self.eval_derivs_with_form(&mut ev, uv, form),
-            Err(_) => SurfaceDerivs { p: self.center, ..Default::default() },
+            Err(_) => SurfaceDerivs {
+                p: self.center,
+                ..Default::default()
+            },
         }
     }
 
@@ -172,15 +203,27 @@ pub(crate) fn validate_ribbons(
 ) -> Result<(), GbError> {
     for (i, r) in ribbons.iter().enumerate() {
         if r.degree < 2 {
-            return Err(GbError::DegreeTooLow { side: i, degree: r.degree });
+            return Err(GbError::DegreeTooLow {
+                side: i,
+                degree: r.degree,
+            });
         }
         extra(i, r)?;
         for (k, row) in r.rows.iter().enumerate() {
             if row.len() != r.degree + 1 {
-                return Err(GbError::RowLength { side: i, row: k, expected: r.degree + 1, found: row.len() });
+                return Err(GbError::RowLength {
+                    side: i,
+                    row: k,
+                    expected: r.degree + 1,
+                    found: row.len(),
+                });
             }
             if let Some(j) = row.iter().position(|p| !p.is_finite()) {
-                return Err(GbError::NonFinite { side: Some(i), row: k, col: j });
+                return Err(GbError::NonFinite {
+                    side: Some(i),
+                    row: k,
+                    col: j,
+                });
             }
         }
     }

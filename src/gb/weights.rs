@@ -134,7 +134,13 @@ impl BernsteinBuf {
             if d < 2 {
                 return 0.0;
             }
-            let g = |m: isize| if m >= 0 && (m as usize) <= d - 2 { self.b2[m as usize] } else { 0.0 };
+            let g = |m: isize| {
+                if m >= 0 && (m as usize) <= d - 2 {
+                    self.b2[m as usize]
+                } else {
+                    0.0
+                }
+            };
             let j = j as isize;
             g(j - 2) - 2.0 * g(j - 1) + g(j)
         };
@@ -263,11 +269,17 @@ impl GbBasisEvaluator {
     /// Calls `f(flat_index, weight)` for every ribbon control point (flat index ≥ 1, in flat
     /// order) and returns the central weight B0 = 1 − Σ (index 0), which it does not pass to `f`.
     #[inline]
-    pub fn for_each_ribbon_weight(&mut self, uv: DVec2, form: WeightForm, mut f: impl FnMut(usize, Jet2)) -> Jet2 {
+    pub fn for_each_ribbon_weight(
+        &mut self,
+        uv: DVec2,
+        form: WeightForm,
+        mut f: impl FnMut(usize, Jet2),
+    ) -> Jet2 {
         let n = self.domain.n();
         let d = self.degree;
         let l = self.layers;
-        self.domain.local_params_into(uv, &mut self.scratch, &mut self.params);
+        self.domain
+            .local_params_into(uv, &mut self.scratch, &mut self.params);
         let mut sum = Jet2::ZERO;
         let mut idx = 1;
         for i in 0..n {
@@ -298,9 +310,17 @@ impl GbBasisEvaluator {
     }
 
     /// All weights into `out` (length [`Self::len`]), flat order, central weight at index 0.
-    pub fn eval_into(&mut self, uv: DVec2, form: WeightForm, out: &mut [Jet2]) -> Result<(), GbError> {
+    pub fn eval_into(
+        &mut self,
+        uv: DVec2,
+        form: WeightForm,
+        out: &mut [Jet2],
+    ) -> Result<(), GbError> {
         if out.len() != self.len() {
-            return Err(GbError::BufferLength { expected: self.len(), found: out.len() });
+            return Err(GbError::BufferLength {
+                expected: self.len(),
+                found: out.len(),
+            });
         }
         let b0 = self.for_each_ribbon_weight(uv, form, |idx, w| out[idx] = w);
         out[0] = b0;
@@ -312,7 +332,12 @@ impl GbBasisEvaluator {
         let mut weights = vec![Jet2::ZERO; self.len()];
         let b0 = self.for_each_ribbon_weight(uv, form, |idx, w| weights[idx] = w);
         weights[0] = b0;
-        GbBasis { n: self.n(), degree: self.degree, layers: self.layers, weights }
+        GbBasis {
+            n: self.n(),
+            degree: self.degree,
+            layers: self.layers,
+            weights,
+        }
     }
 }
 
