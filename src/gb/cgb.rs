@@ -138,7 +138,7 @@ impl CgbBasisEvaluator {
             idx += 1;
         });
         for w in out.iter_mut() {
-            *w = w.div(sum);
+            *w = *w / sum;
         }
         Ok(())
     }

@@ -3,7 +3,7 @@
 //! used by the GB and CGB evaluators and by quality analysis).
 
 use glam::DVec3;
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Value and first and second partial derivatives of a scalar f(u, v):
 /// (f, f_u, f_v, f_uu, f_uv, f_vv). Arithmetic follows the product and quotient rules exactly.
@@ -65,22 +65,6 @@ impl Jet2 {
         }
     }
 
-    /// Quotient a / b by the quotient rule (caller guarantees b ≠ 0).
-    #[inline]
-    pub fn div(self, b: Jet2) -> Jet2 {
-        let q = self.val / b.val;
-        let qu = (self.du - q * b.du) / b.val;
-        let qv = (self.dv - q * b.dv) / b.val;
-        Jet2 {
-            val: q,
-            du: qu,
-            dv: qv,
-            duu: (self.duu - 2.0 * qu * b.du - q * b.duu) / b.val,
-            duv: (self.duv - qu * b.dv - qv * b.du - q * b.duv) / b.val,
-            dvv: (self.dvv - 2.0 * qv * b.dv - q * b.dvv) / b.val,
-        }
-    }
-
     /// f(t(u, v)) for a univariate f given by its value, first and second derivative at t.
     #[inline]
     pub fn compose(self, f: f64, f1: f64, f2: f64) -> Jet2 {
@@ -103,6 +87,26 @@ impl Jet2 {
             && self.duv.is_finite()
             && self.dvv.is_finite()
     }
+}
+
+impl Div for Jet2 {
+    type Output = Jet2;
+    /// Quotient a / b by the quotient rule (caller guarantees b ≠ 0).
+    #[inline]
+    fn div(self, b: Jet2) -> Jet2 {
+        let q = self.val / b.val;
+        let qu = (self.du - q * b.du) / b.val;
+        let qv = (self.dv - q * b.dv) / b.val;
+        Jet2 {
+            val: q,
+            du: qu,
+            dv: qv,
+            duu: (self.duu - 2.0 * qu * b.du - q * b.duu) / b.val,
+            duv: (self.duv - qu * b.dv - qv * b.du - q * b.duv) / b.val,
+            dvv: (self.dvv - 2.0 * qv * b.dv - q * b.dvv) / b.val,
+        }
+    }
+
 }
 
 impl Add for Jet2 {

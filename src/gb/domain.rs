@@ -152,7 +152,7 @@ impl Domain {
             sum = sum + w;
         }
         for l in out.iter_mut().take(n) {
-            *l = l.div(sum);
+            *l = *l / sum;
         }
     }
 
@@ -187,7 +187,7 @@ impl Domain {
             let s = if den.val.abs() < S_DEN_EPS {
                 Jet2::constant(0.5)
             } else {
-                num.div(den)
+                num / den
             };
             out[i] = LocalParam { s, h };
         }

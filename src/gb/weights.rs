@@ -82,7 +82,7 @@ pub fn corner_weight(a: Jet2, b: Jet2, form: WeightForm) -> Jet2 {
     if !(r > CORNER_R0) {
         return Jet2::constant(0.5);
     }
-    let mut w = num.div(den);
+    let mut w = num / den;
     if r < CORNER_R2 {
         w.duu = 0.0;
         w.duv = 0.0;
