@@ -3,9 +3,7 @@
 //! rules, invalid input, and affine invariance as a property.
 
 use gbsurf::mesh::PolyMesh;
-use gbsurf::subdiv::{
-    catmull_clark, doo_sabin, subdivide, SubdivError, SubdivisionScheme,
-};
+use gbsurf::subdiv::{catmull_clark, doo_sabin, subdivide, SubdivError, SubdivisionScheme};
 use gbsurf::{assert_near, DVec3};
 use proptest::prelude::*;
 use std::collections::HashMap;
@@ -24,7 +22,8 @@ fn load(name: &str) -> PolyMesh {
                 m.positions.push(DVec3::new(c[0], c[1], c[2]));
             }
             Some("f") => m.faces.push(
-                it.map(|s| s.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect(),
+                it.map(|s| s.split('/').next().unwrap().parse::<u32>().unwrap() - 1)
+                    .collect(),
             ),
             _ => {}
         }
@@ -55,8 +54,14 @@ fn edge_stats(m: &PolyMesh) -> (usize, usize) {
             *directed.entry((f[i], f[(i + 1) % f.len()])).or_default() += 1;
         }
     }
-    assert!(directed.values().all(|&c| c == 1), "a directed edge is used twice");
-    let boundary = directed.keys().filter(|&&(a, b)| !directed.contains_key(&(b, a))).count();
+    assert!(
+        directed.values().all(|&c| c == 1),
+        "a directed edge is used twice"
+    );
+    let boundary = directed
+        .keys()
+        .filter(|&&(a, b)| !directed.contains_key(&(b, a)))
+        .count();
     let interior = directed.len() - boundary;
     (interior / 2 + boundary, boundary)
 }
@@ -64,15 +69,19 @@ fn edge_stats(m: &PolyMesh) -> (usize, usize) {
 fn euler(m: &PolyMesh) -> i64 {
     let (e, _) = edge_stats(m);
     let mut used = vec![false; m.positions.len()];
-    m.faces.iter().flatten().for_each(|&v| used[v as usize] = true);
+    m.faces
+        .iter()
+        .flatten()
+        .for_each(|&v| used[v as usize] = true);
     let v = used.iter().filter(|&&u| u).count();
     v as i64 - e as i64 + m.faces.len() as i64
 }
 
 /// The index of the output vertex at `p` (exactly one within 1e-12).
 fn find(m: &PolyMesh, p: DVec3) -> usize {
-    let hits: Vec<usize> =
-        (0..m.positions.len()).filter(|&i| (m.positions[i] - p).length() <= 1e-12).collect();
+    let hits: Vec<usize> = (0..m.positions.len())
+        .filter(|&i| (m.positions[i] - p).length() <= 1e-12)
+        .collect();
     assert_eq!(hits.len(), 1, "point {p:?} found {} times", hits.len());
     hits[0]
 }
@@ -84,8 +93,11 @@ fn boundary_vertices(m: &PolyMesh) -> Vec<u32> {
             directed.insert((f[i], f[(i + 1) % f.len()]));
         }
     }
-    let mut out: Vec<u32> =
-        directed.iter().filter(|&&(a, b)| !directed.contains(&(b, a))).map(|&(a, _)| a).collect();
+    let mut out: Vec<u32> = directed
+        .iter()
+        .filter(|&&(a, b)| !directed.contains(&(b, a)))
+        .map(|&(a, _)| a)
+        .collect();
     out.sort();
     out.dedup();
     out
@@ -164,7 +176,11 @@ fn doo_sabin_cube_first_level_by_hand() {
     let p = s.positions[find(&s, DVec3::new(1.0, 0.5, 0.5))];
     assert_near!(p, DVec3::new(1.0, 0.5, 0.5));
     for (f, face) in cube.faces.iter().enumerate() {
-        let centre = face.iter().map(|&v| cube.positions[v as usize]).sum::<DVec3>() / 4.0;
+        let centre = face
+            .iter()
+            .map(|&v| cube.positions[v as usize])
+            .sum::<DVec3>()
+            / 4.0;
         for (i, &v) in face.iter().enumerate() {
             let expected = 0.5 * (cube.positions[v as usize] + centre);
             assert_near!(s.positions[4 * f + i], expected);
@@ -174,7 +190,10 @@ fn doo_sabin_cube_first_level_by_hand() {
     assert_eq!(s.faces.len(), 26);
     assert_eq!(s.faces.iter().filter(|f| f.len() == 3).count(), 8);
     // The V-face of vertex 7 = (1,1,1) is the triangle of the three points (1,½,½) perms.
-    let tri: Vec<DVec3> = s.faces[18 + 7].iter().map(|&i| s.positions[i as usize]).collect();
+    let tri: Vec<DVec3> = s.faces[18 + 7]
+        .iter()
+        .map(|&i| s.positions[i as usize])
+        .collect();
     for p in &tri {
         let mut a = p.to_array();
         a.sort_by(f64::total_cmp);
@@ -188,7 +207,10 @@ fn doo_sabin_cube_first_level_by_hand() {
 #[test]
 fn doo_sabin_weights_by_hand() {
     use gbsurf::subdiv::doo_sabin_weights;
-    assert_near!(doo_sabin_weights(4), vec![9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0]);
+    assert_near!(
+        doo_sabin_weights(4),
+        vec![9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0]
+    );
     assert_near!(doo_sabin_weights(3), vec![2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0]);
     // n = 5: α0 = 1/4 + 1/4 = 1/2, α1 = (3 + 2cos72°)/20.
     let w = doo_sabin_weights(5);
@@ -277,7 +299,10 @@ fn catmull_clark_open_grid_boundary_rules() {
     let m = load("grid_open.obj");
     assert_eq!(euler(&m), 1);
     let s = catmull_clark(&m, 1).unwrap();
-    assert_eq!((s.positions.len(), edge_stats(&s).0, s.faces.len()), (81, 144, 64));
+    assert_eq!(
+        (s.positions.len(), edge_stats(&s).0, s.faces.len()),
+        (81, 144, 64)
+    );
     assert_eq!(euler(&s), 1);
     assert_eq!(edge_stats(&s).1, 32);
     // Corner (valence 2) fixed.
@@ -324,7 +349,10 @@ fn doo_sabin_open_grid_boundary_rules() {
     let s = doo_sabin(&m, 1).unwrap();
     // V' = Σ|f| + 2·16 = 96; F' = 16 F + 24 E + 16 boundary quads + 9 + 16 V-faces = 81;
     // E' = 176 (χ = 96 − 176 + 81 = 1), 32 boundary edges (Chaikin polygon of 16 edges).
-    assert_eq!((s.positions.len(), edge_stats(&s).0, s.faces.len()), (96, 176, 81));
+    assert_eq!(
+        (s.positions.len(), edge_stats(&s).0, s.faces.len()),
+        (96, 176, 81)
+    );
     assert_eq!(edge_stats(&s).1, 32);
     assert_eq!(euler(&s), 1);
     // Corner point of face 0 = (v0 v1 v6 v5) at v0: (9v0 + 3v1 + 3v5 + v6)/16 =
@@ -352,12 +380,27 @@ fn doo_sabin_open_grid_boundary_rules() {
 fn invalid_input_is_a_typed_error() {
     let cube = load("cube.obj");
     let cases: Vec<(PolyMesh, SubdivError)> = vec![
-        (load("bad/index_out_of_range.obj"), SubdivError::IndexOutOfRange { face: 5, vertex: 41, count: 8 }),
+        (
+            load("bad/index_out_of_range.obj"),
+            SubdivError::IndexOutOfRange {
+                face: 5,
+                vertex: 41,
+                count: 8,
+            },
+        ),
         (
             load("bad/flipped_face.obj"),
-            SubdivError::DuplicateDirectedEdge { a: 5, b: 7, first: 1, second: 5 },
+            SubdivError::DuplicateDirectedEdge {
+                a: 5,
+                b: 7,
+                first: 1,
+                second: 5,
+            },
         ),
-        (load("bad/bowtie_vertex.obj"), SubdivError::NonManifoldVertex { vertex: 0 }),
+        (
+            load("bad/bowtie_vertex.obj"),
+            SubdivError::NonManifoldVertex { vertex: 0 },
+        ),
         (
             PolyMesh::new(cube.positions.clone(), vec![vec![0, 1]]),
             SubdivError::FaceTooSmall { face: 0, len: 2 },
@@ -386,15 +429,28 @@ fn invalid_input_is_a_typed_error() {
     for (m, err) in cases {
         for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
             for levels in 0..=1 {
-                assert_eq!(subdivide(&m, scheme, levels), Err(err.clone()), "{scheme:?} {levels}");
+                assert_eq!(
+                    subdivide(&m, scheme, levels),
+                    Err(err.clone()),
+                    "{scheme:?} {levels}"
+                );
             }
         }
     }
     let e = load("bad/nonmanifold_edge.obj");
-    assert!(matches!(catmull_clark(&e, 1), Err(SubdivError::DuplicateDirectedEdge { .. })));
+    assert!(matches!(
+        catmull_clark(&e, 1),
+        Err(SubdivError::DuplicateDirectedEdge { .. })
+    ));
     // Two triangles glued along all three edges: every vertex interior with valence 2.
-    let pillow = PolyMesh::new(cube.positions[..3].to_vec(), vec![vec![0, 1, 2], vec![0, 2, 1]]);
-    assert_eq!(doo_sabin(&pillow, 1), Err(SubdivError::InteriorValenceTwo { vertex: 0 }));
+    let pillow = PolyMesh::new(
+        cube.positions[..3].to_vec(),
+        vec![vec![0, 1, 2], vec![0, 2, 1]],
+    );
+    assert_eq!(
+        doo_sabin(&pillow, 1),
+        Err(SubdivError::InteriorValenceTwo { vertex: 0 })
+    );
     assert_eq!(euler(&catmull_clark(&pillow, 1).unwrap()), 2);
     // Messages name the element.
     assert_eq!(

@@ -34,7 +34,11 @@ pub enum SubdivError {
     #[error("face {face} has {len} vertices; at least 3 are needed")]
     FaceTooSmall { face: usize, len: usize },
     #[error("face {face} refers to vertex {vertex}, but the mesh has only {count} vertices")]
-    IndexOutOfRange { face: usize, vertex: u32, count: usize },
+    IndexOutOfRange {
+        face: usize,
+        vertex: u32,
+        count: usize,
+    },
     #[error("face {face} lists vertex {vertex} more than once")]
     RepeatedVertex { face: usize, vertex: u32 },
     #[error("vertex {vertex} has a non-finite position")]
@@ -43,10 +47,17 @@ pub enum SubdivError {
         "edge {a}->{b} runs the same way in faces {first} and {second} \
          (edge with more than two faces, or inconsistent orientation)"
     )]
-    DuplicateDirectedEdge { a: u32, b: u32, first: usize, second: usize },
+    DuplicateDirectedEdge {
+        a: u32,
+        b: u32,
+        first: usize,
+        second: usize,
+    },
     #[error("vertex {vertex} is non-manifold: its faces do not form a single fan")]
     NonManifoldVertex { vertex: usize },
-    #[error("vertex {vertex} is an interior vertex of valence 2; Doo–Sabin would make a two-sided face")]
+    #[error(
+        "vertex {vertex} is an interior vertex of valence 2; Doo–Sabin would make a two-sided face"
+    )]
     InteriorValenceTwo { vertex: usize },
     #[error("the subdivided mesh would need {count} indices, more than u32 can address")]
     TooLarge { count: u64 },
@@ -62,6 +73,16 @@ pub fn subdivide(
         SubdivisionScheme::CatmullClark => catmull_clark(mesh, levels),
         SubdivisionScheme::DooSabin => doo_sabin(mesh, levels),
     }
+}
+
+/// Checks that `mesh` can be subdivided (the rules listed on [`SubdivError`]).
+pub fn validate(mesh: &PolyMesh) -> Result<(), SubdivError> {
+    topology::Topology::new(mesh).map(|_| ())
+}
+
+/// Number of undirected edges, after the checks of [`validate`].
+pub fn edge_count(mesh: &PolyMesh) -> Result<usize, SubdivError> {
+    topology::Topology::new(mesh).map(|t| t.edges.len())
 }
 
 /// Errors with [`SubdivError::TooLarge`] when `count` does not fit a u32 index.
