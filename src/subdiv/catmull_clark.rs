@@ -41,7 +41,10 @@ fn catmull_clark_once(mesh: &PolyMesh) -> Result<PolyMesh, SubdivError> {
         .map(|f| {
             let corners = topo.face_corners(f);
             let k = corners.len() as f64;
-            corners.map(|c| p[topo.corner_vertex[c] as usize]).sum::<DVec3>() / k
+            corners
+                .map(|c| p[topo.corner_vertex[c] as usize])
+                .sum::<DVec3>()
+                / k
         })
         .collect();
 

@@ -75,9 +75,14 @@ fn doo_sabin_once(mesh: &PolyMesh) -> Result<PolyMesh, SubdivError> {
         let corners = topo.face_corners(f);
         let n = corners.len();
         let alpha = doo_sabin_weights(n);
-        let verts: Vec<DVec3> = corners.clone().map(|c| p[topo.corner_vertex[c] as usize]).collect();
+        let verts: Vec<DVec3> = corners
+            .clone()
+            .map(|c| p[topo.corner_vertex[c] as usize])
+            .collect();
         for i in 0..n {
-            let q = (0..n).map(|j| alpha[(j + n - i) % n] * verts[j]).sum::<DVec3>();
+            let q = (0..n)
+                .map(|j| alpha[(j + n - i) % n] * verts[j])
+                .sum::<DVec3>();
             positions.push(q);
         }
     }
@@ -101,9 +106,19 @@ fn doo_sabin_once(mesh: &PolyMesh) -> Result<PolyMesh, SubdivError> {
         faces.push(vec![topo.next(fa), fa, topo.next(gb), gb]);
     }
     // Boundary-edge quads: [P(f,b), P(f,a), C(a), C(b)].
-    for (e, edge) in topo.edges.iter().enumerate().filter(|(_, e)| e.is_boundary()) {
+    for (e, edge) in topo
+        .edges
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.is_boundary())
+    {
         let fa = edge.corners[0];
-        faces.push(vec![topo.next(fa), fa, chaikin(e as u32, 0), chaikin(e as u32, 1)]);
+        faces.push(vec![
+            topo.next(fa),
+            fa,
+            chaikin(e as u32, 0),
+            chaikin(e as u32, 1),
+        ]);
     }
     // V-faces.
     for fan in topo.fans.iter().filter(|fan| !fan.corners.is_empty()) {

@@ -65,11 +65,18 @@ impl Topology {
         face_start.push(0);
         for (f, face) in mesh.faces.iter().enumerate() {
             if face.len() < 3 {
-                return Err(SubdivError::FaceTooSmall { face: f, len: face.len() });
+                return Err(SubdivError::FaceTooSmall {
+                    face: f,
+                    len: face.len(),
+                });
             }
             for (i, &v) in face.iter().enumerate() {
                 if v as usize >= nv {
-                    return Err(SubdivError::IndexOutOfRange { face: f, vertex: v, count: nv });
+                    return Err(SubdivError::IndexOutOfRange {
+                        face: f,
+                        vertex: v,
+                        count: nv,
+                    });
                 }
                 if face[..i].contains(&v) {
                     return Err(SubdivError::RepeatedVertex { face: f, vertex: v });
@@ -96,7 +103,10 @@ impl Topology {
         // Directed edge (a, b) → the corner of `a` in the face that runs a → b.
         let mut directed: HashMap<(u32, u32), u32> = HashMap::with_capacity(nc);
         for c in 0..nc as u32 {
-            let key = (topo.corner_vertex[c as usize], topo.corner_vertex[topo.next(c) as usize]);
+            let key = (
+                topo.corner_vertex[c as usize],
+                topo.corner_vertex[topo.next(c) as usize],
+            );
             if let Some(&other) = directed.get(&key) {
                 return Err(SubdivError::DuplicateDirectedEdge {
                     a: key.0,
@@ -110,7 +120,10 @@ impl Topology {
 
         // Undirected edges, numbered by first appearance.
         for c in 0..nc as u32 {
-            let (a, b) = (topo.corner_vertex[c as usize], topo.corner_vertex[topo.next(c) as usize]);
+            let (a, b) = (
+                topo.corner_vertex[c as usize],
+                topo.corner_vertex[topo.next(c) as usize],
+            );
             match directed.get(&(b, a)) {
                 Some(&twin) if twin < c => {
                     let e = topo.corner_edge[twin as usize];
@@ -170,7 +183,10 @@ impl Topology {
             if fan.len() != corners.len() {
                 return Err(SubdivError::NonManifoldVertex { vertex: v });
             }
-            topo.fans[v] = Fan { corners: fan, boundary };
+            topo.fans[v] = Fan {
+                corners: fan,
+                boundary,
+            };
         }
         Ok(topo)
     }
