@@ -118,3 +118,98 @@ pub fn corner_block_defect(surface: &Surface) -> Worst {
     }
     w
 }
+
+/// Evaluator-level measurements of the joins of a surface (see [`join_report`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JoinReport {
+    /// Max angle (degrees) between the two patches' unit normals at the same curve point.
+    pub angle_deg: Worst,
+    /// Max distance between the two patches' evaluations of the shared side.
+    pub gap: Worst,
+    /// Number of shared sides measured (each pair once).
+    pub sides: usize,
+    /// Samples where a patch normal was undefined (degenerate parameterization).
+    pub degenerate: usize,
+}
+
+/// Point, first and second derivatives of any patch at a domain point.
+pub fn patch_derivs(p: &Patch, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
+    match p {
+        Patch::Gb(g) => g.eval_derivs(uv, form),
+        Patch::Cgb(c) => c.eval_derivs(uv, form),
+    }
+}
+
+/// Sample parameters along a side: `samples` equally spaced interior points t_k = (k+1)/(samples+1)
+/// plus two points 1e-6 away from the corners (the corners themselves are the nodes, where the
+/// evaluator returns the corner point).
+pub fn side_params(samples: usize) -> Vec<f64> {
+    let mut t: Vec<f64> = (0..samples).map(|k| (k + 1) as f64 / (samples + 1) as f64).collect();
+    t.push(1e-6);
+    t.push(1.0 - 1e-6);
+    t
+}
+
+/// Evaluates both patches along every shared side: side i of patch A at t is side j of patch B at
+/// 1 − t (domain convention of [`crate::gb::Domain`]: side i runs from vertex i−1 to vertex i).
+/// Reports the max normal angle and the max positional gap.
+pub fn join_report(surface: &Surface, samples: usize, form: crate::gb::WeightForm) -> JoinReport {
+    use crate::gb::Domain;
+    let mut r = JoinReport::default();
+    let domains: Vec<Option<Domain>> =
+        surface.patches.iter().map(|p| Domain::regular(ribbons(p).len()).ok()).collect();
+    let ts = side_params(samples);
+    for (p, nb) in surface.neighbors.iter().enumerate() {
+        for (i, n) in nb.iter().enumerate() {
+            let Some(n) = n else { continue };
+            if (n.patch, n.side) < (p, i) {
+                continue;
+            }
+            let (Some(da), Some(db)) = (&domains[p], &domains[n.patch]) else {
+                r.degenerate += 1;
+                continue;
+            };
+            r.sides += 1;
+            for &t in &ts {
+                let a = patch_derivs(&surface.patches[p], da.side_point(i, t), form);
+                let b = patch_derivs(&surface.patches[n.patch], db.side_point(n.side, 1.0 - t), form);
+                r.gap.update(a.p.distance(b.p), p, i, t);
+                match (a.normal(), b.normal()) {
+                    (Some(na), Some(nb)) => r.angle_deg.update(angle_deg(na, nb), p, i, t),
+                    _ => r.degenerate += 1,
+                }
+            }
+        }
+    }
+    r
+}
+
+/// Max angle (degrees) between each patch's normal at its corners and the prescribed node normal
+/// (up to sign) — e.g. the face plane at the dual nodes (seed 000 §4.4.4). `corner_node(p, i)`
+/// gives the node at domain vertex i of patch p (or `None` to skip). The normal is taken at the
+/// domain point 1e-9 inside the corner.
+pub fn corner_plane_angle(
+    surface: &Surface,
+    node_normals: &[DVec3],
+    corner_node: impl Fn(usize, usize) -> Option<usize>,
+    form: crate::gb::WeightForm,
+) -> Worst {
+    use crate::gb::Domain;
+    let mut w = Worst::default();
+    for (p, patch) in surface.patches.iter().enumerate() {
+        let n = ribbons(patch).len();
+        let Ok(d) = Domain::regular(n) else { continue };
+        for i in 0..n {
+            let Some(node) = corner_node(p, i) else { continue };
+            let uv = d.vertex(i) * (1.0 - 1e-9);
+            match patch_derivs(patch, uv, form).normal() {
+                Some(nn) => {
+                    let a = angle_deg(nn, node_normals[node]);
+                    w.update(a.min(180.0 - a), p, i, 1.0);
+                }
+                None => w.update(f64::INFINITY, p, i, 1.0),
+            }
+        }
+    }
+    w
+}
