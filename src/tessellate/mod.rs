@@ -1,1 +1,3 @@
 //! Watertight tessellation of patch collections; output goes through sink builders.
+
+pub mod patch;
