@@ -467,67 +467,24 @@ impl SurfaceMesh {
         w.flush()
     }
 
-    /// Binary little-endian PLY with per-vertex `x y z nx ny nz` (double), `patch` (uint),
-    /// `mean_curvature gaussian_curvature g1_deviation` (double) and faces as `uchar`-counted
-    /// `uint` lists.
-    pub fn write_ply<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        let nv = self.positions.len();
-        write!(
-            w,
-            "ply\nformat binary_little_endian 1.0\ncomment gbsurf surface mesh\nelement vertex {nv}\n\
-             property double x\nproperty double y\nproperty double z\n\
-             property double nx\nproperty double ny\nproperty double nz\n\
-             property uint patch\nproperty double mean_curvature\nproperty double gaussian_curvature\n\
-             property double g1_deviation\nelement face {}\nproperty list uchar uint vertex_indices\nend_header\n",
-            self.triangles.len()
-        )?;
-        let get = |v: &Vec<f64>, i: usize| v.get(i).copied().unwrap_or(0.0);
-        let mut buf = Vec::with_capacity(nv * 84);
-        for i in 0..nv {
-            for x in self.positions[i].to_array() {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-            let n = self.normals.get(i).copied().unwrap_or(DVec3::ZERO);
-            for x in n.to_array() {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-            buf.extend_from_slice(&self.patch.get(i).copied().unwrap_or(0).to_le_bytes());
-            for x in [get(&self.mean_curvature, i), get(&self.gaussian_curvature, i), get(&self.g1_deviation_deg, i)] {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        w.write_all(&buf)?;
-        buf.clear();
-        for t in &self.triangles {
-            buf.push(3u8);
-            for x in t {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        w.write_all(&buf)?;
-        w.flush()
+    /// Binary little-endian PLY through the mesh module's writer: `double x y z`, `float nx ny nz`,
+    /// per-vertex `float` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
+    /// (degrees), triangles as `uchar`-counted `int` lists.
+    pub fn write_ply<W: Write>(&self, w: W) -> std::io::Result<()> {
+        let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        use crate::mesh::io::{write_ply, PlyFormat, VertexScalar};
+        let scalars = [
+            VertexScalar { name: "patch", values: &patch },
+            VertexScalar { name: "mean_curvature", values: &self.mean_curvature },
+            VertexScalar { name: "gaussian_curvature", values: &self.gaussian_curvature },
+            VertexScalar { name: "g1_deviation", values: &self.g1_deviation_deg },
+        ];
+        write_ply(w, &self.positions, Some(&self.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
     }
 
-    /// Binary STL (facet normals from the triangle geometry, single precision as the format says).
-    pub fn write_stl<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        let mut header = [0u8; 80];
-        let text = b"gbsurf binary STL";
-        header[..text.len()].copy_from_slice(text);
-        w.write_all(&header)?;
-        let count = u32::try_from(self.triangles.len()).map_err(|_| std::io::Error::other("too many triangles for STL"))?;
-        w.write_all(&count.to_le_bytes())?;
-        let mut buf = Vec::with_capacity(self.triangles.len() * 50);
-        for t in &self.triangles {
-            let [a, b, c] = t.map(|i| self.positions[i as usize]);
-            let n = (b - a).cross(c - a).normalize_or_zero();
-            for v in [n, a, b, c] {
-                for x in v.to_array() {
-                    buf.extend_from_slice(&(x as f32).to_le_bytes());
-                }
-            }
-            buf.extend_from_slice(&0u16.to_le_bytes());
-        }
-        w.write_all(&buf)?;
-        w.flush()
+    /// Binary STL through the mesh module's writer (facet normals from the triangles).
+    pub fn write_stl<W: Write>(&self, w: W) -> std::io::Result<()> {
+        crate::mesh::io::write_stl_triangles(w, &self.positions, &self.triangles)
     }
 }
