@@ -106,6 +106,9 @@ pub enum TessellateError {
     /// The output needs more than 2^32 − 1 vertices.
     #[error("the output mesh would need {count} vertices, more than u32 indices allow")]
     TooLarge { count: usize },
+    /// A patch is malformed (row lengths, degrees, non-finite control points).
+    #[error("patch {patch}: {source}")]
+    InvalidPatch { patch: usize, source: crate::gb::GbError },
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -428,6 +431,167 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
         *n = n.normalize_or_zero();
     }
     Ok((mesh, stats))
+}
+
+/// Weight tables of one patch kind at one resolution: for every sample of the layout, the
+/// nonzero basis weights with their first and second derivatives (compressed rows). Every patch
+/// kind is linear in its control points for a fixed domain point (the CGB normalization depends
+/// only on the domain point), so a patch is evaluated as Σ w·P over the table.
+struct WeightTable {
+    /// `start[s]..start[s + 1]`: the entries of sample s.
+    start: Vec<u32>,
+    entries: Vec<(u32, crate::gb::Jet2)>,
+}
+
+impl WeightTable {
+    fn build(samples: &[DVec2], len: usize, mut weights: impl FnMut(DVec2, &mut [crate::gb::Jet2])) -> Self {
+        let mut buf = vec![crate::gb::Jet2::ZERO; len];
+        let mut start = Vec::with_capacity(samples.len() + 1);
+        let mut entries = Vec::new();
+        start.push(0);
+        for &uv in samples {
+            buf.fill(crate::gb::Jet2::ZERO);
+            weights(uv, &mut buf);
+            for (i, w) in buf.iter().enumerate() {
+                if *w != crate::gb::Jet2::ZERO {
+                    entries.push((i as u32, *w));
+                }
+            }
+            start.push(entries.len() as u32);
+        }
+        WeightTable { start, entries }
+    }
+}
+
+/// Which table a patch uses: GB (n, d) or CGB (per-side degree and layer count).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum TableKey {
+    Gb(usize, usize),
+    Cgb(Vec<(usize, usize)>),
+}
+
+fn table_key(p: &Patch) -> TableKey {
+    match p {
+        Patch::Gb(g) => TableKey::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
+        Patch::Cgb(c) => TableKey::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
+    }
+}
+
+/// The evaluator of GB and CGB patches used by the conversion: per-(kind, n, degree, r) weight
+/// tables built once (in parallel), then one sparse weighted sum per sample (seed 000 eq. 2.24
+/// for GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
+/// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
+pub struct GbSurfaceEvaluator {
+    tables: HashMap<TableKey, WeightTable>,
+    keys: Vec<TableKey>,
+}
+
+fn gb_domain(n: usize) -> Vec<DVec2> {
+    match crate::gb::Domain::regular(n) {
+        Ok(d) => d.vertices().to_vec(),
+        Err(_) => SampleLayout::regular_polygon(n),
+    }
+}
+
+impl GbSurfaceEvaluator {
+    /// Validates every patch and builds the weight tables for resolution `r`.
+    pub fn new(surface: &Surface, r: usize, form: crate::gb::WeightForm) -> Result<Self, TessellateError> {
+        let mut keys = Vec::with_capacity(surface.patches.len());
+        let mut distinct: HashMap<TableKey, usize> = HashMap::new();
+        for (i, p) in surface.patches.iter().enumerate() {
+            let v = match p {
+                Patch::Gb(g) => g.validate(),
+                Patch::Cgb(c) => c.validate(),
+            };
+            v.map_err(|source| TessellateError::InvalidPatch { patch: i, source })?;
+            let k = table_key(p);
+            distinct.entry(k.clone()).or_insert(i);
+            keys.push(k);
+        }
+        let list: Vec<(TableKey, usize)> = distinct.into_iter().collect();
+        let built: Result<Vec<(TableKey, WeightTable)>, TessellateError> = list
+            .into_par_iter()
+            .map(|(key, first)| {
+                let patch = &surface.patches[first];
+                let n = patch_sides(patch);
+                let layout = SampleLayout::new(&gb_domain(n), r).map_err(|source| TessellateError::Layout { patch: first, source })?;
+                let table = match patch {
+                    Patch::Gb(g) => {
+                        let mut ev = g.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
+                        let len = ev.len();
+                        WeightTable::build(&layout.uv, len, |uv, out| {
+                            let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| out[idx] = w);
+                            out[0] = b0;
+                        })
+                    }
+                    Patch::Cgb(c) => {
+                        let mut ev = c.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
+                        let len = ev.len();
+                        let mut err = None;
+                        let t = WeightTable::build(&layout.uv, len, |uv, out| {
+                            if let Err(e) = ev.eval_into(uv, form, out) {
+                                err = Some(e);
+                            }
+                        });
+                        if let Some(source) = err {
+                            return Err(TessellateError::InvalidPatch { patch: first, source });
+                        }
+                        t
+                    }
+                };
+                Ok((key, table))
+            })
+            .collect();
+        Ok(GbSurfaceEvaluator { tables: built?.into_iter().collect(), keys })
+    }
+}
+
+impl PatchEvaluator for GbSurfaceEvaluator {
+    fn domain(&self, n: usize) -> Vec<DVec2> {
+        gb_domain(n)
+    }
+
+    fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {
+        out.clear();
+        let (Some(key), Some(patch)) = (self.keys.get(index), surface.patches.get(index)) else { return };
+        let Some(table) = self.tables.get(key) else { return };
+        let points = match patch {
+            Patch::Gb(g) => g.control_points_flat(),
+            Patch::Cgb(c) => c.control_points_flat(),
+        };
+        let samples = table.start.len() - 1;
+        if samples != layout.uv.len() {
+            return;
+        }
+        out.reserve(samples);
+        for s in 0..samples {
+            let mut d = crate::gb::SurfaceDerivs::default();
+            for (i, w) in &table.entries[table.start[s] as usize..table.start[s + 1] as usize] {
+                match points.get(*i as usize) {
+                    Some(p) => d.add_weighted(w, *p),
+                    None => {
+                        out.clear();
+                        return;
+                    }
+                }
+            }
+            let normal = d.normal().unwrap_or(DVec3::ZERO);
+            let (h, k) = d.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
+            out.push(SurfacePoint { position: d.p, normal, mean_curvature: h, gaussian_curvature: k });
+        }
+    }
+}
+
+/// Tessellates a GB/CGB surface at resolution `r` with [`GbSurfaceEvaluator`] (see
+/// [`tessellate_surface_with`]).
+pub fn tessellate_surface(
+    surface: &Surface,
+    r: usize,
+    form: crate::gb::WeightForm,
+    progress: Option<&mut dyn FnMut(f32) -> bool>,
+) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    let eval = GbSurfaceEvaluator::new(surface, r, form)?;
+    tessellate_surface_with(surface, r, &eval, progress)
 }
 
 impl SurfaceMesh {
