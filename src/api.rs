@@ -241,10 +241,20 @@ pub type Progress<'a> = Option<&'a mut dyn FnMut(f32) -> bool>;
 ///
 /// and finally the mesh checks of [`crate::quality::check_mesh`] for the report.
 /// `progress` receives the fraction done; returning false stops with [`ConvertError::Cancelled`].
-pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, mut progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
     let start = std::time::Instant::now();
     options.validate()?;
     let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
+    convert_valid(&he, mesh, options, progress, start)
+}
+
+fn convert_valid(
+    he: &crate::mesh::HalfEdgeMesh,
+    mesh: &PolyMesh,
+    options: &ConvertOptions,
+    mut progress: Progress<'_>,
+    start: std::time::Instant,
+) -> Result<Conversion, ConvertError> {
     let mut warnings: Vec<String> = he.warnings().iter().map(|w| w.to_string()).collect();
     let mut report = Report {
         method: options.method.name().to_string(),
@@ -262,7 +272,7 @@ pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, mut progress: Progress
     };
     tick(0.0)?;
     let (out, surface) = if options.method.is_patch_method() {
-        let surface = build_surface(&he, options)?;
+        let surface = build_surface(he, options)?;
         tick(0.2)?;
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
         let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;
@@ -401,10 +411,14 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<PolyMesh, ConvertError> {
 }
 
 /// [`read_mesh`] then [`convert`].
+/// Errors and warnings name the source line of the element.
 pub fn convert_file(path: impl AsRef<Path>, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+    let start = std::time::Instant::now();
     options.validate()?;
-    let mesh = read_mesh(path)?;
-    convert(&mesh, options, progress)
+    let (mesh, map) = crate::mesh::read_polymesh(path)?;
+    let mut he = crate::mesh::HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
+    he.annotate_warnings(&map);
+    convert_valid(&he, &mesh, options, progress, start)
 }
 
 // ------------------------------------------------------------------ exact descriptions
