@@ -241,10 +241,20 @@ pub type Progress<'a> = Option<&'a mut dyn FnMut(f32) -> bool>;
 ///
 /// and finally the mesh checks of [`crate::quality::check_mesh`] for the report.
 /// `progress` receives the fraction done; returning false stops with [`ConvertError::Cancelled`].
-pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, mut progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
     let start = std::time::Instant::now();
     options.validate()?;
     let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
+    convert_valid(&he, mesh, options, progress, start)
+}
+
+fn convert_valid(
+    he: &crate::mesh::HalfEdgeMesh,
+    mesh: &PolyMesh,
+    options: &ConvertOptions,
+    mut progress: Progress<'_>,
+    start: std::time::Instant,
+) -> Result<Conversion, ConvertError> {
     let mut warnings: Vec<String> = he.warnings().iter().map(|w| w.to_string()).collect();
     let mut report = Report {
         method: options.method.name().to_string(),
@@ -262,11 +272,10 @@ pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, mut progress: Progress
     };
     tick(0.0)?;
     let (out, surface) = if options.method.is_patch_method() {
-        let surface = build_surface(&he, options)?;
+        let surface = build_surface(he, options)?;
         tick(0.2)?;
-        let eval = GbEvaluator { form: options.weights };
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
-        let (m, stats) = crate::tessellate::tessellate_surface_with(&surface, options.resolution, &eval, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;
         for p in &surface.patches {
             report.count_sides(crate::tessellate::surface::patch_sides(p));
         }
@@ -312,22 +321,84 @@ fn build_surface(he: &crate::mesh::HalfEdgeMesh, options: &ConvertOptions) -> Re
     Err(ConvertError::Construct("the construction module is not merged yet".into()))
 }
 
-/// The evaluator of [`Surface`] patches used by [`convert`].
-struct GbEvaluator {
-    form: WeightForm,
-}
-
-impl crate::tessellate::PatchEvaluator for GbEvaluator {
-    fn evaluate(&self, _surface: &Surface, _index: usize, _layout: &crate::tessellate::patch::SampleLayout, out: &mut Vec<crate::tessellate::SurfacePoint>) {
-        let _ = self.form;
-        out.clear();
-    }
-}
-
-/// Subdivision methods: the subdivided mesh, fan-triangulated, and its faces.
+/// Subdivision methods: `levels` steps of the scheme, tracking for every face the input face it
+/// descends from (Catmull–Clark: the children of a face are consecutive, one per corner;
+/// Doo–Sabin: every new point belongs to one corner of an old face, and a new face descends from
+/// the face of its first such point — see [`crate::subdiv::doo_sabin`]'s output order). The result
+/// is split into convex pieces ([`crate::mesh::geometry::convexify`]) and fan-triangulated.
+/// Normals: area-weighted; curvatures: [`crate::quality::discrete_curvature`]; G1 deviation 0;
+/// patch index (per vertex: the smallest over its triangles) = input face.
 fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Result<(SurfaceMesh, Vec<Vec<u32>>), ConvertError> {
-    let _ = (mesh, options);
-    Err(ConvertError::Subdiv("the subdivision module is not merged yet".into()))
+    let sub_err = |e: crate::subdiv::SubdivError| ConvertError::Subdiv(e.to_string());
+    let mut current = mesh.clone();
+    let mut ancestor: Vec<u32> = (0..mesh.faces.len() as u32).collect();
+    if options.levels == 0 {
+        crate::subdiv::catmull_clark(&current, 0).map_err(sub_err)?;
+    }
+    for _ in 0..options.levels {
+        let next = match options.method {
+            Method::CatmullClark => {
+                let next = crate::subdiv::catmull_clark(&current, 1).map_err(sub_err)?;
+                let mut anc = Vec::with_capacity(next.faces.len());
+                for (f, face) in current.faces.iter().enumerate() {
+                    anc.extend(std::iter::repeat(ancestor[f]).take(face.len()));
+                }
+                ancestor = anc;
+                next
+            }
+            _ => {
+                let next = crate::subdiv::doo_sabin(&current, 1).map_err(sub_err)?;
+                // Corner c of old face f is new vertex c (faces in order, corners in order).
+                let mut corner_face = Vec::new();
+                for (f, face) in current.faces.iter().enumerate() {
+                    corner_face.extend(std::iter::repeat(f as u32).take(face.len()));
+                }
+                ancestor = next
+                    .faces
+                    .iter()
+                    .map(|face| {
+                        let c = face.iter().find(|&&v| (v as usize) < corner_face.len()).copied().unwrap_or(0);
+                        ancestor[corner_face.get(c as usize).copied().unwrap_or(0) as usize]
+                    })
+                    .collect();
+                next
+            }
+        };
+        if ancestor.len() != next.faces.len() {
+            return Err(ConvertError::Subdiv(format!(
+                "face ancestry mismatch after subdivision: {} faces, {} ancestors",
+                next.faces.len(),
+                ancestor.len()
+            )));
+        }
+        current = next;
+    }
+    let (convex, piece_face) = crate::mesh::geometry::convexify(&current);
+    let nv = current.positions.len();
+    let mut out = SurfaceMesh { positions: current.positions.clone(), ..Default::default() };
+    out.patch = vec![u32::MAX; nv];
+    for (k, f) in convex.faces.iter().enumerate() {
+        let anc = piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0);
+        for i in 1..f.len().saturating_sub(1) {
+            out.triangles.push([f[0], f[i], f[i + 1]]);
+            out.triangle_patch.push(anc);
+        }
+        for &v in f {
+            let slot = &mut out.patch[v as usize];
+            *slot = (*slot).min(anc);
+        }
+    }
+    for p in &mut out.patch {
+        if *p == u32::MAX {
+            *p = 0;
+        }
+    }
+    out.normals = crate::quality::vertex_normals(&out.positions, &out.triangles);
+    let (h, k) = crate::quality::discrete_curvature(&out.positions, &out.triangles, &out.normals);
+    out.mean_curvature = h;
+    out.gaussian_curvature = k;
+    out.g1_deviation_deg = vec![0.0; nv];
+    Ok((out, current.faces))
 }
 
 /// Reads a mesh file (OBJ, OFF, PLY, STL by extension) and validates it; errors name the element
@@ -340,10 +411,14 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<PolyMesh, ConvertError> {
 }
 
 /// [`read_mesh`] then [`convert`].
+/// Errors and warnings name the source line of the element.
 pub fn convert_file(path: impl AsRef<Path>, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+    let start = std::time::Instant::now();
     options.validate()?;
-    let mesh = read_mesh(path)?;
-    convert(&mesh, options, progress)
+    let (mesh, map) = crate::mesh::read_polymesh(path)?;
+    let mut he = crate::mesh::HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
+    he.annotate_warnings(&map);
+    convert_valid(&he, &mesh, options, progress, start)
 }
 
 // ------------------------------------------------------------------ exact descriptions

@@ -1,7 +1,7 @@
 //! Topology and sanity checks of a triangle mesh (positions + CCW triangles), linear time.
 
 use glam::DVec3;
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 /// Result of [`check_mesh`].
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -46,92 +46,116 @@ impl MeshCheck {
 /// Relative area threshold of [`MeshCheck::zero_area_triangles`].
 pub const ZERO_AREA_REL: f64 = 1e-14;
 
-/// Checks a triangle mesh; see [`MeshCheck`].
+/// Checks a triangle mesh; see [`MeshCheck`]. Linear time without hashing: the triangles'
+/// corners are bucketed per vertex (compressed rows), edges and vertex fans are checked on those
+/// short lists; duplicate positions by a parallel sort.
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     let nv = positions.len();
     let mut c = MeshCheck { vertices: nv, triangles: triangles.len(), ..Default::default() };
-    // Directed edge → count; undirected edge → count.
-    let mut directed: HashMap<(u32, u32), u32> = HashMap::with_capacity(triangles.len() * 3);
-    let mut undirected: HashMap<(u32, u32), u32> = HashMap::with_capacity(triangles.len() * 2);
-    let mut used = vec![false; nv];
-    for t in triangles {
-        if t.iter().any(|&i| i as usize >= nv) {
-            c.bad_indices += 1;
-            continue;
-        }
-        let [a, b, cc] = t.map(|i| positions[i as usize]);
-        let longest = (b - a).length_squared().max((cc - b).length_squared()).max((a - cc).length_squared());
-        let area2 = (b - a).cross(cc - a).length();
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(area2 > 2.0 * ZERO_AREA_REL * longest) {
-            c.zero_area_triangles += 1;
-        }
-        for k in 0..3 {
-            let (u, v) = (t[k], t[(k + 1) % 3]);
-            used[u as usize] = true;
-            *directed.entry((u, v)).or_insert(0) += 1;
-            *undirected.entry((u.min(v), u.max(v))).or_insert(0) += 1;
-        }
-    }
-    c.inconsistent_edges = directed.values().filter(|&&k| k > 1).count();
-    for &k in undirected.values() {
-        match k {
-            1 => c.boundary_edges += 1,
-            2 => {}
-            _ => c.non_manifold_edges += 1,
-        }
-    }
-    // Vertex fans: around vertex v, each triangle (v, a, b) links a → b. A manifold vertex's links
-    // form one path (boundary) or one cycle (interior). Count components by union–find on the
-    // link vertices.
-    let mut links: Vec<Vec<(u32, u32)>> = vec![Vec::new(); nv];
-    for t in triangles {
-        if t.iter().any(|&i| i as usize >= nv) {
-            continue;
-        }
-        for k in 0..3 {
-            links[t[k] as usize].push((t[(k + 1) % 3], t[(k + 2) % 3]));
-        }
-    }
-    for (v, l) in links.iter().enumerate() {
-        if l.is_empty() {
-            if nv > 0 && !used[v] {
-                c.non_manifold_vertices += 1;
+    let good: Vec<bool> = triangles.iter().map(|t| t.iter().all(|&i| (i as usize) < nv)).collect();
+    c.bad_indices = good.iter().filter(|&&g| !g).count();
+    c.zero_area_triangles = triangles
+        .par_iter()
+        .zip(&good)
+        .filter(|(t, &g)| {
+            if !g {
+                return false;
             }
-            continue;
-        }
-        let mut nodes: Vec<u32> = l.iter().flat_map(|&(a, b)| [a, b]).collect();
-        nodes.sort_unstable();
-        nodes.dedup();
-        let idx = |x: u32| nodes.binary_search(&x).unwrap();
-        let mut parent: Vec<usize> = (0..nodes.len()).collect();
-        fn root(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
-        let mut comps = nodes.len();
-        for &(a, b) in l {
-            let (ra, rb) = (root(&mut parent, idx(a)), root(&mut parent, idx(b)));
-            if ra != rb {
-                parent[ra] = rb;
-                comps -= 1;
+            let [a, b, cc] = t.map(|i| positions[i as usize]);
+            let longest = (b - a).length_squared().max((cc - b).length_squared()).max((a - cc).length_squared());
+            let area2 = (b - a).cross(cc - a).length();
+            t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(area2 > 2.0 * ZERO_AREA_REL * longest)
+        })
+        .count();
+    // Corners per vertex: corner (v; a, b) for triangle (v, a, b) in CCW order. Its outgoing
+    // directed edge is v → a and its link edge a → b.
+    let mut start = vec![0u32; nv + 1];
+    for (t, &g) in triangles.iter().zip(&good) {
+        if g {
+            for &v in t {
+                start[v as usize + 1] += 1;
             }
         }
-        if comps != 1 {
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut links = vec![(0u32, 0u32); start[nv] as usize];
+    for (t, &g) in triangles.iter().zip(&good) {
+        if g {
+            for k in 0..3 {
+                let v = t[k] as usize;
+                links[fill[v] as usize] = (t[(k + 1) % 3], t[(k + 2) % 3]);
+                fill[v] += 1;
+            }
+        }
+    }
+    let corners = |v: usize| &links[start[v] as usize..start[v + 1] as usize];
+    // Directed edge u → w exists (count) iff some corner of u has first link vertex w.
+    let count_out = |u: usize, w: u32| corners(u).iter().filter(|&&(a, _)| a == w).count();
+    let mut undirected = 0usize;
+    for u in 0..nv {
+        let list = corners(u);
+        for (idx, &(w, _)) in list.iter().enumerate() {
+            if list[..idx].iter().any(|&(a, _)| a == w) {
+                continue; // counted at its first occurrence
+            }
+            let forward = count_out(u, w);
+            let backward = count_out(w as usize, u as u32);
+            if forward > 1 {
+                c.inconsistent_edges += 1;
+            }
+            // Each undirected edge once: from its smaller end, or from the only direction used.
+            if (u as u32) < w || backward == 0 {
+                undirected += 1;
+                match forward + backward {
+                    1 => c.boundary_edges += 1,
+                    2 => {}
+                    _ => c.non_manifold_edges += 1,
+                }
+            }
+        }
+    }
+    // Vertex fans: the link edges a → b around v must form one path or one cycle.
+    let mut used = 0usize;
+    for v in 0..nv {
+        let list = corners(v);
+        if list.is_empty() {
+            c.non_manifold_vertices += 1; // unused vertex
+            continue;
+        }
+        used += 1;
+        let m = list.len();
+        let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
+        let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
+        if !(unique_from && unique_to) {
+            c.non_manifold_vertices += 1;
+            continue;
+        }
+        // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
+        let first = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0)).unwrap_or(0);
+        let mut cur = first;
+        let mut steps = 1;
+        while let Some(next) = (0..m).find(|&j| list[j].0 == list[cur].1) {
+            if next == first {
+                break;
+            }
+            cur = next;
+            steps += 1;
+            if steps > m {
+                break;
+            }
+        }
+        if steps != m {
             c.non_manifold_vertices += 1;
         }
     }
     // Duplicate positions (bitwise equal coordinates, −0 = +0).
-    let mut seen: HashMap<[u64; 3], u32> = HashMap::with_capacity(nv);
-    for p in positions {
-        let key = [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
-        *seen.entry(key).or_insert(0) += 1;
-    }
-    c.duplicate_vertices = seen.values().map(|&k| k as usize - 1).sum();
-    let used_count = used.iter().filter(|&&u| u).count() as i64;
-    c.euler_characteristic = used_count - undirected.len() as i64 + triangles.len() as i64 - c.bad_indices as i64;
+    let mut keys: Vec<[u64; 3]> = positions.par_iter().map(|p| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits())).collect();
+    keys.par_sort_unstable();
+    c.duplicate_vertices = keys.windows(2).filter(|w| w[0] == w[1]).count();
+    c.euler_characteristic = used as i64 - undirected as i64 + (triangles.len() - c.bad_indices) as i64;
     c
 }
 

@@ -3,13 +3,16 @@
 //!
 //! - [`check`]: topology checks of output triangle meshes (closed, two-manifold, orientation,
 //!   duplicate vertices, zero-area triangles), by the project's own code.
+//! - [`curvature`]: discrete mean and Gaussian curvature (subdivision methods).
 //! - [`display`]: isophotes (a per-vertex scalar for a light direction) and planar slices.
 //! - [`report`]: the conversion report (serde JSON).
 
 pub mod check;
+pub mod curvature;
 pub mod display;
 pub mod report;
 
 pub use check::{check_mesh, vertex_normals, MeshCheck};
+pub use curvature::discrete_curvature;
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;

@@ -3,4 +3,4 @@
 pub mod patch;
 pub mod surface;
 
-pub use surface::{tessellate_surface_with, PatchEvaluator, SurfaceMesh, SurfacePoint, TessellateError, WeldStats};
+pub use surface::{tessellate_surface, tessellate_surface_with, GbSurfaceEvaluator, PatchEvaluator, SurfaceMesh, SurfacePoint, TessellateError, WeldStats};

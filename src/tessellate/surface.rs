@@ -106,6 +106,9 @@ pub enum TessellateError {
     /// The output needs more than 2^32 − 1 vertices.
     #[error("the output mesh would need {count} vertices, more than u32 indices allow")]
     TooLarge { count: usize },
+    /// A patch is malformed (row lengths, degrees, non-finite control points).
+    #[error("patch {patch}: {source}")]
+    InvalidPatch { patch: usize, source: crate::gb::GbError },
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -430,6 +433,167 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     Ok((mesh, stats))
 }
 
+/// Weight tables of one patch kind at one resolution: for every sample of the layout, the
+/// nonzero basis weights with their first and second derivatives (compressed rows). Every patch
+/// kind is linear in its control points for a fixed domain point (the CGB normalization depends
+/// only on the domain point), so a patch is evaluated as Σ w·P over the table.
+struct WeightTable {
+    /// `start[s]..start[s + 1]`: the entries of sample s.
+    start: Vec<u32>,
+    entries: Vec<(u32, crate::gb::Jet2)>,
+}
+
+impl WeightTable {
+    fn build(samples: &[DVec2], len: usize, mut weights: impl FnMut(DVec2, &mut [crate::gb::Jet2])) -> Self {
+        let mut buf = vec![crate::gb::Jet2::ZERO; len];
+        let mut start = Vec::with_capacity(samples.len() + 1);
+        let mut entries = Vec::new();
+        start.push(0);
+        for &uv in samples {
+            buf.fill(crate::gb::Jet2::ZERO);
+            weights(uv, &mut buf);
+            for (i, w) in buf.iter().enumerate() {
+                if *w != crate::gb::Jet2::ZERO {
+                    entries.push((i as u32, *w));
+                }
+            }
+            start.push(entries.len() as u32);
+        }
+        WeightTable { start, entries }
+    }
+}
+
+/// Which table a patch uses: GB (n, d) or CGB (per-side degree and layer count).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum TableKey {
+    Gb(usize, usize),
+    Cgb(Vec<(usize, usize)>),
+}
+
+fn table_key(p: &Patch) -> TableKey {
+    match p {
+        Patch::Gb(g) => TableKey::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
+        Patch::Cgb(c) => TableKey::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
+    }
+}
+
+/// The evaluator of GB and CGB patches used by the conversion: per-(kind, n, degree, r) weight
+/// tables built once (in parallel), then one sparse weighted sum per sample (seed 000 eq. 2.24
+/// for GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
+/// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
+pub struct GbSurfaceEvaluator {
+    tables: HashMap<TableKey, WeightTable>,
+    keys: Vec<TableKey>,
+}
+
+fn gb_domain(n: usize) -> Vec<DVec2> {
+    match crate::gb::Domain::regular(n) {
+        Ok(d) => d.vertices().to_vec(),
+        Err(_) => SampleLayout::regular_polygon(n),
+    }
+}
+
+impl GbSurfaceEvaluator {
+    /// Validates every patch and builds the weight tables for resolution `r`.
+    pub fn new(surface: &Surface, r: usize, form: crate::gb::WeightForm) -> Result<Self, TessellateError> {
+        let mut keys = Vec::with_capacity(surface.patches.len());
+        let mut distinct: HashMap<TableKey, usize> = HashMap::new();
+        for (i, p) in surface.patches.iter().enumerate() {
+            let v = match p {
+                Patch::Gb(g) => g.validate(),
+                Patch::Cgb(c) => c.validate(),
+            };
+            v.map_err(|source| TessellateError::InvalidPatch { patch: i, source })?;
+            let k = table_key(p);
+            distinct.entry(k.clone()).or_insert(i);
+            keys.push(k);
+        }
+        let list: Vec<(TableKey, usize)> = distinct.into_iter().collect();
+        let built: Result<Vec<(TableKey, WeightTable)>, TessellateError> = list
+            .into_par_iter()
+            .map(|(key, first)| {
+                let patch = &surface.patches[first];
+                let n = patch_sides(patch);
+                let layout = SampleLayout::new(&gb_domain(n), r).map_err(|source| TessellateError::Layout { patch: first, source })?;
+                let table = match patch {
+                    Patch::Gb(g) => {
+                        let mut ev = g.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
+                        let len = ev.len();
+                        WeightTable::build(&layout.uv, len, |uv, out| {
+                            let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| out[idx] = w);
+                            out[0] = b0;
+                        })
+                    }
+                    Patch::Cgb(c) => {
+                        let mut ev = c.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
+                        let len = ev.len();
+                        let mut err = None;
+                        let t = WeightTable::build(&layout.uv, len, |uv, out| {
+                            if let Err(e) = ev.eval_into(uv, form, out) {
+                                err = Some(e);
+                            }
+                        });
+                        if let Some(source) = err {
+                            return Err(TessellateError::InvalidPatch { patch: first, source });
+                        }
+                        t
+                    }
+                };
+                Ok((key, table))
+            })
+            .collect();
+        Ok(GbSurfaceEvaluator { tables: built?.into_iter().collect(), keys })
+    }
+}
+
+impl PatchEvaluator for GbSurfaceEvaluator {
+    fn domain(&self, n: usize) -> Vec<DVec2> {
+        gb_domain(n)
+    }
+
+    fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {
+        out.clear();
+        let (Some(key), Some(patch)) = (self.keys.get(index), surface.patches.get(index)) else { return };
+        let Some(table) = self.tables.get(key) else { return };
+        let points = match patch {
+            Patch::Gb(g) => g.control_points_flat(),
+            Patch::Cgb(c) => c.control_points_flat(),
+        };
+        let samples = table.start.len() - 1;
+        if samples != layout.uv.len() {
+            return;
+        }
+        out.reserve(samples);
+        for s in 0..samples {
+            let mut d = crate::gb::SurfaceDerivs::default();
+            for (i, w) in &table.entries[table.start[s] as usize..table.start[s + 1] as usize] {
+                match points.get(*i as usize) {
+                    Some(p) => d.add_weighted(w, *p),
+                    None => {
+                        out.clear();
+                        return;
+                    }
+                }
+            }
+            let normal = d.normal().unwrap_or(DVec3::ZERO);
+            let (h, k) = d.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
+            out.push(SurfacePoint { position: d.p, normal, mean_curvature: h, gaussian_curvature: k });
+        }
+    }
+}
+
+/// Tessellates a GB/CGB surface at resolution `r` with [`GbSurfaceEvaluator`] (see
+/// [`tessellate_surface_with`]).
+pub fn tessellate_surface(
+    surface: &Surface,
+    r: usize,
+    form: crate::gb::WeightForm,
+    progress: Option<&mut dyn FnMut(f32) -> bool>,
+) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    let eval = GbSurfaceEvaluator::new(surface, r, form)?;
+    tessellate_surface_with(surface, r, &eval, progress)
+}
+
 impl SurfaceMesh {
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
@@ -467,67 +631,24 @@ impl SurfaceMesh {
         w.flush()
     }
 
-    /// Binary little-endian PLY with per-vertex `x y z nx ny nz` (double), `patch` (uint),
-    /// `mean_curvature gaussian_curvature g1_deviation` (double) and faces as `uchar`-counted
-    /// `uint` lists.
-    pub fn write_ply<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        let nv = self.positions.len();
-        write!(
-            w,
-            "ply\nformat binary_little_endian 1.0\ncomment gbsurf surface mesh\nelement vertex {nv}\n\
-             property double x\nproperty double y\nproperty double z\n\
-             property double nx\nproperty double ny\nproperty double nz\n\
-             property uint patch\nproperty double mean_curvature\nproperty double gaussian_curvature\n\
-             property double g1_deviation\nelement face {}\nproperty list uchar uint vertex_indices\nend_header\n",
-            self.triangles.len()
-        )?;
-        let get = |v: &Vec<f64>, i: usize| v.get(i).copied().unwrap_or(0.0);
-        let mut buf = Vec::with_capacity(nv * 84);
-        for i in 0..nv {
-            for x in self.positions[i].to_array() {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-            let n = self.normals.get(i).copied().unwrap_or(DVec3::ZERO);
-            for x in n.to_array() {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-            buf.extend_from_slice(&self.patch.get(i).copied().unwrap_or(0).to_le_bytes());
-            for x in [get(&self.mean_curvature, i), get(&self.gaussian_curvature, i), get(&self.g1_deviation_deg, i)] {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        w.write_all(&buf)?;
-        buf.clear();
-        for t in &self.triangles {
-            buf.push(3u8);
-            for x in t {
-                buf.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        w.write_all(&buf)?;
-        w.flush()
+    /// Binary little-endian PLY through the mesh module's writer: `double x y z`, `float nx ny nz`,
+    /// per-vertex `float` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
+    /// (degrees), triangles as `uchar`-counted `int` lists.
+    pub fn write_ply<W: Write>(&self, w: W) -> std::io::Result<()> {
+        let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        use crate::mesh::io::{write_ply, PlyFormat, VertexScalar};
+        let scalars = [
+            VertexScalar { name: "patch", values: &patch },
+            VertexScalar { name: "mean_curvature", values: &self.mean_curvature },
+            VertexScalar { name: "gaussian_curvature", values: &self.gaussian_curvature },
+            VertexScalar { name: "g1_deviation", values: &self.g1_deviation_deg },
+        ];
+        write_ply(w, &self.positions, Some(&self.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
     }
 
-    /// Binary STL (facet normals from the triangle geometry, single precision as the format says).
-    pub fn write_stl<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        let mut header = [0u8; 80];
-        let text = b"gbsurf binary STL";
-        header[..text.len()].copy_from_slice(text);
-        w.write_all(&header)?;
-        let count = u32::try_from(self.triangles.len()).map_err(|_| std::io::Error::other("too many triangles for STL"))?;
-        w.write_all(&count.to_le_bytes())?;
-        let mut buf = Vec::with_capacity(self.triangles.len() * 50);
-        for t in &self.triangles {
-            let [a, b, c] = t.map(|i| self.positions[i as usize]);
-            let n = (b - a).cross(c - a).normalize_or_zero();
-            for v in [n, a, b, c] {
-                for x in v.to_array() {
-                    buf.extend_from_slice(&(x as f32).to_le_bytes());
-                }
-            }
-            buf.extend_from_slice(&0u16.to_le_bytes());
-        }
-        w.write_all(&buf)?;
-        w.flush()
+    /// Binary STL through the mesh module's writer (facet normals from the triangles).
+    pub fn write_stl<W: Write>(&self, w: W) -> std::io::Result<()> {
+        crate::mesh::io::write_stl_triangles(w, &self.positions, &self.triangles)
     }
 }
