@@ -217,3 +217,111 @@ fn convert_file_reports_io_and_named_validation_errors() {
         assert!(out.is_null());
     }
 }
+
+/// Converts the cube with `method` (levels/resolution 2) and returns the handle.
+fn cube_result(method: u32) -> *mut GbsurfResult {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = method;
+    o.levels = 2;
+    o.resolution = 2;
+    let mut out = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    let code = unsafe { convert(&p, &s, &f, &o, &mut out) };
+    assert_eq!(code, GBSURF_OK, "method {method}: {}", last());
+    assert!(!out.is_null());
+    out
+}
+
+/// The views, copies and report of a result agree with the Rust API's conversion.
+fn check_result_matches_rust(method: u32, rust_method: gbsurf::api::Method) {
+    let r = cube_result(method);
+    let (p, s, f) = cube();
+    let mut faces = Vec::new();
+    let mut at = 0;
+    for &n in &s {
+        faces.push(f[at..at + n as usize].to_vec());
+        at += n as usize;
+    }
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
+    // SAFETY: `r` is a live handle; all outputs are valid locals.
+    unsafe {
+        let (mut n, mut t) = (0usize, 0usize);
+        assert_eq!(gbsurf_mesh_vertex_count(r, &mut n), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_triangle_count(r, &mut t), GBSURF_OK);
+        assert_eq!(n, conv.mesh.positions.len());
+        assert_eq!(t, conv.mesh.triangles.len());
+        let (mut d, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_positions(r, &mut d, &mut len), GBSURF_OK);
+        let pos = std::slice::from_raw_parts(d, len);
+        let expect: Vec<f64> = conv.mesh.positions.iter().flat_map(|v| v.to_array()).collect();
+        assert_eq!(pos, &expect[..]);
+        let mut buf = vec![0.0; len];
+        let mut written = 0usize;
+        assert_eq!(gbsurf_mesh_copy_normals(r, buf.as_mut_ptr(), buf.len(), &mut written), GBSURF_OK);
+        let normals: Vec<f64> = conv.mesh.normals.iter().flat_map(|v| v.to_array()).collect();
+        assert_eq!((written, &buf[..]), (normals.len(), &normals[..]));
+        assert_eq!(gbsurf_mesh_copy_normals(r, buf.as_mut_ptr(), 5, &mut written), GBSURF_ERR_CAPACITY);
+        assert_eq!(written, normals.len());
+        assert!(last().contains("5") && last().contains(&normals.len().to_string()), "{}", last());
+        let (mut u, mut ulen) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_triangles(r, &mut u, &mut ulen), GBSURF_OK);
+        let tris: Vec<u32> = conv.mesh.triangles.iter().flatten().copied().collect();
+        assert_eq!(std::slice::from_raw_parts(u, ulen), &tris[..]);
+        assert_eq!(gbsurf_mesh_patch_index(r, &mut u, &mut ulen), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, ulen), &conv.mesh.patch[..]);
+        for (f, v) in [
+            (gbsurf_mesh_mean_curvature as unsafe extern "C" fn(_, _, _) -> u32, &conv.mesh.mean_curvature),
+            (gbsurf_mesh_gaussian_curvature, &conv.mesh.gaussian_curvature),
+            (gbsurf_mesh_g1_deviation, &conv.mesh.g1_deviation_deg),
+        ] {
+            assert_eq!(f(r, &mut d, &mut len), GBSURF_OK);
+            assert_eq!(std::slice::from_raw_parts(d, len), &v[..]);
+        }
+        let mut rep = GbsurfReport { struct_size: std::mem::size_of::<GbsurfReport>() as u32, ..Default::default() };
+        assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_OK);
+        assert_eq!(rep.method, method);
+        assert_eq!(rep.vertices as usize, n);
+        assert_eq!(rep.triangles as usize, t);
+        assert_eq!(rep.closed, conv.report.closed as u32);
+        assert_eq!(rep.patches as usize, conv.report.patches);
+        let mut c = 0usize;
+        assert_eq!(gbsurf_report_patches_with_sides(r, 4, &mut c), GBSURF_OK);
+        assert_eq!(Some(&c), conv.report.sides_histogram.get("4").or(Some(&0)));
+        rep.struct_size = 3;
+        assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_ERR_INVALID_OPTION);
+        gbsurf_result_free(r);
+    }
+}
+
+#[test]
+fn catmull_clark_result_matches_rust_api() {
+    check_result_matches_rust(GBSURF_METHOD_CATMULL_CLARK, gbsurf::api::Method::CatmullClark);
+}
+
+#[test]
+fn doo_sabin_result_matches_rust_api_and_has_no_patches() {
+    check_result_matches_rust(GBSURF_METHOD_DOO_SABIN, gbsurf::api::Method::DooSabin);
+    let r = cube_result(GBSURF_METHOD_DOO_SABIN);
+    // SAFETY: live handle, valid outputs.
+    unsafe {
+        let mut n = 9usize;
+        assert_eq!(gbsurf_patch_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, 0);
+        assert_eq!(gbsurf_curve_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, 0);
+        let mut k = 0u32;
+        assert_eq!(gbsurf_patch_kind(r, 0, &mut k), GBSURF_ERR_INDEX);
+        assert!(last().contains("patch index 0 out of range (0..0)"), "{}", last());
+        let (mut d, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_curve_points(r, 0, &mut d, &mut len), GBSURF_ERR_INDEX);
+        gbsurf_result_free(r);
+    }
+}
