@@ -59,7 +59,8 @@ fn options_init_matches_rust_defaults_and_validates() {
     assert_eq!(unsafe { gbsurf_options_init(null_mut()) }, GBSURF_ERR_NULL);
     assert!(last().contains("options"), "{}", last());
 
-    let cases: [(fn(&mut GbsurfOptions), u32, &str); 9] = [
+    type Case = (fn(&mut GbsurfOptions), u32, &'static str);
+    let cases: [Case; 9] = [
         (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
         (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
         (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),

@@ -4,10 +4,12 @@
 //! - every function is named `gbsurf_*`; every fallible function returns a `uint32_t` status
 //!   (`GBSURF_OK` = 0 or one of the `GBSURF_ERR_*` codes) and leaves a thread-local message
 //!   ([`gbsurf_last_error_message`]) naming the problem and the offending element;
-//! - no panic crosses the boundary: every entry runs inside [`boundary`], a panic becomes
+//! - no panic crosses the boundary: every entry runs inside `boundary`, a panic becomes
 //!   `GBSURF_ERR_PANIC`;
 //! - no input is a C enum: methods, twist modes, weight forms are `uint32_t` constants, checked;
 //! - handles are opaque (`GbsurfResult`), freed with their `*_free` function, which accepts NULL.
+
+#![deny(unsafe_op_in_unsafe_fn)]
 
 use std::cell::RefCell;
 use std::ffi::{c_char, CString};

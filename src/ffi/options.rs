@@ -96,7 +96,7 @@ fn bad_option(name: &str, value: impl std::fmt::Display, expected: &str) -> FfiE
 
 impl GbsurfOptions {
     /// The Rust options, every value checked (unknown enum values, `struct_size`, ranges).
-    pub(crate) fn to_convert_options(&self) -> FfiResult<ConvertOptions> {
+    pub(crate) fn to_convert_options(self) -> FfiResult<ConvertOptions> {
         if self.struct_size != OPTIONS_SIZE {
             return Err(bad_option(
                 "struct_size",
@@ -185,7 +185,7 @@ pub(crate) fn read_options(options: *const GbsurfOptions) -> FfiResult<ConvertOp
         ));
     }
     // SAFETY: the caller's struct has our full size (checked above).
-    unsafe { &*options }.to_convert_options()
+    unsafe { *options }.to_convert_options()
 }
 
 /// The status code of a conversion error.
