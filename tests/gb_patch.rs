@@ -233,7 +233,7 @@ fn basis_is_a_partition_of_unity_everywhere() {
 fn boundary_interpolation_and_exact_corners() {
     for n in 3..=8 {
         let dom = Domain::regular(n).unwrap();
-        for d in 3..=6 {
+        for d in 3..=8 {
             let p = random_patch(n, d, (n * 10 + d) as u64);
             p.validate().unwrap();
             let mut ev = p.evaluator().unwrap();
@@ -258,7 +258,7 @@ fn boundary_interpolation_and_exact_corners() {
 fn no_nan_on_the_closed_domain() {
     for n in 3..=8 {
         let dom = Domain::regular(n).unwrap();
-        for d in 2..=6 {
+        for d in 2..=8 {
             for (pi, p) in [
                 random_patch(n, d, 99 + d as u64),
                 shared_patch(n, d, 7 + n as u64),
