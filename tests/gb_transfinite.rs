@@ -26,6 +26,9 @@
 //!   gives that point μ = 1 (see `gbsurf::gb::weights::mu_kind`), so degree-2 patches differ.
 //! - d = 1: not a GB patch for gbsurf (μ needs d ≥ 2); see `tests/gbp.rs` for how `.gbp` treats it.
 
+// The reference is a line-by-line transcription of C++ loops (index loops, `(d + 1) / 2`).
+#![allow(clippy::needless_range_loop, clippy::manual_div_ceil)]
+
 use gbsurf::gb::gbp::{parse_gbp, to_gbp_string};
 use gbsurf::gb::{layers_for_degree, GbPatch, Ribbon, WeightForm};
 use gbsurf::{DVec2, DVec3};

@@ -154,7 +154,7 @@ pub fn parse_gbp(text: &str) -> Result<GbPatch, GbpError> {
     if n > MAX_SIDES {
         return Err(GbpError::TooManySides { line: n_line, n });
     }
-    if d < 2 || d > MAX_DEGREE {
+    if !(2..=MAX_DEGREE).contains(&d) {
         return Err(GbpError::BadDegree { line: d_line, d });
     }
     let count = 1 + listed_point_count(n, d);
