@@ -189,7 +189,7 @@ pub enum ConvertError {
     Mesh(#[from] MeshError),
     /// The surface construction failed (names the patch, face, vertex or curve).
     #[error("construction: {0}")]
-    Construct(String),
+    Construct(crate::construct::ConstructError),
     /// The subdivision failed (names the face or vertex).
     #[error("subdivision: {0}")]
     Subdiv(String),
@@ -315,10 +315,30 @@ fn convert_valid(
     Ok(Conversion { mesh: out, surface, report, warnings })
 }
 
-/// The GB surface of a validated mesh for the patch methods.
+/// The construction options of [`crate::construct`] for `options`.
+pub fn construct_options(options: &ConvertOptions) -> crate::construct::ConstructOptions {
+    crate::construct::ConstructOptions {
+        fullness: options.fullness,
+        twist: match options.twist {
+            Twist::None => crate::construct::TwistMode::None,
+            Twist::Approx => crate::construct::TwistMode::Approx,
+            Twist::Interp => crate::construct::TwistMode::Interp,
+        },
+        mid_scale: options.mid_scale,
+        best_plane: options.best_plane,
+        tile_depth: options.tile_depth,
+    }
+}
+
+/// The GB surface of a validated mesh for the patch methods (dual: [`crate::construct::build_dual`],
+/// topology: [`crate::construct::build_topology`]).
 fn build_surface(he: &crate::mesh::HalfEdgeMesh, options: &ConvertOptions) -> Result<Surface, ConvertError> {
-    let _ = (he, options);
-    Err(ConvertError::Construct("the construction module is not merged yet".into()))
+    let co = construct_options(options);
+    match options.method {
+        Method::Topology => crate::construct::build_topology(he, &co),
+        _ => crate::construct::build_dual(he, &co),
+    }
+    .map_err(ConvertError::Construct)
 }
 
 /// Subdivision methods: `levels` steps of the scheme, tracking for every face the input face it

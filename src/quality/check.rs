@@ -94,63 +94,67 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     let corners = |v: usize| &links[start[v] as usize..start[v + 1] as usize];
     // Directed edge u → w exists (count) iff some corner of u has first link vertex w.
     let count_out = |u: usize, w: u32| corners(u).iter().filter(|&&(a, _)| a == w).count();
-    let mut undirected = 0usize;
-    for u in 0..nv {
-        let list = corners(u);
-        for (idx, &(w, _)) in list.iter().enumerate() {
-            if list[..idx].iter().any(|&(a, _)| a == w) {
-                continue; // counted at its first occurrence
-            }
-            let forward = count_out(u, w);
-            let backward = count_out(w as usize, u as u32);
-            if forward > 1 {
-                c.inconsistent_edges += 1;
-            }
-            // Each undirected edge once: from its smaller end, or from the only direction used.
-            if (u as u32) < w || backward == 0 {
-                undirected += 1;
-                match forward + backward {
-                    1 => c.boundary_edges += 1,
-                    2 => {}
-                    _ => c.non_manifold_edges += 1,
+    // Per vertex (in parallel): its outgoing edges and its fan.
+    // Tally: [inconsistent, undirected, boundary, non-manifold edges, non-manifold vertices, used].
+    let tally = (0..nv)
+        .into_par_iter()
+        .map(|u| {
+            let mut t = [0usize; 6];
+            let list = corners(u);
+            for (idx, &(w, _)) in list.iter().enumerate() {
+                if list[..idx].iter().any(|&(a, _)| a == w) {
+                    continue; // counted at its first occurrence
+                }
+                let forward = count_out(u, w);
+                let backward = count_out(w as usize, u as u32);
+                if forward > 1 {
+                    t[0] += 1;
+                }
+                // Each undirected edge once: from its smaller end, or from the only direction used.
+                if (u as u32) < w || backward == 0 {
+                    t[1] += 1;
+                    match forward + backward {
+                        1 => t[2] += 1,
+                        2 => {}
+                        _ => t[3] += 1,
+                    }
                 }
             }
-        }
-    }
-    // Vertex fans: the link edges a → b around v must form one path or one cycle.
-    let mut used = 0usize;
-    for v in 0..nv {
-        let list = corners(v);
-        if list.is_empty() {
-            c.non_manifold_vertices += 1; // unused vertex
-            continue;
-        }
-        used += 1;
-        let m = list.len();
-        let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
-        let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
-        if !(unique_from && unique_to) {
-            c.non_manifold_vertices += 1;
-            continue;
-        }
-        // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
-        let first = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0)).unwrap_or(0);
-        let mut cur = first;
-        let mut steps = 1;
-        while let Some(next) = (0..m).find(|&j| list[j].0 == list[cur].1) {
-            if next == first {
-                break;
+            // The link edges a → b around u must form one path or one cycle.
+            if list.is_empty() {
+                t[4] += 1; // unused vertex
+                return t;
             }
-            cur = next;
-            steps += 1;
-            if steps > m {
-                break;
+            t[5] += 1;
+            let m = list.len();
+            let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
+            let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
+            if !(unique_from && unique_to) {
+                t[4] += 1;
+                return t;
             }
-        }
-        if steps != m {
-            c.non_manifold_vertices += 1;
-        }
-    }
+            // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
+            let first = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0)).unwrap_or(0);
+            let mut cur = first;
+            let mut steps = 1;
+            while let Some(next) = (0..m).find(|&j| list[j].0 == list[cur].1) {
+                if next == first || steps > m {
+                    break;
+                }
+                cur = next;
+                steps += 1;
+            }
+            if steps != m {
+                t[4] += 1;
+            }
+            t
+        })
+        .reduce(|| [0usize; 6], |a, b| std::array::from_fn(|i| a[i] + b[i]));
+    let [inconsistent, undirected, boundary, nm_edges, nm_vertices, used] = tally;
+    c.inconsistent_edges = inconsistent;
+    c.boundary_edges = boundary;
+    c.non_manifold_edges = nm_edges;
+    c.non_manifold_vertices = nm_vertices;
     // Duplicate positions (bitwise equal coordinates, −0 = +0).
     let mut keys: Vec<[u64; 3]> = positions.par_iter().map(|p| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits())).collect();
     keys.par_sort_unstable();

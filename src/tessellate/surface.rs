@@ -170,6 +170,8 @@ struct WeldMap {
     offsets: Vec<usize>,
     ids: Vec<u32>,
     owner: Vec<bool>,
+    /// The vertices created by patch p are `vstart[p]..vstart[p + 1]`, in sample order.
+    vstart: Vec<usize>,
     vertex_count: usize,
 }
 
@@ -212,7 +214,9 @@ fn weld_map(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize)
     let mut owner = vec![false; len];
     let mut node_id = vec![u32::MAX; total];
     let mut next: usize = 0;
+    let mut vstart = Vec::with_capacity(np + 1);
     for p in 0..np {
+        vstart.push(next);
         let n = sides[p];
         let layout = &layouts[&n];
         let base = offsets[p];
@@ -253,8 +257,9 @@ fn weld_map(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize)
             return Err(TessellateError::TooLarge { count: next });
         }
     }
+    vstart.push(next);
     debug_assert!(ids.iter().all(|&x| x != u32::MAX));
-    Ok(WeldMap { offsets, ids, owner, vertex_count: next })
+    Ok(WeldMap { offsets, ids, owner, vstart, vertex_count: next })
 }
 
 /// Angle in degrees between two unit (or zero) vectors; 0 when either is zero.
@@ -290,43 +295,9 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     }
     let map = weld_map(surface, &layouts, r)?;
 
-    // Evaluate every patch (parallel over patches, chunked for progress and cancellation).
-    let mut samples: Vec<SurfacePoint> = vec![SurfacePoint::default(); map.ids.len()];
-    {
-        let mut rest: &mut [SurfacePoint] = &mut samples;
-        let mut pieces: Vec<&mut [SurfacePoint]> = Vec::with_capacity(np);
-        for p in 0..np {
-            let (a, b) = rest.split_at_mut(map.offsets[p + 1] - map.offsets[p]);
-            pieces.push(a);
-            rest = b;
-        }
-        let mut done = 0usize;
-        let mut pieces = pieces.into_iter().enumerate().collect::<Vec<_>>();
-        while done < np {
-            let end = (done + CHUNK).min(np);
-            let chunk = &mut pieces[done..end];
-            chunk.par_iter_mut().try_for_each_init(Vec::new, |buf, (p, out)| {
-                let layout = &layouts[&patch_sides(&surface.patches[*p])];
-                evaluator.evaluate(surface, *p, layout, buf);
-                if buf.len() != out.len() {
-                    return Err(TessellateError::Evaluation { patch: *p, sample: buf.len().min(out.len()) });
-                }
-                if let Some(s) = buf.iter().position(|x| !x.position.is_finite()) {
-                    return Err(TessellateError::Evaluation { patch: *p, sample: s });
-                }
-                out.copy_from_slice(buf);
-                Ok(())
-            })?;
-            done = end;
-            if let Some(cb) = progress.as_mut() {
-                if !cb(done as f32 / np.max(1) as f32) {
-                    return Err(TessellateError::Cancelled);
-                }
-            }
-        }
-    }
-
-    // Scatter into the welded vertices.
+    // Output arrays. The vertices a patch creates are contiguous (see `WeldMap::vstart`), as
+    // are its triangles and its boundary samples, so each patch writes its own disjoint pieces
+    // and the evaluation runs in parallel without locks.
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
         positions: vec![DVec3::ZERO; nv],
@@ -338,67 +309,165 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
         gaussian_curvature: vec![0.0; nv],
         g1_deviation_deg: vec![0.0; nv],
     };
-    let mut weight = vec![0u32; nv];
+    let sides_of = |p: usize| patch_sides(&surface.patches[p]);
+    let mut tri_start = Vec::with_capacity(np + 1);
+    let mut bnd_start = Vec::with_capacity(np + 1);
+    let (mut nt, mut nb) = (0usize, 0usize);
     for p in 0..np {
-        for k in map.offsets[p]..map.offsets[p + 1] {
-            let v = map.ids[k] as usize;
-            let sp = &samples[k];
-            if map.owner[k] {
-                mesh.positions[v] = sp.position;
-                mesh.patch[v] = p as u32;
+        tri_start.push(nt);
+        bnd_start.push(nb);
+        nt += SampleLayout::triangle_count(sides_of(p), r);
+        nb += sides_of(p) * r;
+    }
+    tri_start.push(nt);
+    bnd_start.push(nb);
+    mesh.triangles = vec![[0; 3]; nt];
+    mesh.triangle_patch = vec![0; nt];
+    // Boundary samples of every patch (ring order), kept for welding and measurements.
+    let mut boundary = vec![SurfacePoint::default(); nb];
+    // Per vertex: how many patches contributed a valid normal.
+    let mut weight = vec![0u16; nv];
+
+    struct PatchOut<'a> {
+        p: usize,
+        pos: &'a mut [DVec3],
+        nrm: &'a mut [DVec3],
+        h: &'a mut [f64],
+        k: &'a mut [f64],
+        patch: &'a mut [u32],
+        weight: &'a mut [u16],
+        tris: &'a mut [[u32; 3]],
+        tri_patch: &'a mut [u32],
+        bnd: &'a mut [SurfacePoint],
+    }
+    let mut outs: Vec<PatchOut<'_>> = Vec::with_capacity(np);
+    {
+        let (mut pos, mut nrm, mut h, mut k) = (&mut mesh.positions[..], &mut mesh.normals[..], &mut mesh.mean_curvature[..], &mut mesh.gaussian_curvature[..]);
+        let (mut pa, mut w, mut tr, mut tp, mut bd) =
+            (&mut mesh.patch[..], &mut weight[..], &mut mesh.triangles[..], &mut mesh.triangle_patch[..], &mut boundary[..]);
+        for p in 0..np {
+            let cv = map.vstart[p + 1] - map.vstart[p];
+            let ct = tri_start[p + 1] - tri_start[p];
+            let cb = bnd_start[p + 1] - bnd_start[p];
+            let (a, b) = std::mem::take(&mut pos).split_at_mut(cv);
+            pos = b;
+            let (a2, b2) = std::mem::take(&mut nrm).split_at_mut(cv);
+            nrm = b2;
+            let (a3, b3) = std::mem::take(&mut h).split_at_mut(cv);
+            h = b3;
+            let (a4, b4) = std::mem::take(&mut k).split_at_mut(cv);
+            k = b4;
+            let (a5, b5) = std::mem::take(&mut pa).split_at_mut(cv);
+            pa = b5;
+            let (a6, b6) = std::mem::take(&mut w).split_at_mut(cv);
+            w = b6;
+            let (a7, b7) = std::mem::take(&mut tr).split_at_mut(ct);
+            tr = b7;
+            let (a8, b8) = std::mem::take(&mut tp).split_at_mut(ct);
+            tp = b8;
+            let (a9, b9) = std::mem::take(&mut bd).split_at_mut(cb);
+            bd = b9;
+            outs.push(PatchOut { p, pos: a, nrm: a2, h: a3, k: a4, patch: a5, weight: a6, tris: a7, tri_patch: a8, bnd: a9 });
+        }
+    }
+    let mut done = 0usize;
+    while done < np {
+        let end = (done + CHUNK).min(np);
+        outs[done..end].par_iter_mut().try_for_each_init(Vec::new, |buf, o| {
+            let p = o.p;
+            let layout = &layouts[&sides_of(p)];
+            evaluator.evaluate(surface, p, layout, buf);
+            if buf.len() != layout.uv.len() {
+                return Err(TessellateError::Evaluation { patch: p, sample: buf.len().min(layout.uv.len()) });
             }
-            if sp.normal != DVec3::ZERO && sp.normal.is_finite() {
-                mesh.normals[v] += sp.normal;
-                let (h, g) = (sp.mean_curvature, sp.gaussian_curvature);
-                if h.is_finite() && g.is_finite() {
-                    mesh.mean_curvature[v] += h;
-                    mesh.gaussian_curvature[v] += g;
-                    weight[v] += 1;
+            if let Some(s) = buf.iter().position(|x| !x.position.is_finite()) {
+                return Err(TessellateError::Evaluation { patch: p, sample: s });
+            }
+            let base = map.offsets[p];
+            let first_boundary = layout.ring_index(r, 0, 0);
+            let mut j = 0;
+            for (s, sp) in buf.iter().enumerate() {
+                if map.owner[base + s] {
+                    o.pos[j] = sp.position;
+                    o.patch[j] = p as u32;
+                    if sp.normal != DVec3::ZERO && sp.normal.is_finite() {
+                        o.nrm[j] = sp.normal;
+                        o.weight[j] = 1;
+                        if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
+                            o.h[j] = sp.mean_curvature;
+                            o.k[j] = sp.gaussian_curvature;
+                        }
+                    }
+                    j += 1;
                 }
             }
+            o.bnd.copy_from_slice(&buf[first_boundary..]);
+            let ids = &map.ids[base..map.offsets[p + 1]];
+            for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
+                *t = lt.map(|x| ids[x as usize]);
+            }
+            o.tri_patch.fill(p as u32);
+            Ok(())
+        })?;
+        done = end;
+        if let Some(cb) = progress.as_mut() {
+            if !cb(done as f32 / np.max(1) as f32) {
+                return Err(TessellateError::Cancelled);
+            }
         }
     }
-    for v in 0..nv {
-        if weight[v] > 1 {
-            mesh.mean_curvature[v] /= weight[v] as f64;
-            mesh.gaussian_curvature[v] /= weight[v] as f64;
-        }
-    }
+    drop(outs);
 
-    // Triangles.
-    let total_tris: usize = surface.patches.iter().map(|p| SampleLayout::triangle_count(patch_sides(p), r)).sum();
-    mesh.triangles.reserve(total_tris);
-    mesh.triangle_patch.reserve(total_tris);
+    // Boundary samples of non-owners: add their normals and curvatures to the welded vertex.
     for p in 0..np {
-        let layout = &layouts[&patch_sides(&surface.patches[p])];
-        let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
-        for t in &layout.triangles {
-            mesh.triangles.push(t.map(|x| ids[x as usize]));
+        let n = sides_of(p);
+        let layout = &layouts[&n];
+        let first_boundary = layout.ring_index(r, 0, 0);
+        for (q, sp) in boundary[bnd_start[p]..bnd_start[p + 1]].iter().enumerate() {
+            let kk = map.offsets[p] + first_boundary + q;
+            if map.owner[kk] || !(sp.normal != DVec3::ZERO && sp.normal.is_finite()) {
+                continue;
+            }
+            let v = map.ids[kk] as usize;
+            mesh.normals[v] += sp.normal;
+            if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
+                mesh.mean_curvature[v] += sp.mean_curvature;
+                mesh.gaussian_curvature[v] += sp.gaussian_curvature;
+            }
+            weight[v] = weight[v].saturating_add(1);
         }
-        mesh.triangle_patch.extend(std::iter::repeat(p as u32).take(layout.triangles.len()));
     }
+    mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
+        if w > 1 {
+            *h /= w as f64;
+            *k /= w as f64;
+        }
+    });
 
     // Gap and G1 along shared sides (each pair once, from its smaller side).
     let mut stats = WeldStats::default();
     let mut shared = vec![false; nv];
     for p in 0..np {
-        let lp = &layouts[&patch_sides(&surface.patches[p])];
+        let lp = &layouts[&sides_of(p)];
+        let fp = lp.ring_index(r, 0, 0);
         for (i, nb) in surface.neighbors[p].iter().enumerate() {
             let Some(nb) = nb else { continue };
             if (nb.patch, nb.side) < (p, i) {
                 continue;
             }
-            let lq = &layouts[&patch_sides(&surface.patches[nb.patch])];
+            let lq = &layouts[&sides_of(nb.patch)];
+            let fq = lq.ring_index(r, 0, 0);
             for t in 0..=r {
-                let ka = map.offsets[p] + lp.boundary_index(i, t);
-                let kb = map.offsets[nb.patch] + lq.boundary_index(nb.side, r - t);
-                let (a, b) = (&samples[ka], &samples[kb]);
+                let sa = lp.boundary_index(i, t);
+                let sb = lq.boundary_index(nb.side, r - t);
+                let a = &boundary[bnd_start[p] + sa - fp];
+                let b = &boundary[bnd_start[nb.patch] + sb - fq];
                 let gap = a.position.distance(b.position);
                 if gap > stats.max_boundary_gap || gap.is_nan() {
                     stats.max_boundary_gap = gap;
                 }
                 let ang = angle_deg(a.normal, b.normal);
-                let v = map.ids[ka] as usize;
+                let v = map.ids[map.offsets[p] + sa] as usize;
                 shared[v] = true;
                 if ang > mesh.g1_deviation_deg[v] {
                     mesh.g1_deviation_deg[v] = ang;
@@ -420,16 +489,14 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
 
     // Normalize normals; vertices without any analytic normal take the area-weighted normal of
     // their triangles.
-    let missing: Vec<usize> = (0..nv).filter(|&v| !(mesh.normals[v].length_squared() > 0.0)).collect();
+    let missing: Vec<usize> = (0..nv).filter(|&v| weight[v] == 0).collect();
     if !missing.is_empty() {
         let fallback = crate::quality::vertex_normals(&mesh.positions, &mesh.triangles);
         for v in missing {
             mesh.normals[v] = fallback[v];
         }
     }
-    for n in &mut mesh.normals {
-        *n = n.normalize_or_zero();
-    }
+    mesh.normals.par_iter_mut().for_each(|n| *n = n.normalize_or_zero());
     Ok((mesh, stats))
 }
 
