@@ -326,3 +326,113 @@ fn doo_sabin_result_matches_rust_api_and_has_no_patches() {
         gbsurf_result_free(r);
     }
 }
+
+/// Patches and curves through the C ABI are the Rust surface's, flattened as documented.
+fn check_patches_match_rust(method: u32, rust_method: gbsurf::api::Method) {
+    let r = cube_result(method);
+    let (p, s, f) = cube();
+    let faces: Vec<Vec<u32>> = f.chunks(4).map(|c| c.to_vec()).collect();
+    assert_eq!(s.len(), faces.len());
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let surface = gbsurf::api::convert(&mesh, &opts, None).unwrap().surface.unwrap();
+    // SAFETY: `r` is a live handle; outputs are valid locals.
+    unsafe {
+        let mut n = 0usize;
+        assert_eq!(gbsurf_patch_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, surface.patches.len());
+        for (pi, patch) in surface.patches.iter().enumerate() {
+            let (kind, ribbons, center) = match patch {
+                gbsurf::construct::Patch::Gb(g) => (GBSURF_PATCH_GB, &g.ribbons, Some(g.center)),
+                gbsurf::construct::Patch::Cgb(c) => (GBSURF_PATCH_CGB, &c.ribbons, None),
+            };
+            let mut k = 99u32;
+            assert_eq!(gbsurf_patch_kind(r, pi, &mut k), GBSURF_OK);
+            assert_eq!(k, kind);
+            let mut sides = 0usize;
+            assert_eq!(gbsurf_patch_sides(r, pi, &mut sides), GBSURF_OK);
+            assert_eq!(sides, ribbons.len());
+            for (si, rb) in ribbons.iter().enumerate() {
+                let (mut d, mut l) = (0usize, 0usize);
+                assert_eq!(gbsurf_patch_degree(r, pi, si, &mut d, &mut l), GBSURF_OK);
+                assert_eq!((d, l), (rb.degree, rb.rows.len()));
+                let (mut ptr, mut len) = (null(), 0usize);
+                assert_eq!(gbsurf_patch_ribbon_points(r, pi, si, &mut ptr, &mut len), GBSURF_OK);
+                let pts = std::slice::from_raw_parts(ptr, len);
+                assert_eq!(len, 3 * l * (d + 1));
+                for (kk, row) in rb.rows.iter().enumerate() {
+                    for (j, q) in row.iter().enumerate() {
+                        let at = 3 * (kk * (d + 1) + j);
+                        assert_eq!(&pts[at..at + 3], &q.to_array(), "patch {pi} side {si} P[{j},{kk}]");
+                    }
+                }
+            }
+            assert_eq!(gbsurf_patch_degree(r, pi, sides, &mut 0, &mut 0), GBSURF_ERR_INDEX);
+            let mut xyz = [0.0; 3];
+            match center {
+                Some(c) => {
+                    assert_eq!(gbsurf_patch_center(r, pi, xyz.as_mut_ptr()), GBSURF_OK);
+                    assert_eq!(xyz, c.to_array());
+                }
+                None => {
+                    assert_eq!(gbsurf_patch_center(r, pi, xyz.as_mut_ptr()), GBSURF_ERR_KIND);
+                    assert!(last().contains(&format!("patch {pi}")), "{}", last());
+                }
+            }
+        }
+        assert_eq!(gbsurf_curve_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, surface.curves.len());
+        for (ci, c) in surface.curves.iter().enumerate() {
+            let expect: Vec<f64> = c.iter().flat_map(|q| q.to_array()).collect();
+            let mut buf = vec![0.0; expect.len()];
+            let mut w = 0usize;
+            assert_eq!(gbsurf_curve_copy_points(r, ci, buf.as_mut_ptr(), buf.len(), &mut w), GBSURF_OK);
+            assert_eq!((w, buf), (expect.len(), expect));
+        }
+        gbsurf_result_free(r);
+    }
+}
+
+#[test]
+fn dual_patches_and_curves_match_rust_surface() {
+    check_patches_match_rust(GBSURF_METHOD_DUAL, gbsurf::api::Method::Dual);
+}
+
+#[test]
+fn topology_patches_and_curves_match_rust_surface() {
+    check_patches_match_rust(GBSURF_METHOD_TOPOLOGY, gbsurf::api::Method::Topology);
+}
+
+unsafe extern "C" fn record_until(fraction: f32, user: *mut c_void) -> bool {
+    // SAFETY: the tests pass a pointer to (stop fraction, seen fractions).
+    let (stop, seen) = unsafe { &mut *(user as *mut (f32, Vec<f32>)) };
+    seen.push(fraction);
+    fraction < *stop
+}
+
+#[test]
+fn progress_reaches_one_and_cancels_mid_run() {
+    let (p, s, f) = cube();
+    for (stop, code) in [(2.0f32, GBSURF_OK), (0.5, GBSURF_ERR_CANCELLED)] {
+        let mut state: (f32, Vec<f32>) = (stop, Vec::new());
+        let mut out = null_mut();
+        // SAFETY: valid arrays; user data is a live (f32, Vec<f32>).
+        let got = unsafe {
+            gbsurf_convert(
+                p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(),
+                Some(record_until), &mut state as *mut (f32, Vec<f32>) as *mut c_void, &mut out,
+            )
+        };
+        assert_eq!(got, code, "{}", last());
+        let seen = &state.1;
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        if code == GBSURF_OK {
+            assert_eq!(seen.last(), Some(&1.0));
+            // SAFETY: live handle.
+            unsafe { gbsurf_result_free(out) };
+        } else {
+            assert!(out.is_null());
+            assert!(*seen.last().unwrap() >= 0.5 && seen.len() >= 2, "{seen:?}");
+        }
+    }
+}
