@@ -11,12 +11,12 @@ fn main() {
 #[cfg(feature = "openmesh")]
 mod openmesh {
     pub fn build() {
-        println!("cargo:rerun-if-changed=src/openmesh.rs");
+        println!("cargo:rerun-if-changed=src/ffi/openmesh.rs");
         println!("cargo:rerun-if-changed=cpp/bridge/openmesh_bridge.cpp");
         println!("cargo:rerun-if-changed=cpp/bridge/openmesh_bridge.h");
         println!("cargo:rerun-if-env-changed=OPENMESH_INCLUDE_DIR");
         println!("cargo:rerun-if-env-changed=OPENMESH_LIB_DIR");
-        let mut build = cxx_build::bridge("src/openmesh.rs");
+        let mut build = cxx_build::bridge("src/ffi/openmesh.rs");
         build
             .file("cpp/bridge/openmesh_bridge.cpp")
             .std("c++17")

@@ -16,7 +16,10 @@
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
 //! - [`offset`]: PH curves and PN surfaces (seeds 003/004).
 //! - [`ffi`]: the C ABI, the only module with `unsafe`.
-//! - `openmesh` (cargo feature `openmesh`): cxx bridge to OpenMesh file I/O and its Catmull–Clark.
+//! - `openmesh` (cargo feature `openmesh`, in [`ffi`] because the cxx bridge declares `unsafe extern`):
+//!   OpenMesh file I/O and its Catmull–Clark, re-exported here as `gbsurf::openmesh`.
+
+#![deny(unsafe_code)]
 
 #[macro_use]
 pub mod tol;
@@ -24,12 +27,13 @@ pub mod tol;
 pub mod api;
 pub mod bezier;
 pub mod construct;
+#[allow(unsafe_code)]
 pub mod ffi;
 pub mod gb;
 pub mod mesh;
 pub mod offset;
 #[cfg(feature = "openmesh")]
-pub mod openmesh;
+pub use ffi::openmesh;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "gbsurf/cpp/bridge/openmesh_bridge.h"
-#include "gbsurf/src/openmesh.rs.h"
+#include "gbsurf/src/ffi/openmesh.rs.h"
 
 namespace gbsurf_om {
 

@@ -1,5 +1,5 @@
 // C++ side of the gbsurf <-> OpenMesh cxx bridge (cargo feature `openmesh`).
-// Meshes cross the bridge as flat arrays (MeshData, defined by cxx from src/openmesh.rs).
+// Meshes cross the bridge as flat arrays (MeshData, defined by cxx from src/ffi/openmesh.rs).
 // Every function reports failure by throwing std::runtime_error, which cxx turns into a Rust Err.
 #pragma once
 #include "rust/cxx.h"

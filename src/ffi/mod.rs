@@ -18,6 +18,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 mod options;
 mod result;
 
+/// The cxx bridge to OpenMesh (cargo feature `openmesh`): safe Rust functions over C++.
+#[cfg(feature = "openmesh")]
+pub mod openmesh;
+
 pub use options::*;
 pub use result::*;
 
