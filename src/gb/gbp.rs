@@ -20,6 +20,8 @@ use std::path::Path;
 
 /// Largest number of sides accepted from a file.
 pub const MAX_SIDES: usize = 1024;
+/// Smallest degree accepted from a file (the correction weights μ need d ≥ 2).
+pub const MIN_DEGREE: usize = 2;
 /// Largest degree accepted from a file.
 pub const MAX_DEGREE: usize = 40;
 
@@ -48,8 +50,10 @@ pub enum GbpError {
     /// More than [`MAX_SIDES`] sides.
     #[error("line {line}: n = {n} sides is more than the supported {MAX_SIDES}")]
     TooManySides { line: usize, n: usize },
-    /// Degree 0 or above [`MAX_DEGREE`].
-    #[error("line {line}: degree d = {d} is outside the supported range 1..={MAX_DEGREE}")]
+    /// Degree below [`MIN_DEGREE`] or above [`MAX_DEGREE`].
+    #[error(
+        "line {line}: degree d = {d} is outside the supported range {MIN_DEGREE}..={MAX_DEGREE}"
+    )]
     BadDegree { line: usize, d: usize },
     /// A coordinate that is not a number.
     #[error("line {line}: coordinate {coord} of control point {point}: `{token}` is not a number")]
@@ -149,7 +153,7 @@ pub fn parse_gbp(text: &str) -> Result<GbPatch, GbpError> {
     if n > MAX_SIDES {
         return Err(GbpError::TooManySides { line: n_line, n });
     }
-    if d < 1 || d > MAX_DEGREE {
+    if !(MIN_DEGREE..=MAX_DEGREE).contains(&d) {
         return Err(GbpError::BadDegree { line: d_line, d });
     }
     let count = 1 + listed_point_count(n, d);
