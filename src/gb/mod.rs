@@ -1,8 +1,20 @@
 //! The n-sided Generalized Bézier patch (seed 000 §2.4–2.7, §3.4–3.6; seed 002).
 
+pub mod cgb;
+pub mod derivs;
+pub mod domain;
+pub mod elevate;
+pub mod error;
+pub mod eval;
 pub mod patch;
+pub mod weights;
 
 pub mod connected;
 pub mod gbp;
 
+pub use cgb::CgbBasisEvaluator;
+pub use derivs::{Curvature, Jet2, SurfaceDerivs};
+pub use domain::{Domain, LocalParam};
+pub use error::GbError;
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
+pub use weights::{gb_basis, layers_for_degree, GbBasis, GbBasisEvaluator};

@@ -1,0 +1,231 @@
+//! Evaluation of GB patches and ribbons: points, first and second derivatives, normals and
+//! curvature (seed 000 eq. 2.24; seed 002 "A felület egyenlete").
+
+use super::derivs::{Curvature, SurfaceDerivs};
+use super::error::GbError;
+use super::patch::{GbPatch, Ribbon, WeightForm};
+use super::weights::{layers_for_degree, GbBasisEvaluator};
+use crate::bezier::bernstein::bernstein_all_into;
+use glam::{DVec2, DVec3};
+
+impl Ribbon {
+    /// Number of rows (layers).
+    pub fn layers(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// Row k as a Bézier curve of degree `degree` at s (zero vector for a missing row).
+    pub fn row_point(&self, k: usize, s: f64) -> DVec3 {
+        let Some(row) = self.rows.get(k) else {
+            return DVec3::ZERO;
+        };
+        let mut b = vec![0.0; row.len().max(1)];
+        bernstein_all_into(row.len().saturating_sub(1), s, &mut b);
+        row.iter().zip(&b).map(|(p, w)| *p * *w).sum()
+    }
+
+    /// The boundary curve (row 0) at s.
+    pub fn boundary_point(&self, s: f64) -> DVec3 {
+        self.row_point(0, s)
+    }
+
+    /// d/ds of the boundary curve: d Σ_j (P_{j+1,0} − P_{j,0}) B^{d−1}_j(s).
+    pub fn boundary_tangent(&self, s: f64) -> DVec3 {
+        let Some(row) = self.rows.first() else {
+            return DVec3::ZERO;
+        };
+        if row.len() < 2 {
+            return DVec3::ZERO;
+        }
+        let d = row.len() - 1;
+        let mut b = vec![0.0; d];
+        bernstein_all_into(d - 1, s, &mut b);
+        (0..d)
+            .map(|j| (row[j + 1] - row[j]) * (d as f64 * b[j]))
+            .sum()
+    }
+
+    /// The ribbon's cross-boundary derivative d Σ_j (P_{j,1} − P_{j,0}) B^d_j(s) (derivative
+    /// with respect to h of the ribbon surface Σ P_{j,k} B^d_j(s) B^d_k(h) at h = 0).
+    pub fn cross_derivative(&self, s: f64) -> DVec3 {
+        if self.rows.len() < 2 {
+            return DVec3::ZERO;
+        }
+        let d = self.degree as f64;
+        (self.row_point(1, s) - self.row_point(0, s)) * d
+    }
+
+    /// Unit normal of the ribbon along the boundary: tangent × cross-derivative, normalized
+    /// (None where they are parallel). For a GB patch this is the patch normal on side i
+    /// (squared weights; the domain's side direction and inward normal keep orientation).
+    pub fn boundary_normal(&self, s: f64) -> Option<DVec3> {
+        let c = self.boundary_tangent(s).cross(self.cross_derivative(s));
+        let l = c.length();
+        (l > 1e-300 && l.is_finite()).then(|| c / l)
+    }
+}
+
+impl GbPatch {
+    /// Number of sides n.
+    pub fn n(&self) -> usize {
+        self.ribbons.len()
+    }
+
+    /// Degree d (of side 0; [`Self::validate`] checks all sides agree).
+    pub fn degree(&self) -> usize {
+        self.ribbons.first().map_or(0, |r| r.degree)
+    }
+
+    /// Layers l = ⌈d/2⌉.
+    pub fn layers(&self) -> usize {
+        layers_for_degree(self.degree())
+    }
+
+    /// Checks n ≥ 3, one degree d ≥ 2 on every side, l = ⌈d/2⌉ rows of d+1 points per side and
+    /// finite coordinates everywhere.
+    pub fn validate(&self) -> Result<(), GbError> {
+        let n = self.n();
+        if n < 3 {
+            return Err(GbError::TooFewSides(n));
+        }
+        let d = self.degree();
+        validate_ribbons(&self.ribbons, |i, r| {
+            if r.degree != d {
+                return Err(GbError::DegreeMismatch {
+                    side: i,
+                    expected: d,
+                    found: r.degree,
+                });
+            }
+            if r.rows.len() != layers_for_degree(d) {
+                return Err(GbError::LayerCount {
+                    side: i,
+                    expected: layers_for_degree(d),
+                    found: r.rows.len(),
+                });
+            }
+            Ok(())
+        })?;
+        if !self.center.is_finite() {
+            return Err(GbError::NonFinite {
+                side: None,
+                row: 0,
+                col: 0,
+            });
+        }
+        Ok(())
+    }
+
+    /// Control points in the flat basis order: central point, then side i, row k, column j
+    /// (see [`crate::gb::weights`]). Meaningful for a valid patch.
+    pub fn control_points_flat(&self) -> Vec<DVec3> {
+        let mut out = Vec::with_capacity(1 + self.n() * self.layers() * (self.degree() + 1));
+        out.push(self.center);
+        for r in &self.ribbons {
+            for row in &r.rows {
+                out.extend_from_slice(row);
+            }
+        }
+        out
+    }
+
+    /// A basis evaluator matching this patch's n and d (reuse it for many evaluations).
+    pub fn evaluator(&self) -> Result<GbBasisEvaluator, GbError> {
+        GbBasisEvaluator::new(self.n(), self.degree())
+    }
+
+    /// S(u, v) and its first and second derivatives with a prepared evaluator (no allocation).
+    /// The evaluator must match n and d; control points missing from a malformed patch are
+    /// skipped (call [`Self::validate`] first).
+    pub fn eval_derivs_with(&self, ev: &mut GbBasisEvaluator, uv: DVec2) -> SurfaceDerivs {
+        self.eval_derivs_with_form(ev, uv, WeightForm::Squared)
+    }
+
+    /// As [`Self::eval_derivs_with`] with an explicit weight form.
+    pub fn eval_derivs_with_form(
+        &self,
+        ev: &mut GbBasisEvaluator,
+        uv: DVec2,
+        form: WeightForm,
+    ) -> SurfaceDerivs {
+        let l = ev.layers();
+        let d1 = ev.degree() + 1;
+        let mut out = SurfaceDerivs::default();
+        let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| {
+            let q = idx - 1;
+            let (i, rest) = (q / (l * d1), q % (l * d1));
+            let (k, j) = (rest / d1, rest % d1);
+            if let Some(p) = self
+                .ribbons
+                .get(i)
+                .and_then(|r| r.rows.get(k))
+                .and_then(|row| row.get(j))
+            {
+                out.add_weighted(&w, *p);
+            }
+        });
+        out.add_weighted(&b0, self.center);
+        out
+    }
+
+    /// S(u, v) with its first and second derivatives (allocates an evaluator; for a patch with
+    /// n < 3 or d < 2 returns the central point with zero derivatives).
+    pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+        match self.evaluator() {
+            Ok(mut ev) => self.eval_derivs_with_form(&mut ev, uv, form),
+            Err(_) => SurfaceDerivs {
+                p: self.center,
+                ..Default::default()
+            },
+        }
+    }
+
+    /// S(u, v) (seed 000 eq. 2.24).
+    pub fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
+        self.eval_derivs(uv, form).p
+    }
+
+    /// Unit normal at (u, v), None where S_u × S_v vanishes.
+    pub fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
+        self.eval_derivs(uv, form).normal()
+    }
+
+    /// Mean / Gaussian / principal curvatures at (u, v) (see [`Curvature`] for signs).
+    pub fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
+        self.eval_derivs(uv, form).curvature()
+    }
+}
+
+/// Shared row-shape and finiteness checks; `extra(i, ribbon)` adds per-patch rules.
+pub(crate) fn validate_ribbons(
+    ribbons: &[super::patch::Ribbon],
+    mut extra: impl FnMut(usize, &super::patch::Ribbon) -> Result<(), GbError>,
+) -> Result<(), GbError> {
+    for (i, r) in ribbons.iter().enumerate() {
+        if r.degree < 2 {
+            return Err(GbError::DegreeTooLow {
+                side: i,
+                degree: r.degree,
+            });
+        }
+        extra(i, r)?;
+        for (k, row) in r.rows.iter().enumerate() {
+            if row.len() != r.degree + 1 {
+                return Err(GbError::RowLength {
+                    side: i,
+                    row: k,
+                    expected: r.degree + 1,
+                    found: row.len(),
+                });
+            }
+            if let Some(j) = row.iter().position(|p| !p.is_finite()) {
+                return Err(GbError::NonFinite {
+                    side: Some(i),
+                    row: k,
+                    col: j,
+                });
+            }
+        }
+    }
+    Ok(())
+}
