@@ -3,7 +3,7 @@
 //! file I/O live in submodules.
 
 use glam::DVec3;
-use std::io::{self, Write};
+use std::io::Write;
 
 /// A polygon mesh as plain face lists: the exchange type between layers.
 /// Faces are counter-clockwise seen from outside; indices are 0-based into `positions`.
@@ -53,7 +53,7 @@ impl MeshSink for TriMesh {
 
 impl TriMesh {
     /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
-    pub fn write_obj<W: Write>(&self, mut w: W) -> io::Result<()> {
+    pub fn write_obj<W: Write>(&self, mut w: W) -> std::io::Result<()> {
         for p in &self.positions {
             writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
         }
@@ -72,3 +72,15 @@ impl TriMesh {
         w.flush()
     }
 }
+
+pub mod error;
+pub mod geometry;
+pub mod halfedge;
+pub mod validate;
+
+pub use error::{MeshError, MeshWarning, SourceMap, COORDINATE_LIMIT};
+pub use halfedge::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
+pub use validate::{validate, ValidMesh};
+pub mod io;
+pub use io::{read_mesh, read_polymesh};
+pub mod generate;

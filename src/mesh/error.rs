@@ -1,0 +1,145 @@
+//! Typed mesh errors and warnings. Every variant names the offending element.
+//!
+//! Conventions: vertex and face indices are 0-based indices into the *input* [`PolyMesh`]
+//! (before isolated vertices are dropped); `line` is the 1-based line of the element in the
+//! source file when the mesh was read from a file (see [`SourceMap`]), `None` otherwise.
+//!
+//! [`PolyMesh`]: super::PolyMesh
+
+use thiserror::Error;
+
+/// Largest accepted absolute coordinate. Squares and products of two coordinates (areas,
+/// normals, squared lengths) then stay below 1e300 < `f64::MAX` ≈ 1.8e308, so no geometric
+/// computation of the crate can overflow silently. Larger values give
+/// [`MeshError::CoordinateRange`].
+pub const COORDINATE_LIMIT: f64 = 1e150;
+
+/// Relative tolerance of the zero-area test: a face is degenerate when its (Newell) area is at
+/// most `ZERO_AREA_REL * d²`, `d` the largest extent of the face's bounding box.
+pub const ZERO_AREA_REL: f64 = 1e-12;
+
+/// Why a mesh was rejected.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum MeshError {
+    /// The file could not be read or parsed (syntax errors, unknown format).
+    #[error("parse error{}: {message}", fmt_line(*line))]
+    Parse { line: Option<usize>, message: String },
+    /// An I/O failure (open, read, write, rename).
+    #[error("i/o error on {path}: {message}")]
+    Io { path: String, message: String },
+    /// The mesh has no faces.
+    #[error("empty mesh: no faces")]
+    Empty,
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {vertex}{}: coordinate {axis} is {value} (not finite)", fmt_line(*line))]
+    NonFiniteCoordinate { vertex: usize, axis: usize, value: f64, line: Option<usize> },
+    /// A coordinate exceeds [`COORDINATE_LIMIT`] in absolute value.
+    #[error("vertex {vertex}{}: coordinate {axis} = {value:e} exceeds the limit {limit:e}", fmt_line(*line))]
+    CoordinateRange { vertex: usize, axis: usize, value: f64, limit: f64, line: Option<usize> },
+    /// A face has fewer than 3 corners.
+    #[error("face {face}{} has {len} corners (at least 3 needed)", fmt_line(*line))]
+    FaceTooSmall { face: usize, len: usize, line: Option<usize> },
+    /// A face names a vertex that does not exist. `index` is 0-based (may be negative for a
+    /// relative OBJ index that points before the first vertex).
+    #[error("face {face}{} corner {corner}: vertex index {index} out of range (0..{n_vertices})", fmt_line(*line))]
+    IndexOutOfRange { face: usize, corner: usize, index: i64, n_vertices: usize, line: Option<usize> },
+    /// A face names the same vertex more than once.
+    #[error("face {face}{} names vertex {vertex} more than once", fmt_line(*line))]
+    RepeatedIndex { face: usize, vertex: usize, line: Option<usize> },
+    /// A face has (relatively) zero area: its corners are collinear or coincident.
+    #[error("face {face}{} has zero area (area {area:e})", fmt_line(*line))]
+    ZeroAreaFace { face: usize, area: f64, line: Option<usize> },
+    /// The same vertex cycle appears twice (same or opposite orientation).
+    #[error("face {face}{} duplicates face {first}", fmt_line(*line))]
+    DuplicateFace { face: usize, first: usize, line: Option<usize> },
+    /// An edge (as its vertex pair) is shared by more than two faces (all of them listed).
+    #[error("edge ({}, {}) is shared by {} faces {faces:?}{}", edge.0, edge.1, faces.len(), fmt_line(*line))]
+    NonManifoldEdge { edge: (usize, usize), faces: Vec<usize>, line: Option<usize> },
+    /// Two faces traverse the directed edge `edge.0 → edge.1` in the same direction.
+    #[error("faces {} and {} both use edge {} -> {} in the same direction (inconsistent orientation){}", faces.0, faces.1, edge.0, edge.1, fmt_line(*line))]
+    InconsistentOrientation { edge: (usize, usize), faces: (usize, usize), line: Option<usize> },
+    /// The faces around a vertex form more than one fan (a "bowtie" vertex).
+    #[error("vertex {vertex}{} is non-manifold: its faces form {fans} separate fans", fmt_line(*line))]
+    NonManifoldVertex { vertex: usize, fans: usize, line: Option<usize> },
+    /// A geometric operation could not be carried out (e.g. degenerate input to a generator).
+    #[error("degenerate geometry: {0}")]
+    Degenerate(String),
+}
+
+fn fmt_line(line: Option<usize>) -> String {
+    match line {
+        Some(l) => format!(" (line {l})"),
+        None => String::new(),
+    }
+}
+
+/// Something accepted but changed on the way in.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum MeshWarning {
+    /// A vertex used by no face was dropped (vertices renumbered).
+    #[error("vertex {vertex}{} is used by no face and was dropped", fmt_line(*line))]
+    IsolatedVertex { vertex: usize, line: Option<usize> },
+}
+
+/// Source lines of the elements of a mesh read from a file (1-based), to annotate errors.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceMap {
+    /// Line of each vertex.
+    pub vertex_lines: Vec<usize>,
+    /// Line of each face.
+    pub face_lines: Vec<usize>,
+}
+
+impl SourceMap {
+    fn vl(&self, v: usize) -> Option<usize> {
+        self.vertex_lines.get(v).copied()
+    }
+    fn fl(&self, f: usize) -> Option<usize> {
+        self.face_lines.get(f).copied()
+    }
+}
+
+impl MeshError {
+    /// Fills in the `line` of the named element from `map` (vertex errors: the vertex's line;
+    /// face and edge errors: the line of the (last) face named).
+    pub fn with_source(self, map: &SourceMap) -> Self {
+        use MeshError::*;
+        match self {
+            NonFiniteCoordinate { vertex, axis, value, .. } => {
+                NonFiniteCoordinate { vertex, axis, value, line: map.vl(vertex) }
+            }
+            CoordinateRange { vertex, axis, value, limit, .. } => {
+                CoordinateRange { vertex, axis, value, limit, line: map.vl(vertex) }
+            }
+            FaceTooSmall { face, len, .. } => FaceTooSmall { face, len, line: map.fl(face) },
+            IndexOutOfRange { face, corner, index, n_vertices, .. } => {
+                IndexOutOfRange { face, corner, index, n_vertices, line: map.fl(face) }
+            }
+            RepeatedIndex { face, vertex, .. } => RepeatedIndex { face, vertex, line: map.fl(face) },
+            ZeroAreaFace { face, area, .. } => ZeroAreaFace { face, area, line: map.fl(face) },
+            DuplicateFace { face, first, .. } => DuplicateFace { face, first, line: map.fl(face) },
+            NonManifoldEdge { edge, faces, .. } => {
+                let line = faces.last().and_then(|&f| map.fl(f));
+                NonManifoldEdge { edge, faces, line }
+            }
+            InconsistentOrientation { edge, faces, .. } => {
+                InconsistentOrientation { edge, faces, line: map.fl(faces.1) }
+            }
+            NonManifoldVertex { vertex, fans, .. } => {
+                NonManifoldVertex { vertex, fans, line: map.vl(vertex) }
+            }
+            e => e,
+        }
+    }
+}
+
+impl MeshWarning {
+    /// Fills in the `line` of the named element from `map`.
+    pub fn with_source(self, map: &SourceMap) -> Self {
+        match self {
+            MeshWarning::IsolatedVertex { vertex, .. } => {
+                MeshWarning::IsolatedVertex { vertex, line: map.vl(vertex) }
+            }
+        }
+    }
+}

@@ -1,0 +1,737 @@
+//! Mesh file input and output.
+//!
+//! Reading: [`read_mesh`] (validated [`HalfEdgeMesh`]) and [`read_polymesh`] (syntax only, with
+//! a [`SourceMap`] of line numbers) dispatch on the extension: `.obj`, `.off`, `.ply` (ASCII and
+//! binary little-endian), `.stl` (binary and ASCII; identical corner positions are welded).
+//!
+//! OBJ is read by a strict line parser of our own rather than `tobj`: `tobj` parses into `f32` by
+//! default (1e300 becomes `inf`, 7 significant digits), reports no line numbers, splits vertices by
+//! normal/texture index with `single_index` (which breaks the topology of a cube with per-face
+//! normals) and re-indexes per model (which disconnects groups). Ours keeps n-gons, reads `f64`,
+//! uses only position indices (`v/vt/vn` → `v`, negative = relative), merges all objects and
+//! groups, ignores `vn vt vp g o s usemtl mtllib l p` statements, and rejects anything else with
+//! [`MeshError::Parse`] naming the line, so a garbage file is an error, never a partial mesh.
+//!
+//! Writing: OBJ, PLY (ASCII or binary little-endian, optional per-vertex scalar properties),
+//! binary STL, for [`TriMesh`] and [`PolyMesh`]; the `*_file` functions write atomically (a
+//! temporary file in the same directory, then rename).
+
+use super::error::{MeshError, SourceMap};
+use super::halfedge::HalfEdgeMesh;
+use super::{PolyMesh, TriMesh};
+use glam::DVec3;
+use std::collections::HashMap;
+use std::fs;
+use std::io::{self, Write};
+use std::path::Path;
+
+fn parse_err(line: Option<usize>, message: impl Into<String>) -> MeshError {
+    MeshError::Parse { line, message: message.into() }
+}
+
+fn io_err(path: &Path, e: io::Error) -> MeshError {
+    MeshError::Io { path: path.display().to_string(), message: e.to_string() }
+}
+
+/// Parses OBJ text: positions and polygon faces (see the module doc). Indices are checked
+/// against the vertex count ([`MeshError::IndexOutOfRange`] with the line); other checks are left
+/// to validation.
+pub fn parse_obj(text: &str) -> Result<(PolyMesh, SourceMap), MeshError> {
+    let mut positions = Vec::new();
+    let mut raw_faces: Vec<(Vec<i64>, usize)> = Vec::new();
+    let mut map = SourceMap::default();
+    for (ln0, raw) in text.lines().enumerate() {
+        let ln = ln0 + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut toks = content.split_whitespace();
+        let Some(kw) = toks.next() else { continue };
+        match kw {
+            "v" => {
+                let vals: Vec<&str> = toks.collect();
+                if vals.len() < 3 {
+                    return Err(parse_err(
+                        Some(ln),
+                        format!("vertex needs 3 coordinates, found {}", vals.len()),
+                    ));
+                }
+                let mut xyz = [0.0; 3];
+                for (i, t) in vals.iter().enumerate() {
+                    let x: f64 = t
+                        .parse()
+                        .map_err(|_| parse_err(Some(ln), format!("bad number {t:?} in vertex")))?;
+                    if i < 3 {
+                        xyz[i] = x;
+                    }
+                }
+                positions.push(DVec3::from_array(xyz));
+                map.vertex_lines.push(ln);
+            }
+            "f" => {
+                let mut idx = Vec::new();
+                for t in toks {
+                    let first = t.split('/').next().unwrap_or("");
+                    let i: i64 = first
+                        .parse()
+                        .map_err(|_| parse_err(Some(ln), format!("bad vertex index {t:?} in face")))?;
+                    let i0 = match i {
+                        0 => return Err(parse_err(Some(ln), "vertex index 0 in face (OBJ is 1-based)")),
+                        i if i > 0 => i - 1,
+                        i => positions.len() as i64 + i,
+                    };
+                    idx.push(i0);
+                }
+                raw_faces.push((idx, ln));
+                map.face_lines.push(ln);
+            }
+            "vn" | "vt" | "vp" | "g" | "o" | "s" | "usemtl" | "mtllib" | "l" | "p" => {}
+            other => {
+                return Err(parse_err(Some(ln), format!("unknown statement {other:?}")));
+            }
+        }
+    }
+    let nv = positions.len();
+    let mut faces = Vec::with_capacity(raw_faces.len());
+    for (f, (idx, ln)) in raw_faces.into_iter().enumerate() {
+        for (c, &i) in idx.iter().enumerate() {
+            if i < 0 || i as usize >= nv || i > u32::MAX as i64 - 1 {
+                return Err(MeshError::IndexOutOfRange {
+                    face: f,
+                    corner: c,
+                    index: i,
+                    n_vertices: nv,
+                    line: Some(ln),
+                });
+            }
+        }
+        faces.push(idx.into_iter().map(|i| i as u32).collect());
+    }
+    Ok((PolyMesh { positions, faces }, map))
+}
+
+/// Parses ASCII OFF (`OFF`, counts, vertices, faces `n i0 … i(n−1)`; `#` comments; colours after
+/// the indices ignored).
+pub fn parse_off(text: &str) -> Result<(PolyMesh, SourceMap), MeshError> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.split('#').next().unwrap_or("").trim()))
+        .filter(|(_, l)| !l.is_empty());
+    let (ln, head) = lines.next().ok_or_else(|| parse_err(None, "empty OFF file"))?;
+    let mut head_toks: Vec<&str> = head.split_whitespace().collect();
+    if head_toks.first().map(|t| t.ends_with("OFF")) != Some(true) {
+        return Err(parse_err(Some(ln), "missing OFF header"));
+    }
+    head_toks.remove(0);
+    let counts_toks: Vec<(usize, String)> = if head_toks.is_empty() {
+        let (ln, l) = lines.next().ok_or_else(|| parse_err(None, "missing OFF counts"))?;
+        l.split_whitespace().map(|t| (ln, t.to_string())).collect()
+    } else {
+        head_toks.iter().map(|t| (ln, t.to_string())).collect()
+    };
+    if counts_toks.len() < 2 {
+        return Err(parse_err(Some(ln), "OFF counts need vertex and face numbers"));
+    }
+    let cnt = |k: usize| -> Result<usize, MeshError> {
+        counts_toks[k].1.parse().map_err(|_| parse_err(Some(counts_toks[k].0), "bad OFF count"))
+    };
+    let (nv, nf) = (cnt(0)?, cnt(1)?);
+    let mut map = SourceMap::default();
+    let mut positions = Vec::with_capacity(nv.min(1 << 24));
+    for _ in 0..nv {
+        let (ln, l) = lines.next().ok_or_else(|| parse_err(None, "OFF file ends in the vertices"))?;
+        let v: Result<Vec<f64>, _> = l.split_whitespace().take(3).map(str::parse::<f64>).collect();
+        let v = v.map_err(|_| parse_err(Some(ln), "bad number in OFF vertex"))?;
+        if v.len() < 3 {
+            return Err(parse_err(Some(ln), "OFF vertex needs 3 coordinates"));
+        }
+        positions.push(DVec3::new(v[0], v[1], v[2]));
+        map.vertex_lines.push(ln);
+    }
+    let mut faces = Vec::with_capacity(nf.min(1 << 24));
+    for f in 0..nf {
+        let (ln, l) = lines.next().ok_or_else(|| parse_err(None, "OFF file ends in the faces"))?;
+        let toks: Vec<&str> = l.split_whitespace().collect();
+        let n: usize = toks
+            .first()
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| parse_err(Some(ln), "bad OFF face size"))?;
+        if toks.len() < n + 1 {
+            return Err(parse_err(Some(ln), "OFF face has fewer indices than announced"));
+        }
+        let mut face = Vec::with_capacity(n);
+        for (c, t) in toks[1..=n].iter().enumerate() {
+            let i: i64 = t.parse().map_err(|_| parse_err(Some(ln), "bad OFF vertex index"))?;
+            if i < 0 || i as usize >= nv {
+                return Err(MeshError::IndexOutOfRange {
+                    face: f,
+                    corner: c,
+                    index: i,
+                    n_vertices: nv,
+                    line: Some(ln),
+                });
+            }
+            face.push(i as u32);
+        }
+        faces.push(face);
+        map.face_lines.push(ln);
+    }
+    Ok((PolyMesh { positions, faces }, map))
+}
+
+/// Reads a mesh file without validating its topology (dispatch on the extension; see the
+/// module doc). Returns the line numbers of elements for text formats (empty for binary ones).
+pub fn read_polymesh(path: impl AsRef<Path>) -> Result<(PolyMesh, SourceMap), MeshError> {
+    let path = path.as_ref();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let bytes = fs::read(path).map_err(|e| io_err(path, e))?;
+    match ext.as_str() {
+        "obj" => parse_obj(&utf8(&bytes)?),
+        "off" => parse_off(&utf8(&bytes)?),
+        "ply" => parse_ply(&bytes),
+        "stl" => parse_stl(&bytes).map(|m| (m, SourceMap::default())),
+        _ => Err(parse_err(None, format!("unknown mesh file extension {ext:?} of {}", path.display()))),
+    }
+}
+
+fn utf8(bytes: &[u8]) -> Result<String, MeshError> {
+    String::from_utf8(bytes.to_vec()).map_err(|e| {
+        let line = bytes[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+        parse_err(Some(line), "file is not UTF-8 text")
+    })
+}
+
+/// Reads and validates a mesh file into a half-edge mesh; errors and warnings carry the source
+/// line of the named element for text formats.
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<HalfEdgeMesh, MeshError> {
+    let (mesh, map) = read_polymesh(path)?;
+    let mut he = HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
+    he.annotate_warnings(&map);
+    Ok(he)
+}
+
+// ---------------------------------------------------------------- PLY reading
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PlyType {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl PlyType {
+    fn parse(s: &str) -> Option<Self> {
+        Some(match s {
+            "char" | "int8" => Self::I8,
+            "uchar" | "uint8" => Self::U8,
+            "short" | "int16" => Self::I16,
+            "ushort" | "uint16" => Self::U16,
+            "int" | "int32" => Self::I32,
+            "uint" | "uint32" => Self::U32,
+            "float" | "float32" => Self::F32,
+            "double" | "float64" => Self::F64,
+            _ => return None,
+        })
+    }
+    fn size(self) -> usize {
+        match self {
+            Self::I8 | Self::U8 => 1,
+            Self::I16 | Self::U16 => 2,
+            Self::I32 | Self::U32 | Self::F32 => 4,
+            Self::F64 => 8,
+        }
+    }
+    fn read_le(self, b: &[u8]) -> f64 {
+        match self {
+            Self::I8 => b[0] as i8 as f64,
+            Self::U8 => b[0] as f64,
+            Self::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
+            Self::U16 => u16::from_le_bytes([b[0], b[1]]) as f64,
+            Self::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Self::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Self::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Self::F64 => f64::from_le_bytes(b[..8].try_into().unwrap_or([0; 8])),
+        }
+    }
+}
+
+#[derive(Debug)]
+struct PlyProp {
+    name: String,
+    /// `Some(count type)` for a list property.
+    list: Option<PlyType>,
+    ty: PlyType,
+}
+
+#[derive(Debug)]
+struct PlyElement {
+    name: String,
+    count: usize,
+    props: Vec<PlyProp>,
+}
+
+/// Reads PLY (ASCII or binary little-endian): `vertex` x/y/z and `face` `vertex_indices` (or
+/// `vertex_index`); other elements and properties are skipped.
+pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
+    // Header.
+    let mut pos = 0;
+    let mut line_no = 0;
+    let mut next_line = |pos: &mut usize| -> Option<(usize, String)> {
+        if *pos >= bytes.len() {
+            return None;
+        }
+        let end = bytes[*pos..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |e| *pos + e);
+        let l = String::from_utf8_lossy(&bytes[*pos..end]).trim_end_matches('\r').to_string();
+        *pos = (end + 1).min(bytes.len());
+        line_no += 1;
+        Some((line_no, l))
+    };
+    match next_line(&mut pos) {
+        Some((_, l)) if l.trim() == "ply" => {}
+        _ => return Err(parse_err(Some(1), "missing 'ply' magic")),
+    }
+    let mut binary = None;
+    let mut elements: Vec<PlyElement> = Vec::new();
+    loop {
+        let (ln, l) = next_line(&mut pos).ok_or_else(|| parse_err(None, "PLY header without end_header"))?;
+        let t: Vec<&str> = l.split_whitespace().collect();
+        match t.as_slice() {
+            ["format", "ascii", _] => binary = Some(false),
+            ["format", "binary_little_endian", _] => binary = Some(true),
+            ["format", f, ..] => return Err(parse_err(Some(ln), format!("unsupported PLY format {f}"))),
+            ["comment", ..] | ["obj_info", ..] | [] => {}
+            ["element", name, count] => elements.push(PlyElement {
+                name: name.to_string(),
+                count: count.parse().map_err(|_| parse_err(Some(ln), "bad element count"))?,
+                props: Vec::new(),
+            }),
+            ["property", "list", ct, ty, name] => {
+                let e = elements.last_mut().ok_or_else(|| parse_err(Some(ln), "property before element"))?;
+                let (Some(ct), Some(ty)) = (PlyType::parse(ct), PlyType::parse(ty)) else {
+                    return Err(parse_err(Some(ln), "unknown PLY type"));
+                };
+                e.props.push(PlyProp { name: name.to_string(), list: Some(ct), ty });
+            }
+            ["property", ty, name] => {
+                let e = elements.last_mut().ok_or_else(|| parse_err(Some(ln), "property before element"))?;
+                let ty = PlyType::parse(ty).ok_or_else(|| parse_err(Some(ln), "unknown PLY type"))?;
+                e.props.push(PlyProp { name: name.to_string(), list: None, ty });
+            }
+            ["end_header"] => break,
+            _ => return Err(parse_err(Some(ln), format!("bad PLY header line {l:?}"))),
+        }
+    }
+    let binary = binary.ok_or_else(|| parse_err(None, "PLY header has no format line"))?;
+    let mut positions = Vec::new();
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    let mut map = SourceMap::default();
+    let mut raw_faces: Vec<(Vec<f64>, Option<usize>)> = Vec::new();
+    // Body: one record = Vec of values per property (lists flattened into their own Vec).
+    let mut ascii_lines = if binary {
+        None
+    } else {
+        let text = String::from_utf8_lossy(&bytes[pos..]).to_string();
+        let start = line_no;
+        Some(
+            text.lines()
+                .enumerate()
+                .map(|(i, l)| (start + i + 1, l.to_string()))
+                .filter(|(_, l)| !l.trim().is_empty())
+                .collect::<Vec<_>>()
+                .into_iter(),
+        )
+    };
+    for el in &elements {
+        let xyz: Vec<Option<usize>> =
+            ["x", "y", "z"].iter().map(|n| el.props.iter().position(|p| p.name == *n)).collect();
+        let fidx = el.props.iter().position(|p| {
+            p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
+        });
+        for _ in 0..el.count {
+            let mut rec: Vec<Vec<f64>> = Vec::with_capacity(el.props.len());
+            let mut rec_line = None;
+            if let Some(lines) = ascii_lines.as_mut() {
+                let (ln, l) = lines.next().ok_or_else(|| parse_err(None, "PLY file ends early"))?;
+                rec_line = Some(ln);
+                let mut toks = l.split_whitespace();
+                let num = |toks: &mut std::str::SplitWhitespace| -> Result<f64, MeshError> {
+                    toks.next()
+                        .ok_or_else(|| parse_err(Some(ln), "too few values"))?
+                        .parse::<f64>()
+                        .map_err(|_| parse_err(Some(ln), "bad number"))
+                };
+                for p in &el.props {
+                    if p.list.is_some() {
+                        let n = num(&mut toks)?;
+                        if !(n >= 0.0 && n < 1e7) {
+                            return Err(parse_err(Some(ln), "bad list length"));
+                        }
+                        let v: Result<Vec<f64>, _> = (0..n as usize).map(|_| num(&mut toks)).collect();
+                        rec.push(v?);
+                    } else {
+                        rec.push(vec![num(&mut toks)?]);
+                    }
+                }
+            } else {
+                let mut take = |n: usize| -> Result<&[u8], MeshError> {
+                    let s = bytes.get(pos..pos + n).ok_or_else(|| parse_err(None, "PLY file ends early"))?;
+                    pos += n;
+                    Ok(s)
+                };
+                for p in &el.props {
+                    if let Some(ct) = p.list {
+                        let n = ct.read_le(take(ct.size())?);
+                        if !(n >= 0.0 && n < 1e7) {
+                            return Err(parse_err(None, "bad list length"));
+                        }
+                        let mut v = Vec::with_capacity(n as usize);
+                        for _ in 0..n as usize {
+                            v.push(p.ty.read_le(take(p.ty.size())?));
+                        }
+                        rec.push(v);
+                    } else {
+                        rec.push(vec![p.ty.read_le(take(p.ty.size())?)]);
+                    }
+                }
+            }
+            if el.name == "vertex" {
+                let mut c = [0.0; 3];
+                for k in 0..3 {
+                    let i = xyz[k].ok_or_else(|| parse_err(None, "PLY vertex without x/y/z"))?;
+                    c[k] = rec[i].first().copied().ok_or_else(|| parse_err(rec_line, "PLY vertex coordinate is an empty list"))?;
+                }
+                positions.push(DVec3::from_array(c));
+                if let Some(l) = rec_line {
+                    map.vertex_lines.push(l);
+                }
+            } else if el.name == "face" {
+                let i = fidx.ok_or_else(|| parse_err(None, "PLY face without vertex_indices"))?;
+                raw_faces.push((std::mem::take(&mut rec[i]), rec_line));
+                if let Some(l) = rec_line {
+                    map.face_lines.push(l);
+                }
+            }
+        }
+    }
+    let nv = positions.len();
+    for (f, (idx, ln)) in raw_faces.into_iter().enumerate() {
+        let mut face = Vec::with_capacity(idx.len());
+        for (c, &i) in idx.iter().enumerate() {
+            if !(i >= 0.0 && (i as usize) < nv) || i.fract() != 0.0 {
+                return Err(MeshError::IndexOutOfRange {
+                    face: f,
+                    corner: c,
+                    index: i as i64,
+                    n_vertices: nv,
+                    line: ln,
+                });
+            }
+            face.push(i as u32);
+        }
+        faces.push(face);
+    }
+    Ok((PolyMesh { positions, faces }, map))
+}
+
+// ---------------------------------------------------------------- STL reading
+
+/// Reads STL (binary, or ASCII when the file starts with `solid` and its size does not match the
+/// binary layout). Corners with bit-identical positions are welded into one vertex.
+pub fn parse_stl(bytes: &[u8]) -> Result<PolyMesh, MeshError> {
+    let is_binary = bytes.len() >= 84 && {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        84 + 50 * n == bytes.len()
+    };
+    let mut tris: Vec<[DVec3; 3]> = Vec::new();
+    if is_binary {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        for t in 0..n {
+            let base = 84 + 50 * t + 12;
+            let mut c = [DVec3::ZERO; 3];
+            for (k, ck) in c.iter_mut().enumerate() {
+                let f = |j: usize| {
+                    let o = base + 12 * k + 4 * j;
+                    f32::from_le_bytes([bytes[o], bytes[o + 1], bytes[o + 2], bytes[o + 3]]) as f64
+                };
+                *ck = DVec3::new(f(0), f(1), f(2));
+            }
+            tris.push(c);
+        }
+    } else {
+        let text = utf8(bytes)?;
+        if !text.trim_start().starts_with("solid") {
+            return Err(parse_err(Some(1), "neither binary STL nor ASCII STL ('solid')"));
+        }
+        let mut cur = Vec::new();
+        for (i, l) in text.lines().enumerate() {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            if t.first() == Some(&"vertex") {
+                if t.len() != 4 {
+                    return Err(parse_err(Some(i + 1), "STL vertex needs 3 coordinates"));
+                }
+                let v: Result<Vec<f64>, _> = t[1..].iter().map(|s| s.parse::<f64>()).collect();
+                let v = v.map_err(|_| parse_err(Some(i + 1), "bad number in STL vertex"))?;
+                cur.push(DVec3::new(v[0], v[1], v[2]));
+            } else if t.first() == Some(&"endloop") {
+                if cur.len() != 3 {
+                    return Err(parse_err(Some(i + 1), "STL facet without 3 vertices"));
+                }
+                tris.push([cur[0], cur[1], cur[2]]);
+                cur.clear();
+            }
+        }
+    }
+    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut faces = Vec::with_capacity(tris.len());
+    for t in tris {
+        let face = t
+            .iter()
+            .map(|p| {
+                let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+                *index.entry(key).or_insert_with(|| {
+                    positions.push(*p);
+                    (positions.len() - 1) as u32
+                })
+            })
+            .collect();
+        faces.push(face);
+    }
+    Ok(PolyMesh { positions, faces })
+}
+
+// ---------------------------------------------------------------- writers
+
+/// PLY body encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PlyFormat {
+    /// Human-readable text.
+    #[default]
+    Ascii,
+    /// `binary_little_endian 1.0`.
+    BinaryLittleEndian,
+}
+
+/// A named per-vertex scalar written as `property float <name>` (e.g. `quality`, curvature).
+#[derive(Clone, Copy, Debug)]
+pub struct VertexScalar<'a> {
+    pub name: &'a str,
+    pub values: &'a [f64],
+}
+
+/// Writes PLY: `double x y z`, optional `float nx ny nz` (when `normals` has one per vertex),
+/// the given per-vertex scalars as `float`, and faces as `list uchar int vertex_indices`
+/// (faces with more than 255 corners use `list int int`).
+pub fn write_ply<W: Write>(
+    mut w: W,
+    positions: &[DVec3],
+    normals: Option<&[DVec3]>,
+    faces: &[&[u32]],
+    scalars: &[VertexScalar<'_>],
+    format: PlyFormat,
+) -> io::Result<()> {
+    let nv = positions.len();
+    for s in scalars {
+        if s.values.len() != nv || s.name.is_empty() || s.name.contains(char::is_whitespace) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("scalar {:?}: needs one value per vertex and a name without spaces", s.name),
+            ));
+        }
+    }
+    let normals = normals.filter(|n| n.len() == nv);
+    let wide = faces.iter().any(|f| f.len() > 255);
+    writeln!(w, "ply")?;
+    match format {
+        PlyFormat::Ascii => writeln!(w, "format ascii 1.0")?,
+        PlyFormat::BinaryLittleEndian => writeln!(w, "format binary_little_endian 1.0")?,
+    }
+    writeln!(w, "comment written by gbsurf")?;
+    writeln!(w, "element vertex {nv}")?;
+    for c in ["x", "y", "z"] {
+        writeln!(w, "property double {c}")?;
+    }
+    if normals.is_some() {
+        for c in ["nx", "ny", "nz"] {
+            writeln!(w, "property float {c}")?;
+        }
+    }
+    for s in scalars {
+        writeln!(w, "property float {}", s.name)?;
+    }
+    writeln!(w, "element face {}", faces.len())?;
+    writeln!(w, "property list {} int vertex_indices", if wide { "int" } else { "uchar" })?;
+    writeln!(w, "end_header")?;
+    match format {
+        PlyFormat::Ascii => {
+            for (i, p) in positions.iter().enumerate() {
+                write!(w, "{:?} {:?} {:?}", p.x, p.y, p.z)?;
+                if let Some(n) = normals {
+                    write!(w, " {:?} {:?} {:?}", n[i].x as f32, n[i].y as f32, n[i].z as f32)?;
+                }
+                for s in scalars {
+                    write!(w, " {:?}", s.values[i] as f32)?;
+                }
+                writeln!(w)?;
+            }
+            for f in faces {
+                write!(w, "{}", f.len())?;
+                for i in f.iter() {
+                    write!(w, " {i}")?;
+                }
+                writeln!(w)?;
+            }
+        }
+        PlyFormat::BinaryLittleEndian => {
+            for (i, p) in positions.iter().enumerate() {
+                for c in p.to_array() {
+                    w.write_all(&c.to_le_bytes())?;
+                }
+                if let Some(n) = normals {
+                    for c in n[i].to_array() {
+                        w.write_all(&(c as f32).to_le_bytes())?;
+                    }
+                }
+                for s in scalars {
+                    w.write_all(&(s.values[i] as f32).to_le_bytes())?;
+                }
+            }
+            for f in faces {
+                if wide {
+                    w.write_all(&(f.len() as i32).to_le_bytes())?;
+                } else {
+                    w.write_all(&[f.len() as u8])?;
+                }
+                for &i in f.iter() {
+                    w.write_all(&(i as i32).to_le_bytes())?;
+                }
+            }
+        }
+    }
+    w.flush()
+}
+
+/// Writes binary STL triangles (80-byte header, count, per triangle unit normal + 3 corners as
+/// `f32`, zero attribute). The facet normal is that of the triangle (zero if degenerate).
+pub fn write_stl_triangles<W: Write>(mut w: W, positions: &[DVec3], tris: &[[u32; 3]]) -> io::Result<()> {
+    let mut header = [0u8; 80];
+    let tag = b"binary STL written by gbsurf";
+    header[..tag.len()].copy_from_slice(tag);
+    w.write_all(&header)?;
+    let n = u32::try_from(tris.len())
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidInput, "too many triangles for STL"))?;
+    if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= positions.len())) {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("triangle {t:?} names a missing vertex")));
+    }
+    w.write_all(&n.to_le_bytes())?;
+    for t in tris {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let nrm = (b - a).cross(c - a).normalize_or_zero();
+        for v in [nrm, a, b, c] {
+            for x in v.to_array() {
+                w.write_all(&(x as f32).to_le_bytes())?;
+            }
+        }
+        w.write_all(&[0, 0])?;
+    }
+    w.flush()
+}
+
+/// Writes to `path` atomically: into a temporary file in the same directory, then renames it
+/// over `path` (readers never see a half-written file).
+pub fn write_atomic(
+    path: impl AsRef<Path>,
+    write: impl FnOnce(&mut io::BufWriter<fs::File>) -> io::Result<()>,
+) -> Result<(), MeshError> {
+    let path = path.as_ref();
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("mesh");
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut w = io::BufWriter::new(fs::File::create(&tmp)?);
+        write(&mut w)?;
+        w.flush()?;
+        w.get_ref().sync_all()?;
+        drop(w);
+        fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        io_err(path, e)
+    })
+}
+
+fn ext_of(path: &Path) -> String {
+    path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()
+}
+
+impl PolyMesh {
+    /// Writes Wavefront OBJ (`v` with 17 significant digits, `f` with 1-based polygon loops).
+    pub fn write_obj<W: Write>(&self, mut w: W) -> io::Result<()> {
+        for p in &self.positions {
+            writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
+        }
+        for f in &self.faces {
+            write!(w, "f")?;
+            for i in f {
+                write!(w, " {}", i + 1)?;
+            }
+            writeln!(w)?;
+        }
+        w.flush()
+    }
+    /// Writes PLY with polygon faces and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.faces.iter().map(Vec::as_slice).collect();
+        write_ply(w, &self.positions, None, &faces, scalars, format)
+    }
+    /// Writes binary STL; faces are first split into convex pieces ([`super::geometry::convexify`])
+    /// and then fan-triangulated, so concave faces come out right.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        let (convex, _) = super::geometry::convexify(self);
+        let mut tris = Vec::new();
+        for f in &convex.faces {
+            for k in 1..f.len().saturating_sub(1) {
+                tris.push([f[0], f[k], f[k + 1]]);
+            }
+        }
+        write_stl_triangles(w, &self.positions, &tris)
+    }
+    /// Writes the file named by `path` atomically, format by extension: `obj`, `ply` (binary),
+    /// `stl` (binary).
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), MeshError> {
+        let path = path.as_ref();
+        match ext_of(path).as_str() {
+            "obj" => write_atomic(path, |w| self.write_obj(w)),
+            "ply" => write_atomic(path, |w| self.write_ply(w, PlyFormat::BinaryLittleEndian, &[])),
+            "stl" => write_atomic(path, |w| self.write_stl(w)),
+            e => Err(parse_err(None, format!("unknown output extension {e:?}"))),
+        }
+    }
+}
+
+impl TriMesh {
+    /// Writes PLY with per-vertex normals (when present) and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        write_ply(w, &self.positions, Some(&self.normals), &faces, scalars, format)
+    }
+    /// Writes binary STL.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        write_stl_triangles(w, &self.positions, &self.triangles)
+    }
+    /// Writes the file named by `path` atomically, format by extension: `obj`, `ply` (binary),
+    /// `stl` (binary).
+    pub fn write_file(&self, path: impl AsRef<Path>) -> Result<(), MeshError> {
+        let path = path.as_ref();
+        match ext_of(path).as_str() {
+            "obj" => write_atomic(path, |w| self.write_obj(w)),
+            "ply" => write_atomic(path, |w| self.write_ply(w, PlyFormat::BinaryLittleEndian, &[])),
+            "stl" => write_atomic(path, |w| self.write_stl(w)),
+            e => Err(parse_err(None, format!("unknown output extension {e:?}"))),
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! Validation of a [`PolyMesh`] before any work is done on it.
+//!
+//! Checks, in this order (the first failure is returned, naming the element):
+//! 1. no faces → [`MeshError::Empty`];
+//! 2. every coordinate finite ([`MeshError::NonFiniteCoordinate`]) and of absolute value at most
+//!    [`COORDINATE_LIMIT`] ([`MeshError::CoordinateRange`]);
+//! 3. per face, in face order: at least 3 corners, indices in range, no repeated index, area
+//!    not (relatively) zero (computed in a frame scaled by the face's size, so it cannot overflow);
+//! 4. no face repeated with the same orientation ([`MeshError::DuplicateFace`]);
+//! 5. no edge shared by more than two faces ([`MeshError::NonManifoldEdge`]);
+//! 6. no directed edge used twice ([`MeshError::InconsistentOrientation`]);
+//! 7. no face repeated with the opposite orientation ([`MeshError::DuplicateFace`]);
+//! 8. (in [`HalfEdgeMesh::from_polymesh`]) every vertex has a single fan of faces
+//!    ([`MeshError::NonManifoldVertex`]).
+//!
+//! Isolated vertices (used by no face) are not errors: they are dropped, the remaining vertices
+//! renumbered in order, and a [`MeshWarning::IsolatedVertex`] recorded.
+//!
+//! All steps are linear in the mesh size (hash maps of edges and of canonical face cycles).
+//!
+//! [`HalfEdgeMesh::from_polymesh`]: super::halfedge::HalfEdgeMesh::from_polymesh
+
+use super::error::{MeshError, MeshWarning, COORDINATE_LIMIT, ZERO_AREA_REL};
+use super::geometry::newell_normal;
+use super::halfedge::HalfEdgeMesh;
+use super::PolyMesh;
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// A mesh that passed validation: cleaned (isolated vertices dropped), with warnings and the map
+/// back to the input's vertex numbering.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidMesh {
+    /// The cleaned mesh (vertices renumbered).
+    pub mesh: PolyMesh,
+    /// What was changed on the way in.
+    pub warnings: Vec<MeshWarning>,
+    /// `original_vertex[v]` = index of the cleaned vertex `v` in the input mesh.
+    pub original_vertex: Vec<u32>,
+}
+
+/// Validates `mesh` completely (all checks of this module, including the vertex-fan check of the
+/// half-edge build) and returns the cleaned mesh.
+pub fn validate(mesh: &PolyMesh) -> Result<ValidMesh, MeshError> {
+    let he = HalfEdgeMesh::from_polymesh(mesh)?;
+    Ok(ValidMesh {
+        mesh: he.to_polymesh(),
+        warnings: he.warnings().to_vec(),
+        original_vertex: he.original_vertices().to_vec(),
+    })
+}
+
+/// Checks 1–7 of the module doc (everything that needs no half-edge structure).
+pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
+    if mesh.faces.is_empty() {
+        return Err(MeshError::Empty);
+    }
+    for (v, p) in mesh.positions.iter().enumerate() {
+        for axis in 0..3 {
+            let x = p[axis];
+            if !x.is_finite() {
+                return Err(MeshError::NonFiniteCoordinate { vertex: v, axis, value: x, line: None });
+            }
+            if x.abs() > COORDINATE_LIMIT {
+                return Err(MeshError::CoordinateRange {
+                    vertex: v,
+                    axis,
+                    value: x,
+                    limit: COORDINATE_LIMIT,
+                    line: None,
+                });
+            }
+        }
+    }
+    let nv = mesh.positions.len();
+    let mut seen: HashMap<u32, ()> = HashMap::new();
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(MeshError::FaceTooSmall { face: f, len: face.len(), line: None });
+        }
+        for (c, &i) in face.iter().enumerate() {
+            if i as usize >= nv {
+                return Err(MeshError::IndexOutOfRange {
+                    face: f,
+                    corner: c,
+                    index: i as i64,
+                    n_vertices: nv,
+                    line: None,
+                });
+            }
+        }
+        seen.clear();
+        for &i in face {
+            if seen.insert(i, ()).is_some() {
+                return Err(MeshError::RepeatedIndex { face: f, vertex: i as usize, line: None });
+            }
+        }
+        let pts: Vec<DVec3> = face.iter().map(|&i| mesh.positions[i as usize]).collect();
+        let (area, h) = scaled_area(&pts);
+        // relative to d² with d = 2h the largest extent: area/4 ≤ ZERO_AREA_REL
+        if area * 0.25 <= ZERO_AREA_REL {
+            return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
+        }
+    }
+    // 4. duplicates with the same orientation; 7. with the opposite one.
+    let mut cycles: HashMap<Vec<u32>, usize> = HashMap::with_capacity(mesh.faces.len());
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if let Some(&first) = cycles.get(&canonical_cycle(face)) {
+            return Err(MeshError::DuplicateFace { face: f, first, line: None });
+        }
+        cycles.insert(canonical_cycle(face), f);
+    }
+    // 5. edge use counts (undirected), faces listed in order.
+    let mut edge_faces: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    for (f, face) in mesh.faces.iter().enumerate() {
+        for (a, b) in face_edges(face) {
+            edge_faces.entry((a.min(b), a.max(b))).or_default().push(f as u32);
+        }
+    }
+    for face in mesh.faces.iter() {
+        for (a, b) in face_edges(face) {
+            let faces = &edge_faces[&(a.min(b), a.max(b))];
+            if faces.len() > 2 {
+                return Err(MeshError::NonManifoldEdge {
+                    edge: (a.min(b) as usize, a.max(b) as usize),
+                    faces: faces.iter().map(|&f| f as usize).collect(),
+                    line: None,
+                });
+            }
+        }
+    }
+    // 6. directed edges.
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::with_capacity(edge_faces.len() * 2);
+    for (f, face) in mesh.faces.iter().enumerate() {
+        for (a, b) in face_edges(face) {
+            if let Some(&g) = directed.get(&(a, b)) {
+                return Err(MeshError::InconsistentOrientation {
+                    edge: (a as usize, b as usize),
+                    faces: (g, f),
+                    line: None,
+                });
+            }
+            directed.insert((a, b), f);
+        }
+    }
+    // 7.
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let rev: Vec<u32> = face.iter().rev().copied().collect();
+        if let Some(&first) = cycles.get(&canonical_cycle(&rev)) {
+            if first < f {
+                return Err(MeshError::DuplicateFace { face: f, first, line: None });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The directed edges `(face[i], face[i+1])` of a face loop.
+pub(crate) fn face_edges(face: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    (0..face.len()).map(move |i| (face[i], face[(i + 1) % face.len()]))
+}
+
+/// The face loop rotated to start at its smallest index (same orientation).
+fn canonical_cycle(face: &[u32]) -> Vec<u32> {
+    let k = (0..face.len()).min_by_key(|&i| face[i]).unwrap_or(0);
+    face[k..].iter().chain(face[..k].iter()).copied().collect()
+}
+
+/// Area of the polygon scaled to unit size, and the scale `h` (half the largest bounding-box
+/// extent; the scaled polygon fits in `[-1, 1]³`): the true area is `area · h²`. Scaling first
+/// keeps every product finite for any finite input.
+pub(crate) fn scaled_area(pts: &[DVec3]) -> (f64, f64) {
+    let (lo, hi) = pts
+        .iter()
+        .fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let h = (hi * 0.5 - lo * 0.5).max_element();
+    if !(h > 0.0) || !h.is_finite() {
+        return (0.0, h);
+    }
+    let c_half = lo * 0.25 + hi * 0.25;
+    let local: Vec<DVec3> = pts.iter().map(|p| (*p * 0.5 - c_half) / (h * 0.5)).collect();
+    (0.5 * newell_normal(&local).length(), h)
+}
+
+/// Drops vertices used by no face; returns the renumbered mesh, `new → old` vertex map and one
+/// warning per dropped vertex. Assumes indices are in range.
+pub(crate) fn drop_isolated(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>, Vec<MeshWarning>) {
+    let mut used = vec![false; mesh.positions.len()];
+    for face in &mesh.faces {
+        for &i in face {
+            used[i as usize] = true;
+        }
+    }
+    let mut new_index = vec![u32::MAX; mesh.positions.len()];
+    let mut old = Vec::new();
+    let mut positions = Vec::new();
+    let mut warnings = Vec::new();
+    for (v, &u) in used.iter().enumerate() {
+        if u {
+            new_index[v] = positions.len() as u32;
+            positions.push(mesh.positions[v]);
+            old.push(v as u32);
+        } else {
+            warnings.push(MeshWarning::IsolatedVertex { vertex: v, line: None });
+        }
+    }
+    let faces = mesh
+        .faces
+        .iter()
+        .map(|f| f.iter().map(|&i| new_index[i as usize]).collect())
+        .collect();
+    (PolyMesh { positions, faces }, old, warnings)
+}
