@@ -11,6 +11,7 @@ pub mod weights;
 
 pub mod connected;
 pub mod gbp;
+pub mod table;
 
 pub use cgb::CgbBasisEvaluator;
 pub use derivs::{Curvature, Jet2, SurfaceDerivs};

@@ -1,0 +1,459 @@
+//! Per-(n, d, r, weight form) weight tables: for every sample of a [`SampleLayout`] the GB basis
+//! weight of every control point and its u and v derivatives, as dense row-major matrices.
+//! A patch is then evaluated at all samples by matrix × control-vector products:
+//! S = Σ_c w_c P_c, S_u = Σ_c ∂_u w_c P_c, S_v = Σ_c ∂_v w_c P_c, normal = S_u × S_v / |S_u × S_v|.
+//!
+//! Control points are in the flat order of the GB basis: the central point first, then side i,
+//! row k, column j (index 1 + (i·l + k)(d+1) + j). Coordinates are stored as SoA (x, y, z
+//! arrays) padded to a multiple of 4 with zeros, and each sample's row holds the three weight
+//! vectors back to back, so the inner loop streams contiguous memory with 4 independent lanes.
+//! Tables are shared between patches through [`GbTable::cached`].
+
+use super::connected::layers;
+use super::derivs::SurfaceDerivs;
+use super::error::GbError;
+use super::patch::{GbPatch, WeightForm};
+use super::weights::GbBasisEvaluator;
+use super::Jet2;
+use crate::mesh::{MeshSink, TriMesh};
+use crate::tessellate::patch::{emit_patch, LayoutError, SampleLayout};
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Lanes of the inner loop (and padding granularity of a row).
+const LANES: usize = 4;
+
+/// Errors building a table or evaluating a patch with it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TableError {
+    /// The sampling layout cannot be built.
+    #[error(transparent)]
+    Layout(#[from] LayoutError),
+    /// The patch or the (n, d) request is invalid.
+    #[error(transparent)]
+    Patch(#[from] GbError),
+    /// The patch does not match the table's n or d.
+    #[error("patch has n = {n}, d = {d}; the table is for n = {table_n}, d = {table_d}")]
+    Mismatch {
+        n: usize,
+        d: usize,
+        table_n: usize,
+        table_d: usize,
+    },
+    /// The table would need more than [`MAX_TABLE_BYTES`] of memory.
+    #[error("a weight table for n = {n}, d = {d}, r = {r} would need {bytes} bytes")]
+    TooLarge {
+        n: usize,
+        d: usize,
+        r: usize,
+        bytes: u128,
+    },
+    /// A weight of the basis came out non-finite.
+    #[error("basis weight of control point {control} at sample {sample} is not finite")]
+    NonFiniteWeight { sample: usize, control: usize },
+}
+
+/// Largest weight table built (bytes): 1 GiB.
+pub const MAX_TABLE_BYTES: u128 = 1 << 30;
+
+/// Number of flat control points of an n-sided degree-d GB patch: 1 + n·l·(d+1).
+pub fn flat_control_count(n: usize, degree: usize) -> usize {
+    1 + n * layers(degree) * (degree + 1)
+}
+
+/// Key of the table cache.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TableKey {
+    pub sides: usize,
+    pub degree: usize,
+    pub resolution: usize,
+    pub form: WeightForm,
+}
+
+/// The control points of one patch as padded SoA coordinate arrays, in flat basis order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ControlSoa {
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub z: Vec<f64>,
+}
+
+impl ControlSoa {
+    /// From flat-ordered points, padded with zeros to `stride` entries.
+    pub fn from_points(points: &[DVec3], stride: usize) -> Self {
+        let mut c = ControlSoa {
+            x: vec![0.0; stride.max(points.len())],
+            y: vec![0.0; stride.max(points.len())],
+            z: vec![0.0; stride.max(points.len())],
+        };
+        for (m, p) in points.iter().enumerate() {
+            c.x[m] = p.x;
+            c.y[m] = p.y;
+            c.z[m] = p.z;
+        }
+        c
+    }
+}
+
+/// Position and first derivatives at one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleFrame {
+    pub position: DVec3,
+    pub du: DVec3,
+    pub dv: DVec3,
+}
+
+impl SampleFrame {
+    /// Unit normal S_u × S_v / |S_u × S_v|, `None` where the parameterization degenerates (same
+    /// criterion as [`SurfaceDerivs::normal`]).
+    #[inline]
+    pub fn normal(&self) -> Option<DVec3> {
+        SurfaceDerivs {
+            p: self.position,
+            su: self.du,
+            sv: self.dv,
+            ..Default::default()
+        }
+        .normal()
+    }
+}
+
+/// Dense weight table of one (n, d, r, weight form); see the module doc.
+#[derive(Clone, Debug)]
+pub struct GbTable {
+    /// Number of sides n.
+    pub sides: usize,
+    /// Degree d.
+    pub degree: usize,
+    /// Weight form of the correction weights μ.
+    pub form: WeightForm,
+    /// Samples and triangles.
+    pub layout: SampleLayout,
+    /// Number of flat control points N.
+    controls: usize,
+    /// N rounded up to a multiple of [`LANES`].
+    stride: usize,
+    /// Row s: w[0..stride], ∂_u w[0..stride], ∂_v w[0..stride].
+    data: Vec<f64>,
+}
+
+impl GbTable {
+    /// The table of the GB basis ([`GbBasisEvaluator`]) of n sides, degree d and weight form
+    /// `form` at the samples of [`SampleLayout::for_domain`] at resolution r.
+    pub fn new(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Self, TableError> {
+        let mut ev = GbBasisEvaluator::new(sides, degree)?;
+        let stride = flat_control_count(sides, degree).div_ceil(LANES) * LANES;
+        let samples = 1 + (sides as u128) * (resolution as u128) * (resolution as u128 + 1) / 2;
+        let bytes = samples * 3 * stride as u128 * 8;
+        if bytes > MAX_TABLE_BYTES {
+            return Err(TableError::TooLarge {
+                n: sides,
+                d: degree,
+                r: resolution,
+                bytes,
+            });
+        }
+        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+        let mut jets = vec![Jet2::ZERO; ev.len()];
+        Self::from_basis(sides, degree, form, layout, |uv, w, wu, wv| {
+            // `jets` has the evaluator's length, so this cannot fail.
+            if ev.eval_into(uv, form, &mut jets).is_ok() {
+                for (m, j) in jets.iter().enumerate() {
+                    (w[m], wu[m], wv[m]) = (j.val, j.du, j.dv);
+                }
+            }
+        })
+    }
+
+    /// The shared table of (n, d, r, form) from the process-wide cache (built on first use).
+    pub fn cached(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Arc<GbTable>, TableError> {
+        let key = TableKey {
+            sides,
+            degree,
+            resolution,
+            form,
+        };
+        Self::cached_with(key, || GbTable::new(sides, degree, resolution, form))
+    }
+
+    /// Builds a table from a basis function: `basis(uv, w, w_u, w_v)` fills the weights and
+    /// their u, v derivatives of the `controls` flat control points (slices of that length).
+    pub fn from_basis(
+        sides: usize,
+        degree: usize,
+        form: WeightForm,
+        layout: SampleLayout,
+        mut basis: impl FnMut(DVec2, &mut [f64], &mut [f64], &mut [f64]),
+    ) -> Result<Self, TableError> {
+        let controls = flat_control_count(sides, degree);
+        let stride = controls.div_ceil(LANES) * LANES;
+        let mut data = vec![0.0; layout.uv.len() * 3 * stride];
+        for (s, row) in data.chunks_exact_mut(3 * stride).enumerate() {
+            let (w, rest) = row.split_at_mut(stride);
+            let (wu, wv) = rest.split_at_mut(stride);
+            basis(
+                layout.uv[s],
+                &mut w[..controls],
+                &mut wu[..controls],
+                &mut wv[..controls],
+            );
+            for (m, c) in row.iter().enumerate() {
+                if !c.is_finite() {
+                    return Err(TableError::NonFiniteWeight {
+                        sample: s,
+                        control: m % stride,
+                    });
+                }
+            }
+        }
+        Ok(GbTable {
+            sides,
+            degree,
+            form,
+            layout,
+            controls,
+            stride,
+            data,
+        })
+    }
+
+    /// Largest weight table built (bytes): 1 GiB.
+    pub const MAX_TABLE_BYTES: u128 = 1 << 30;
+
+    /// Number of flat control points N.
+    pub fn control_count(&self) -> usize {
+        self.controls
+    }
+
+    /// Padded row length (multiple of 4).
+    pub fn stride(&self) -> usize {
+        self.stride
+    }
+
+    /// Number of samples.
+    pub fn sample_count(&self) -> usize {
+        self.layout.uv.len()
+    }
+
+    /// The weights, u- and v-derivatives of all control points at sample `s` (N entries each).
+    pub fn weights(&self, s: usize) -> (&[f64], &[f64], &[f64]) {
+        let row = &self.data[s * 3 * self.stride..(s + 1) * 3 * self.stride];
+        let (w, rest) = row.split_at(self.stride);
+        let (wu, wv) = rest.split_at(self.stride);
+        (
+            &w[..self.controls],
+            &wu[..self.controls],
+            &wv[..self.controls],
+        )
+    }
+
+    /// The SoA control vector of a patch of this table's n and d.
+    pub fn controls_of(&self, patch: &GbPatch) -> Result<ControlSoa, TableError> {
+        patch.validate()?;
+        let pts = patch.control_points_flat();
+        let (n, d) = (patch.n(), patch.degree());
+        if n != self.sides || d != self.degree {
+            return Err(TableError::Mismatch {
+                n,
+                d,
+                table_n: self.sides,
+                table_d: self.degree,
+            });
+        }
+        Ok(ControlSoa::from_points(&pts, self.stride))
+    }
+
+    /// Position and derivatives at sample `s`. `ctrl` must come from [`GbTable::controls_of`]
+    /// (or have at least `stride` entries per coordinate).
+    #[inline]
+    pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
+        let st = self.stride;
+        let row = &self.data[s * 3 * st..(s + 1) * 3 * st];
+        let (x, y, z) = (&ctrl.x[..st], &ctrl.y[..st], &ctrl.z[..st]);
+        let (w, rest) = row.split_at(st);
+        let (wu, wv) = rest.split_at(st);
+        // 9 accumulators × 4 lanes: position, ∂u, ∂v for x, y, z.
+        let mut acc = [[0.0f64; LANES]; 9];
+        let chunks = w
+            .chunks_exact(LANES)
+            .zip(wu.chunks_exact(LANES))
+            .zip(wv.chunks_exact(LANES))
+            .zip(x.chunks_exact(LANES))
+            .zip(y.chunks_exact(LANES))
+            .zip(z.chunks_exact(LANES));
+        for (((((w, wu), wv), x), y), z) in chunks {
+            for l in 0..LANES {
+                acc[0][l] += w[l] * x[l];
+                acc[1][l] += w[l] * y[l];
+                acc[2][l] += w[l] * z[l];
+                acc[3][l] += wu[l] * x[l];
+                acc[4][l] += wu[l] * y[l];
+                acc[5][l] += wu[l] * z[l];
+                acc[6][l] += wv[l] * x[l];
+                acc[7][l] += wv[l] * y[l];
+                acc[8][l] += wv[l] * z[l];
+            }
+        }
+        let sum = |a: [f64; LANES]| (a[0] + a[1]) + (a[2] + a[3]);
+        SampleFrame {
+            position: DVec3::new(sum(acc[0]), sum(acc[1]), sum(acc[2])),
+            du: DVec3::new(sum(acc[3]), sum(acc[4]), sum(acc[5])),
+            dv: DVec3::new(sum(acc[6]), sum(acc[7]), sum(acc[8])),
+        }
+    }
+
+    /// Positions and unit normals at all samples, into `positions` and `normals` (cleared
+    /// first; no allocation once they have the capacity).
+    pub fn eval_all(
+        &self,
+        ctrl: &ControlSoa,
+        positions: &mut Vec<DVec3>,
+        normals: &mut Vec<DVec3>,
+    ) {
+        positions.clear();
+        normals.clear();
+        positions.reserve(self.sample_count());
+        normals.reserve(self.sample_count());
+        for s in 0..self.sample_count() {
+            let f = self.eval_sample(s, ctrl);
+            positions.push(f.position);
+            normals.push(f.normal().unwrap_or(DVec3::ZERO));
+        }
+    }
+
+    /// Several patches at once, sample-major: each weight row is read once from memory and
+    /// applied to every patch (the way to go when the table is larger than the cache).
+    /// `positions[p]`, `normals[p]` receive patch p's samples.
+    pub fn eval_batch(
+        &self,
+        ctrls: &[ControlSoa],
+        positions: &mut [Vec<DVec3>],
+        normals: &mut [Vec<DVec3>],
+    ) {
+        for (p, n) in positions.iter_mut().zip(normals.iter_mut()) {
+            p.clear();
+            n.clear();
+            p.reserve(self.sample_count());
+            n.reserve(self.sample_count());
+        }
+        for s in 0..self.sample_count() {
+            for ((c, p), n) in ctrls
+                .iter()
+                .zip(positions.iter_mut())
+                .zip(normals.iter_mut())
+            {
+                let f = self.eval_sample(s, c);
+                p.push(f.position);
+                n.push(f.normal().unwrap_or(DVec3::ZERO));
+            }
+        }
+    }
+
+    /// Emits a patch through `sink` (see [`emit_patch`]); `existing` names sink vertices to
+    /// reuse (shared boundary samples). Returns the sink index of every sample.
+    pub fn emit<S: MeshSink + ?Sized>(
+        &self,
+        patch: &GbPatch,
+        existing: impl FnMut(usize) -> Option<u32>,
+        sink: &mut S,
+    ) -> Result<Vec<u32>, TableError> {
+        let ctrl = self.controls_of(patch)?;
+        Ok(emit_patch(
+            &self.layout,
+            |s, _| {
+                let f = self.eval_sample(s, &ctrl);
+                (f.position, f.normal().unwrap_or(DVec3::ZERO))
+            },
+            existing,
+            sink,
+        ))
+    }
+
+    /// One patch as a triangle mesh with normals (sample i is vertex i).
+    pub fn tessellate(&self, patch: &GbPatch) -> Result<TriMesh, TableError> {
+        let mut mesh = TriMesh::default();
+        self.emit(patch, |_| None, &mut mesh)?;
+        Ok(mesh)
+    }
+}
+
+type Cache = Mutex<HashMap<TableKey, Arc<GbTable>>>;
+
+fn cache() -> &'static Cache {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// Drops all cached tables (tables still in use stay alive through their `Arc`s).
+pub fn clear_table_cache() {
+    if let Ok(mut c) = cache().lock() {
+        c.clear();
+    }
+}
+
+impl GbTable {
+    /// The shared table for `key`, built on first use with `build` (held in a process-wide
+    /// cache until [`clear_table_cache`]).
+    pub fn cached_with(
+        key: TableKey,
+        build: impl FnOnce() -> Result<GbTable, TableError>,
+    ) -> Result<Arc<GbTable>, TableError> {
+        if let Ok(c) = cache().lock() {
+            if let Some(t) = c.get(&key) {
+                return Ok(Arc::clone(t));
+            }
+        }
+        // Built outside the lock: two threads may build the same table once each.
+        let table = Arc::new(build()?);
+        if let Ok(mut c) = cache().lock() {
+            return Ok(Arc::clone(c.entry(key).or_insert(table)));
+        }
+        Ok(table)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cache_shares_tables_per_key() {
+        let a = GbTable::cached(5, 3, 4, WeightForm::Squared).unwrap();
+        let b = GbTable::cached(5, 3, 4, WeightForm::Squared).unwrap();
+        let c = GbTable::cached(5, 3, 4, WeightForm::Linear).unwrap();
+        assert!(Arc::ptr_eq(&a, &b));
+        assert!(!Arc::ptr_eq(&a, &c));
+        assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
+        assert_eq!(a.stride() % LANES, 0);
+        assert!(matches!(
+            GbTable::new(2, 3, 4, WeightForm::Squared),
+            Err(TableError::Patch(_))
+        ));
+        assert!(matches!(
+            GbTable::new(8, 10, 100_000, WeightForm::Squared),
+            Err(TableError::TooLarge { .. })
+        ));
+    }
+
+    #[test]
+    fn weights_sum_to_one_and_derivatives_to_zero() {
+        let t = GbTable::new(6, 4, 5, WeightForm::Squared).unwrap();
+        for s in 0..t.sample_count() {
+            let (w, wu, wv) = t.weights(s);
+            assert_near!(w.iter().sum::<f64>(), 1.0);
+            assert_near!(wu.iter().sum::<f64>(), 0.0, 1e-11);
+            assert_near!(wv.iter().sum::<f64>(), 0.0, 1e-11);
+        }
+    }
+}
