@@ -56,21 +56,44 @@ fn direct_all(
     }
 }
 
-/// Median ns per point of `f` (which evaluates `points` points), over short repeated runs.
-fn ns_per_point(points: usize, mut f: impl FnMut()) -> f64 {
+/// CPU time of this thread in ns (Linux `/proc/thread-self/schedstat`), if available: the
+/// machine may be shared, so per-core cost is measured in CPU time, not wall time.
+fn thread_cpu_ns() -> Option<u64> {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// Median (wall, CPU) ns per point of `f` (which evaluates `points` points) over short runs.
+fn ns_per_point(points: usize, mut f: impl FnMut()) -> (f64, f64) {
     f();
-    let mut runs = Vec::new();
+    let mut wall = Vec::new();
+    let mut cpu = Vec::new();
     for _ in 0..5 {
         let start = Instant::now();
+        let c0 = thread_cpu_ns();
         let mut reps = 0;
-        while start.elapsed() < Duration::from_millis(40) {
+        while start.elapsed() < Duration::from_millis(60) {
             f();
             reps += 1;
         }
-        runs.push(start.elapsed().as_nanos() as f64 / (reps * points) as f64);
+        let pts = (reps * points) as f64;
+        wall.push(start.elapsed().as_nanos() as f64 / pts);
+        if let (Some(a), Some(b)) = (c0, thread_cpu_ns()) {
+            cpu.push((b - a) as f64 / pts);
+        }
     }
-    runs.sort_by(|a, b| a.total_cmp(b));
-    runs[runs.len() / 2]
+    let median = |mut v: Vec<f64>| {
+        if v.is_empty() {
+            return f64::NAN;
+        }
+        v.sort_by(|a, b| a.total_cmp(b));
+        v[v.len() / 2]
+    };
+    (median(wall), median(cpu))
 }
 
 fn main() {
@@ -121,20 +144,20 @@ fn main() {
                 let dt = ns_per_point(samples, || {
                     direct_all(&patches[0], &mut ev, &table, &mut direct_out)
                 });
-                let mib = (samples * 3 * table.stride() * 8) as f64 / (1 << 20) as f64;
+                let mib = table.memory_bytes() as f64 / (1 << 20) as f64;
                 summary.push((n, d, r, samples, mib, t, tb, dt));
             }
         }
     }
     println!(
-        "\nGB evaluation, ns per point (position + unit normal), median of 5 x 40 ms, 1 thread"
+        "\nGB evaluation, ns per point (position + unit normal), 1 thread, median of 5 x 60 ms;"
     );
-    println!("  n  d   r  samples  table MiB  table  batch16  direct  direct/table  direct/batch");
+    println!("cpu = thread CPU time (per-core cost on a shared machine), wall = elapsed time");
+    println!("  n  d   r samples  MiB  table cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)");
     for (n, d, r, s, mib, t, tb, dt) in summary {
         println!(
-            "{n:3} {d:2} {r:3} {s:8} {mib:10.1} {t:6.1} {tb:8.1} {dt:7.1} {:13.1} {:13.1}",
-            dt / t,
-            dt / tb
+            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}",
+            t.1, t.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1
         );
     }
     c.final_summary();

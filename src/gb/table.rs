@@ -1,12 +1,17 @@
 //! Per-(n, d, r, weight form) weight tables: for every sample of a [`SampleLayout`] the GB basis
-//! weight of every control point and its u and v derivatives, as dense row-major matrices.
+//! weight of every control point and its u and v derivatives, as dense matrices.
 //! A patch is then evaluated at all samples by matrix × control-vector products:
 //! S = Σ_c w_c P_c, S_u = Σ_c ∂_u w_c P_c, S_v = Σ_c ∂_v w_c P_c, normal = S_u × S_v / |S_u × S_v|.
 //!
 //! Control points are in the flat order of the GB basis: the central point first, then side i,
-//! row k, column j (index 1 + (i·l + k)(d+1) + j). Coordinates are stored as SoA (x, y, z
-//! arrays) padded to a multiple of 4 with zeros, and each sample's row holds the three weight
-//! vectors back to back, so the inner loop streams contiguous memory with 4 independent lanes.
+//! row k, column j (index 1 + (i·l + k)(d+1) + j); coordinates as SoA (x, y, z arrays).
+//!
+//! Layout, chosen for speed without fast-math: samples are grouped in tiles of [`TILE`]; within a
+//! tile, for each control point c in order, the weights w, ∂_u w, ∂_v w of the tile's samples
+//! (`data[((tile·N + c)·3 + q)·TILE + lane]`). The kernel walks the control points once per
+//! tile (inner loop over control points, contiguous memory), broadcasting each control
+//! coordinate and updating 9 accumulators that each hold the TILE samples as SIMD lanes: no
+//! horizontal sums, no shuffles, no allocation.
 //! Tables are shared between patches through [`GbTable::cached`].
 
 use super::connected::layers;
@@ -21,8 +26,9 @@ use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// Lanes of the inner loop (and padding granularity of a row).
-const LANES: usize = 4;
+/// Samples per tile: the SIMD lanes of the kernel (2 × f64 fills an SSE2 register; the 9
+/// accumulators then fit the 16 registers of x86-64).
+pub const TILE: usize = 2;
 
 /// Errors building a table or evaluating a patch with it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -80,19 +86,13 @@ pub struct ControlSoa {
 }
 
 impl ControlSoa {
-    /// From flat-ordered points, padded with zeros to `stride` entries.
-    pub fn from_points(points: &[DVec3], stride: usize) -> Self {
-        let mut c = ControlSoa {
-            x: vec![0.0; stride.max(points.len())],
-            y: vec![0.0; stride.max(points.len())],
-            z: vec![0.0; stride.max(points.len())],
-        };
-        for (m, p) in points.iter().enumerate() {
-            c.x[m] = p.x;
-            c.y[m] = p.y;
-            c.z[m] = p.z;
+    /// From flat-ordered points.
+    pub fn from_points(points: &[DVec3]) -> Self {
+        ControlSoa {
+            x: points.iter().map(|p| p.x).collect(),
+            y: points.iter().map(|p| p.y).collect(),
+            z: points.iter().map(|p| p.z).collect(),
         }
-        c
     }
 }
 
@@ -132,9 +132,9 @@ pub struct GbTable {
     pub layout: SampleLayout,
     /// Number of flat control points N.
     controls: usize,
-    /// N rounded up to a multiple of [`LANES`].
-    stride: usize,
-    /// Row s: w[0..stride], ∂_u w[0..stride], ∂_v w[0..stride].
+    /// Tiles of [`TILE`] samples (the last one padded with zero weights).
+    tiles: usize,
+    /// `data[((tile·N + c)·3 + q)·TILE + lane]`, q = 0, 1, 2 for w, ∂_u w, ∂_v w.
     data: Vec<f64>,
 }
 
@@ -148,9 +148,9 @@ impl GbTable {
         form: WeightForm,
     ) -> Result<Self, TableError> {
         let mut ev = GbBasisEvaluator::new(sides, degree)?;
-        let stride = flat_control_count(sides, degree).div_ceil(LANES) * LANES;
+        let controls = flat_control_count(sides, degree) as u128;
         let samples = 1 + (sides as u128) * (resolution as u128) * (resolution as u128 + 1) / 2;
-        let bytes = samples * 3 * stride as u128 * 8;
+        let bytes = samples.div_ceil(TILE as u128) * TILE as u128 * 3 * controls * 8;
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides,
@@ -197,23 +197,27 @@ impl GbTable {
         mut basis: impl FnMut(DVec2, &mut [f64], &mut [f64], &mut [f64]),
     ) -> Result<Self, TableError> {
         let controls = flat_control_count(sides, degree);
-        let stride = controls.div_ceil(LANES) * LANES;
-        let mut data = vec![0.0; layout.uv.len() * 3 * stride];
-        for (s, row) in data.chunks_exact_mut(3 * stride).enumerate() {
-            let (w, rest) = row.split_at_mut(stride);
-            let (wu, wv) = rest.split_at_mut(stride);
-            basis(
-                layout.uv[s],
-                &mut w[..controls],
-                &mut wu[..controls],
-                &mut wv[..controls],
-            );
-            for (m, c) in row.iter().enumerate() {
-                if !c.is_finite() {
-                    return Err(TableError::NonFiniteWeight {
-                        sample: s,
-                        control: m % stride,
-                    });
+        let samples = layout.uv.len();
+        let tiles = samples.div_ceil(TILE);
+        let mut data = vec![0.0; tiles * TILE * 3 * controls];
+        let (mut w, mut wu, mut wv) = (
+            vec![0.0; controls],
+            vec![0.0; controls],
+            vec![0.0; controls],
+        );
+        for (s, &uv) in layout.uv.iter().enumerate() {
+            basis(uv, &mut w, &mut wu, &mut wv);
+            let (t, lane) = (s / TILE, s % TILE);
+            for c in 0..controls {
+                let at = (t * controls + c) * 3 * TILE + lane;
+                for (q, v) in [w[c], wu[c], wv[c]].into_iter().enumerate() {
+                    if !v.is_finite() {
+                        return Err(TableError::NonFiniteWeight {
+                            sample: s,
+                            control: c,
+                        });
+                    }
+                    data[at + q * TILE] = v;
                 }
             }
         }
@@ -223,22 +227,19 @@ impl GbTable {
             form,
             layout,
             controls,
-            stride,
+            tiles,
             data,
         })
     }
-
-    /// Largest weight table built (bytes): 1 GiB.
-    pub const MAX_TABLE_BYTES: u128 = 1 << 30;
 
     /// Number of flat control points N.
     pub fn control_count(&self) -> usize {
         self.controls
     }
 
-    /// Padded row length (multiple of 4).
-    pub fn stride(&self) -> usize {
-        self.stride
+    /// Memory held by the weights, in bytes.
+    pub fn memory_bytes(&self) -> usize {
+        self.data.len() * std::mem::size_of::<f64>()
     }
 
     /// Number of samples.
@@ -246,16 +247,14 @@ impl GbTable {
         self.layout.uv.len()
     }
 
-    /// The weights, u- and v-derivatives of all control points at sample `s` (N entries each).
-    pub fn weights(&self, s: usize) -> (&[f64], &[f64], &[f64]) {
-        let row = &self.data[s * 3 * self.stride..(s + 1) * 3 * self.stride];
-        let (w, rest) = row.split_at(self.stride);
-        let (wu, wv) = rest.split_at(self.stride);
-        (
-            &w[..self.controls],
-            &wu[..self.controls],
-            &wv[..self.controls],
-        )
+    /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
+    pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
+        let at = ((s / TILE) * self.controls + c) * 3 * TILE + s % TILE;
+        [
+            self.data[at],
+            self.data[at + TILE],
+            self.data[at + 2 * TILE],
+        ]
     }
 
     /// The SoA control vector of a patch of this table's n and d.
@@ -271,45 +270,58 @@ impl GbTable {
                 table_d: self.degree,
             });
         }
-        Ok(ControlSoa::from_points(&pts, self.stride))
+        Ok(ControlSoa::from_points(&pts))
     }
 
-    /// Position and derivatives at sample `s`. `ctrl` must come from [`GbTable::controls_of`]
-    /// (or have at least `stride` entries per coordinate).
+    /// Position and derivatives at the [`TILE`] samples of tile `t` (samples t·TILE..; lanes
+    /// past the last sample are zero). `ctrl` must come from [`GbTable::controls_of`].
     #[inline]
-    pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
-        let st = self.stride;
-        let row = &self.data[s * 3 * st..(s + 1) * 3 * st];
-        let (x, y, z) = (&ctrl.x[..st], &ctrl.y[..st], &ctrl.z[..st]);
-        let (w, rest) = row.split_at(st);
-        let (wu, wv) = rest.split_at(st);
-        // 9 accumulators × 4 lanes: position, ∂u, ∂v for x, y, z.
-        let mut acc = [[0.0f64; LANES]; 9];
-        let chunks = w
-            .chunks_exact(LANES)
-            .zip(wu.chunks_exact(LANES))
-            .zip(wv.chunks_exact(LANES))
-            .zip(x.chunks_exact(LANES))
-            .zip(y.chunks_exact(LANES))
-            .zip(z.chunks_exact(LANES));
-        for (((((w, wu), wv), x), y), z) in chunks {
-            for l in 0..LANES {
-                acc[0][l] += w[l] * x[l];
-                acc[1][l] += w[l] * y[l];
-                acc[2][l] += w[l] * z[l];
-                acc[3][l] += wu[l] * x[l];
-                acc[4][l] += wu[l] * y[l];
-                acc[5][l] += wu[l] * z[l];
-                acc[6][l] += wv[l] * x[l];
-                acc[7][l] += wv[l] * y[l];
-                acc[8][l] += wv[l] * z[l];
+    pub fn eval_tile(&self, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
+        let len = self.controls * 3 * TILE;
+        let block = &self.data[t * len..(t + 1) * len];
+        // 9 accumulators (x, y, z of S, S_u, S_v), each with the tile's samples as lanes.
+        let mut acc = [[0.0f64; TILE]; 9];
+        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
+        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
+            let (w, rest) = wq.split_at(TILE);
+            let (wu, wv) = rest.split_at(TILE);
+            for l in 0..TILE {
+                acc[0][l] += w[l] * x;
+                acc[1][l] += w[l] * y;
+                acc[2][l] += w[l] * z;
+                acc[3][l] += wu[l] * x;
+                acc[4][l] += wu[l] * y;
+                acc[5][l] += wu[l] * z;
+                acc[6][l] += wv[l] * x;
+                acc[7][l] += wv[l] * y;
+                acc[8][l] += wv[l] * z;
             }
         }
-        let sum = |a: [f64; LANES]| (a[0] + a[1]) + (a[2] + a[3]);
+        std::array::from_fn(|l| SampleFrame {
+            position: DVec3::new(acc[0][l], acc[1][l], acc[2][l]),
+            du: DVec3::new(acc[3][l], acc[4][l], acc[5][l]),
+            dv: DVec3::new(acc[6][l], acc[7][l], acc[8][l]),
+        })
+    }
+
+    /// Position and derivatives at sample `s` alone. `ctrl` must come from
+    /// [`GbTable::controls_of`]. For all samples use [`GbTable::eval_all`] (tile-wise, faster).
+    pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
+        let len = self.controls * 3 * TILE;
+        let (t, lane) = (s / TILE, s % TILE);
+        let block = &self.data[t * len..(t + 1) * len];
+        let mut acc = [DVec3::ZERO; 3];
+        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
+        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
+            let p = DVec3::new(x, y, z);
+            for (q, a) in acc.iter_mut().enumerate() {
+                *a += wq[q * TILE + lane] * p;
+            }
+        }
         SampleFrame {
-            position: DVec3::new(sum(acc[0]), sum(acc[1]), sum(acc[2])),
-            du: DVec3::new(sum(acc[3]), sum(acc[4]), sum(acc[5])),
-            dv: DVec3::new(sum(acc[6]), sum(acc[7]), sum(acc[8])),
+            position: acc[0],
+            du: acc[1],
+            dv: acc[2],
         }
     }
 
@@ -325,10 +337,13 @@ impl GbTable {
         normals.clear();
         positions.reserve(self.sample_count());
         normals.reserve(self.sample_count());
-        for s in 0..self.sample_count() {
-            let f = self.eval_sample(s, ctrl);
-            positions.push(f.position);
-            normals.push(f.normal().unwrap_or(DVec3::ZERO));
+        let samples = self.sample_count();
+        for t in 0..self.tiles {
+            let frames = self.eval_tile(t, ctrl);
+            for f in frames.iter().take(samples - t * TILE) {
+                positions.push(f.position);
+                normals.push(f.normal().unwrap_or(DVec3::ZERO));
+            }
         }
     }
 
@@ -347,15 +362,18 @@ impl GbTable {
             p.reserve(self.sample_count());
             n.reserve(self.sample_count());
         }
-        for s in 0..self.sample_count() {
+        let samples = self.sample_count();
+        for t in 0..self.tiles {
             for ((c, p), n) in ctrls
                 .iter()
                 .zip(positions.iter_mut())
                 .zip(normals.iter_mut())
             {
-                let f = self.eval_sample(s, c);
-                p.push(f.position);
-                n.push(f.normal().unwrap_or(DVec3::ZERO));
+                let frames = self.eval_tile(t, c);
+                for f in frames.iter().take(samples - t * TILE) {
+                    p.push(f.position);
+                    n.push(f.normal().unwrap_or(DVec3::ZERO));
+                }
             }
         }
     }
@@ -382,8 +400,10 @@ impl GbTable {
 
     /// One patch as a triangle mesh with normals (sample i is vertex i).
     pub fn tessellate(&self, patch: &GbPatch) -> Result<TriMesh, TableError> {
+        let ctrl = self.controls_of(patch)?;
         let mut mesh = TriMesh::default();
-        self.emit(patch, |_| None, &mut mesh)?;
+        self.eval_all(&ctrl, &mut mesh.positions, &mut mesh.normals);
+        mesh.triangles = self.layout.triangles.clone();
         Ok(mesh)
     }
 }
@@ -435,7 +455,8 @@ mod tests {
         assert!(Arc::ptr_eq(&a, &b));
         assert!(!Arc::ptr_eq(&a, &c));
         assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
-        assert_eq!(a.stride() % LANES, 0);
+        let tiles = SampleLayout::sample_count(5, 4).div_ceil(TILE);
+        assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles);
         assert!(matches!(
             GbTable::new(2, 3, 4, WeightForm::Squared),
             Err(TableError::Patch(_))
@@ -450,10 +471,13 @@ mod tests {
     fn weights_sum_to_one_and_derivatives_to_zero() {
         let t = GbTable::new(6, 4, 5, WeightForm::Squared).unwrap();
         for s in 0..t.sample_count() {
-            let (w, wu, wv) = t.weights(s);
-            assert_near!(w.iter().sum::<f64>(), 1.0);
-            assert_near!(wu.iter().sum::<f64>(), 0.0, 1e-11);
-            assert_near!(wv.iter().sum::<f64>(), 0.0, 1e-11);
+            let sum = (0..t.control_count()).fold([0.0; 3], |a, c| {
+                let w = t.weight(s, c);
+                [a[0] + w[0], a[1] + w[1], a[2] + w[2]]
+            });
+            assert_near!(sum[0], 1.0);
+            assert_near!(sum[1], 0.0, 1e-11);
+            assert_near!(sum[2], 0.0, 1e-11);
         }
     }
 }
