@@ -16,6 +16,7 @@
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
 //! - [`offset`]: PH curves and PN surfaces (seeds 003/004).
 //! - [`ffi`]: the C ABI, the only module with `unsafe`.
+//! - `openmesh` (cargo feature `openmesh`): cxx bridge to OpenMesh file I/O and its Catmull–Clark.
 
 #[macro_use]
 pub mod tol;
@@ -26,6 +27,8 @@ pub mod ffi;
 pub mod gb;
 pub mod mesh;
 pub mod offset;
+#[cfg(feature = "openmesh")]
+pub mod openmesh;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;

@@ -39,7 +39,10 @@ impl<T: Near> Near for [T] {
         if self.len() != other.len() {
             return f64::INFINITY;
         }
-        self.iter().zip(other).map(|(a, b)| a.dist(b)).fold(0.0, f64::max)
+        self.iter()
+            .zip(other)
+            .map(|(a, b)| a.dist(b))
+            .fold(0.0, f64::max)
     }
 }
 

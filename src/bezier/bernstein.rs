@@ -24,7 +24,10 @@ pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
 /// All B^n_0(t) … B^n_n(t) into `out` (length n + 1), by the triangular recurrence
 /// B^n_i = (1−t) B^{n−1}_i + t B^{n−1}_{i−1}: stable, no powers, sums to 1 to round-off.
 pub fn bernstein_all_into(n: usize, t: f64, out: &mut [f64]) {
-    assert!(out.len() > n, "bernstein_all_into: output shorter than n + 1");
+    assert!(
+        out.len() > n,
+        "bernstein_all_into: output shorter than n + 1"
+    );
     let s = 1.0 - t;
     out[0] = 1.0;
     for k in 1..=n {

@@ -1,16 +1,16 @@
 //! The n-sided Generalized Bézier patch (seed 000 §2.4–2.7, §3.4–3.6; seed 002).
 
 pub mod cgb;
+pub mod connected;
 pub mod derivs;
 pub mod domain;
 pub mod elevate;
 pub mod error;
+pub mod gbp;
 pub mod eval;
 pub mod patch;
 pub mod weights;
 
-pub mod connected;
-pub mod gbp;
 pub mod table;
 
 pub use cgb::CgbBasisEvaluator;

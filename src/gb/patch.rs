@@ -5,7 +5,9 @@ use glam::DVec3;
 /// Form of the correction weights μ (see MATH-NOTES): squared α_i = h_{i−1}²/(h_{i−1}²+h_i²)
 /// (default, keeps G1 with independent corner blocks) or linear α_i = h_{i−1}/(h_{i−1}+h_i)
 /// (kept for comparison only).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum WeightForm {
     #[default]
     Squared,
