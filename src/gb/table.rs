@@ -26,9 +26,25 @@ use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// Samples per tile: the SIMD lanes of the kernel (2 × f64 fills an SSE2 register; the 9
-/// accumulators then fit the 16 registers of x86-64).
-pub const TILE: usize = 2;
+/// Samples per tile: the SIMD lanes of the kernel ([`Lanes`]). 2 × f64 fills an SSE2 register
+/// (the 9 accumulators then fit the 16 registers of x86-64); when the build enables AVX
+/// (`-C target-cpu=…`), 4 × f64 fills a YMM register.
+pub const TILE: usize = if cfg!(target_feature = "avx") { 4 } else { 2 };
+
+/// One f64 per sample of a tile (safe SIMD from the `wide` crate).
+#[cfg(target_feature = "avx")]
+type Lanes = wide::f64x4;
+#[cfg(not(target_feature = "avx"))]
+type Lanes = wide::f64x2;
+
+/// The first [`TILE`] values of `s` as lanes.
+#[inline(always)]
+fn load(s: &[f64]) -> Lanes {
+    #[cfg(target_feature = "avx")]
+    return Lanes::new([s[0], s[1], s[2], s[3]]);
+    #[cfg(not(target_feature = "avx"))]
+    return Lanes::new([s[0], s[1]]);
+}
 
 /// Errors building a table or evaluating a patch with it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -280,27 +296,26 @@ impl GbTable {
         let len = self.controls * 3 * TILE;
         let block = &self.data[t * len..(t + 1) * len];
         // 9 accumulators (x, y, z of S, S_u, S_v), each with the tile's samples as lanes.
-        let mut acc = [[0.0f64; TILE]; 9];
+        let mut acc = [Lanes::ZERO; 9];
         let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
         for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
-            let (w, rest) = wq.split_at(TILE);
-            let (wu, wv) = rest.split_at(TILE);
-            for l in 0..TILE {
-                acc[0][l] += w[l] * x;
-                acc[1][l] += w[l] * y;
-                acc[2][l] += w[l] * z;
-                acc[3][l] += wu[l] * x;
-                acc[4][l] += wu[l] * y;
-                acc[5][l] += wu[l] * z;
-                acc[6][l] += wv[l] * x;
-                acc[7][l] += wv[l] * y;
-                acc[8][l] += wv[l] * z;
-            }
+            let (w, wu, wv) = (load(wq), load(&wq[TILE..]), load(&wq[2 * TILE..]));
+            let (x, y, z) = (Lanes::splat(x), Lanes::splat(y), Lanes::splat(z));
+            acc[0] = w.mul_add(x, acc[0]);
+            acc[1] = w.mul_add(y, acc[1]);
+            acc[2] = w.mul_add(z, acc[2]);
+            acc[3] = wu.mul_add(x, acc[3]);
+            acc[4] = wu.mul_add(y, acc[4]);
+            acc[5] = wu.mul_add(z, acc[5]);
+            acc[6] = wv.mul_add(x, acc[6]);
+            acc[7] = wv.mul_add(y, acc[7]);
+            acc[8] = wv.mul_add(z, acc[8]);
         }
+        let a = acc.map(|v| v.to_array());
         std::array::from_fn(|l| SampleFrame {
-            position: DVec3::new(acc[0][l], acc[1][l], acc[2][l]),
-            du: DVec3::new(acc[3][l], acc[4][l], acc[5][l]),
-            dv: DVec3::new(acc[6][l], acc[7][l], acc[8][l]),
+            position: DVec3::new(a[0][l], a[1][l], a[2][l]),
+            du: DVec3::new(a[3][l], a[4][l], a[5][l]),
+            dv: DVec3::new(a[6][l], a[7][l], a[8][l]),
         })
     }
 
