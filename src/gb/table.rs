@@ -26,9 +26,9 @@ use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// Samples per tile: the SIMD lanes of the kernel ([`Lanes`]). 2 × f64 fills an SSE2 register
-/// (the 9 accumulators then fit the 16 registers of x86-64); when the build enables AVX
-/// (`-C target-cpu=…`), 4 × f64 fills a YMM register.
+/// Samples per tile: the SIMD lanes of the kernel (`wide::f64x2` / `f64x4`). 2 × f64 fills an
+/// SSE2 register (the 9 accumulators then fit the 16 registers of x86-64); when the build
+/// enables AVX (`-C target-cpu=…`), 4 × f64 fills a YMM register.
 pub const TILE: usize = if cfg!(target_feature = "avx") { 4 } else { 2 };
 
 /// One f64 per sample of a tile (safe SIMD from the `wide` crate).
