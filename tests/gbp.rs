@@ -210,6 +210,16 @@ fn malformed_files_give_typed_errors_with_lines() {
         err("\n5 0\n"),
         GbpError::BadDegree { line: 2, d: 0 }
     ));
+    // d = 1 has no GB correction weights: rejected on read and on write.
+    assert!(matches!(
+        err("3 1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"),
+        GbpError::BadDegree { line: 1, d: 1 }
+    ));
+    let linear = GbPatch::from_connected_listing(3, 1, &[DVec3::ZERO; 4]).unwrap();
+    assert!(matches!(
+        to_gbp_string(&linear),
+        Err(GbpError::DegreeOutput { d: 1 })
+    ));
     assert!(matches!(
         err("5 1\n0 0 0\n"),
         GbpError::BadDegree { line: 1, d: 1 }
