@@ -221,6 +221,10 @@ fn malformed_files_give_typed_errors_with_lines() {
         Err(GbpError::DegreeOutput { d: 1 })
     ));
     assert!(matches!(
+        err("5 1\n0 0 0\n"),
+        GbpError::BadDegree { line: 1, d: 1 }
+    ));
+    assert!(matches!(
         err("3 3\n\n\n"),
         GbpError::UnexpectedEof { line: 1, .. }
     ));

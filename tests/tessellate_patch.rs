@@ -96,9 +96,9 @@ fn small_layout_exact() {
     let l = SampleLayout::regular(4, 2).unwrap();
     assert_eq!(l.uv.len(), 13);
     assert_eq!(l.triangles.len(), 16);
-    // Ring 1: the half-size square's corners v_{i-1}/2 for side i.
-    assert_near!(l.uv[1], DVec2::new(0.0, -0.5));
-    assert_near!(l.uv[2], DVec2::new(0.5, 0.0));
+    // Ring 1: the half-size domain square's corners v_{i-1}/2 for side i.
+    assert_eq!(l.uv[1], DVec2::new(0.5, -0.5));
+    assert_eq!(l.uv[2], DVec2::new(0.5, 0.5));
     assert_eq!(l.ring_index(1, 3, 1), 1);
 }
 
@@ -203,6 +203,8 @@ fn square_domain_of_transfinite_works() {
     ];
     let l = SampleLayout::new(&sq, 4).unwrap();
     assert_eq!(l.uv[l.boundary_index(1, 2)], DVec2::new(0.0, 1.0));
+    // The GB domain for n = 4 is that square.
+    assert_eq!(SampleLayout::regular(4, 4).unwrap(), l);
     let total: f64 = l
         .triangles
         .iter()
@@ -281,4 +283,155 @@ proptest! {
         prop_assert!((total - area_of(&v)).abs() < 1e-12 * (r * r) as f64);
         prop_assert!(l.triangles.iter().all(|t| area(l.uv[t[0] as usize], l.uv[t[1] as usize], l.uv[t[2] as usize]) > 0.0));
     }
+}
+
+// ---- GB patches: weight tables and direct tessellation ----
+
+use gbsurf::gb::table::{GbTable, TableError};
+use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
+use gbsurf::tessellate::patch::{tessellate_gb, TessellateError, MAX_RESOLUTION};
+
+/// A GB patch with independent (not shared) ribbon points on a wavy dome.
+fn wavy_patch(n: usize, d: usize, seed: f64) -> GbPatch {
+    let l = d.div_ceil(2);
+    let ribbons = (0..n)
+        .map(|i| Ribbon {
+            degree: d,
+            rows: (0..l)
+                .map(|k| {
+                    (0..=d)
+                        .map(|j| {
+                            let a =
+                                (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
+                            let rad = 1.0 - 0.6 * k as f64 / d as f64;
+                            DVec3::new(
+                                rad * a.cos() + 0.05 * (seed + j as f64).sin(),
+                                rad * a.sin() + 0.04 * (seed * 1.3 + k as f64 + i as f64).cos(),
+                                0.4 * k as f64 + 0.1 * (seed + 3.0 * i as f64 + j as f64).sin(),
+                            )
+                        })
+                        .collect()
+                })
+                .collect(),
+        })
+        .collect();
+    GbPatch {
+        ribbons,
+        center: DVec3::new(0.02 * seed.sin(), -0.01, 0.9),
+    }
+}
+
+#[test]
+fn table_evaluation_equals_direct_eval() {
+    for form in [WeightForm::Squared, WeightForm::Linear] {
+        for n in 3..=8 {
+            for d in 2..=6 {
+                let patch = wavy_patch(n, d, n as f64 + 0.1 * d as f64);
+                let table = GbTable::new(n, d, 6, form).unwrap();
+                let ctrl = table.controls_of(&patch).unwrap();
+                let mut ev = patch.evaluator().unwrap();
+                for (s, &uv) in table.layout.uv.iter().enumerate() {
+                    let f = table.eval_sample(s, &ctrl);
+                    let direct = patch.eval_derivs_with_form(&mut ev, uv, form);
+                    assert_near!(f.position, direct.p, 1e-12, "n={n} d={d} s={s}");
+                    assert_near!(f.du, direct.su, 1e-12, "n={n} d={d} s={s}");
+                    assert_near!(f.dv, direct.sv, 1e-12, "n={n} d={d} s={s}");
+                    match (f.normal(), direct.normal()) {
+                        (Some(a), Some(b)) => assert_near!(a, b, 1e-10),
+                        (a, b) => assert_eq!(a.is_some(), b.is_some(), "n={n} d={d} s={s}"),
+                    }
+                }
+                let mut pos = Vec::new();
+                let mut nrm = Vec::new();
+                table.eval_all(&ctrl, &mut pos, &mut nrm);
+                assert_eq!(pos.len(), table.sample_count());
+                // The tiled kernel agrees with direct evaluation at every sample.
+                for (s, &uv) in table.layout.uv.iter().enumerate() {
+                    let direct = patch.eval_derivs_with_form(&mut ev, uv, form);
+                    assert_near!(pos[s], direct.p, 1e-12, "n={n} d={d} s={s}");
+                    assert_near!(nrm[s], direct.normal().unwrap_or(DVec3::ZERO), 1e-10);
+                }
+                // Batch evaluation gives the same values as one-by-one evaluation.
+                let other = wavy_patch(n, d, 7.7);
+                let ctrls = [ctrl.clone(), table.controls_of(&other).unwrap()];
+                let mut bp = vec![Vec::new(), Vec::new()];
+                let mut bn = vec![Vec::new(), Vec::new()];
+                table.eval_batch(&ctrls, &mut bp, &mut bn);
+                assert_eq!(bp[0], pos);
+                assert_eq!(bn[0], nrm);
+                assert_near!(bp[1][3], other.eval(table.layout.uv[3], form), 1e-12);
+            }
+        }
+    }
+}
+
+#[test]
+fn table_rejects_mismatched_patches() {
+    let table = GbTable::new(5, 3, 2, WeightForm::Squared).unwrap();
+    assert!(matches!(
+        table.controls_of(&wavy_patch(6, 3, 0.0)),
+        Err(TableError::Mismatch {
+            n: 6,
+            d: 3,
+            table_n: 5,
+            table_d: 3
+        })
+    ));
+    assert!(matches!(
+        table.controls_of(&wavy_patch(5, 4, 0.0)),
+        Err(TableError::Mismatch { .. })
+    ));
+    let mut bad = wavy_patch(5, 3, 0.0);
+    bad.ribbons[2].rows[0][1].x = f64::NAN;
+    assert!(matches!(table.controls_of(&bad), Err(TableError::Patch(_))));
+}
+
+#[test]
+fn gb_tessellation_interpolates_boundary_and_matches_table() {
+    let n = 5;
+    let r = 8;
+    let patch = gbsurf::gb::gbp::load_gbp(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/cubic5.gbp"
+    ))
+    .unwrap();
+    let mesh = tessellate_gb(&patch, r, WeightForm::Squared).unwrap();
+    let table = GbTable::cached(n, 3, r, WeightForm::Squared).unwrap();
+    let via_table = table.tessellate(&patch).unwrap();
+    assert_eq!(mesh.triangles, via_table.triangles);
+    assert_near!(mesh.positions, via_table.positions, 1e-12);
+    assert_near!(mesh.normals, via_table.normals, 1e-10);
+    // Boundary samples lie on the boundary Bézier curves (row 0 of each ribbon) at s = t/r.
+    for i in 0..n {
+        for t in 0..=r {
+            let s = t as f64 / r as f64;
+            let idx = table.layout.boundary_index(i, t);
+            assert_near!(
+                mesh.positions[idx],
+                patch.ribbons[i].boundary_point(s),
+                1e-12
+            );
+        }
+    }
+    // Unit normals, oriented like the patch (dome opening to −z: normals have z > 0 inside).
+    for nrm in &mesh.normals {
+        assert_near!(nrm.length(), 1.0, 1e-12);
+    }
+    assert!(
+        mesh.normals[0].z > 0.9,
+        "centre normal {:?}",
+        mesh.normals[0]
+    );
+    assert_eq!(
+        tessellate_gb(&patch, 0, WeightForm::Squared),
+        Err(TessellateError::Layout(LayoutError::ZeroResolution {
+            r: 0
+        }))
+    );
+    assert_eq!(
+        tessellate_gb(&patch, MAX_RESOLUTION + 1, WeightForm::Squared),
+        Err(TessellateError::ResolutionTooHigh {
+            r: MAX_RESOLUTION + 1
+        })
+    );
 }

@@ -47,6 +47,9 @@ pub fn listed_representative(
     }
 }
 
+/// A control-point position (side i, column j, row k).
+pub type Position = (usize, usize, usize);
+
 /// A malformed patch shape or control listing.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ShapeError {
@@ -95,11 +98,6 @@ fn check_nd(n: usize, degree: usize) -> Result<(), ShapeError> {
 }
 
 impl GbPatch {
-    /// Number of sides n.
-    pub fn sides(&self) -> usize {
-        self.ribbons.len()
-    }
-
     /// Checks the shape of a GB patch: n ≥ 3 ribbons of one degree d ≥ 1, each with
     /// l = ⌈d/2⌉ rows of d + 1 points. Returns d.
     pub fn check_shape(&self) -> Result<usize, ShapeError> {
@@ -195,7 +193,7 @@ impl GbPatch {
     /// not connected this reads the listed positions only; check [`GbPatch::is_connected`].
     pub fn connected_listing(&self) -> Result<Vec<DVec3>, ShapeError> {
         let degree = self.check_shape()?;
-        let n = self.sides();
+        let n = self.n();
         let mut out = Vec::with_capacity(1 + listed_point_count(n, degree));
         out.push(self.center);
         out.extend(listed_positions(n, degree).map(|(i, j, k)| self.ribbons[i].rows[k][j]));
@@ -204,21 +202,19 @@ impl GbPatch {
 
     /// The largest distance between a ribbon point and its listed representative, with the
     /// position (side, column, row) where it occurs; (0, None) for a connected net.
-    pub fn connection_defect(&self) -> Result<(f64, Option<(usize, usize, usize)>), ShapeError> {
+    pub fn connection_defect(&self) -> Result<(f64, Option<Position>), ShapeError> {
         let degree = self.check_shape()?;
-        let n = self.sides();
+        let n = self.n();
         let mut worst = (0.0, None);
         for i in 0..n {
             for k in 0..layers(degree) {
                 for j in 0..=degree {
                     let (ri, rj, rk) = listed_representative(n, degree, i, j, k);
                     let dist = self.ribbons[i].rows[k][j].distance(self.ribbons[ri].rows[rk][rj]);
-                    // `!(dist <= worst)` also catches NaN coordinates.
-                    if !(dist <= worst.0) {
-                        worst = (
-                            if dist.is_nan() { f64::INFINITY } else { dist },
-                            Some((i, j, k)),
-                        );
+                    // NaN coordinates count as infinitely far.
+                    let dist = if dist.is_nan() { f64::INFINITY } else { dist };
+                    if dist > worst.0 {
+                        worst = (dist, Some((i, j, k)));
                     }
                 }
             }

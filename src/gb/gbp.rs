@@ -246,7 +246,7 @@ pub fn write_gbp<W: Write>(patch: &GbPatch, mut w: W) -> Result<(), GbpError> {
             distance: defect,
         });
     }
-    writeln!(w, "{} {}", patch.sides(), degree)?;
+    writeln!(w, "{} {}", patch.n(), degree)?;
     for p in &listing {
         writeln!(w, "{:.16e} {:.16e} {:.16e}", p.x, p.y, p.z)?;
     }

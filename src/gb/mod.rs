@@ -11,6 +11,8 @@ pub mod eval;
 pub mod patch;
 pub mod weights;
 
+pub mod table;
+
 pub use cgb::CgbBasisEvaluator;
 pub use derivs::{Curvature, Jet2, SurfaceDerivs};
 pub use domain::{Domain, LocalParam};

@@ -8,6 +8,7 @@
 //! v_i) is thus the regular r-subdivision of a triangle: r² triangles per side, n·r² in all,
 //! 1 + n·r(r+1)/2 samples. All triangles are counter-clockwise in the domain.
 
+use crate::gb::{Domain, GbError, GbPatch, WeightForm};
 use crate::mesh::{MeshSink, TriMesh};
 use glam::{DVec2, DVec3};
 
@@ -57,20 +58,27 @@ impl SampleLayout {
         n * r * r
     }
 
-    /// The regular n-gon domain of MATH-NOTES: vertex i at (cos 2πi/n, sin 2πi/n).
+    /// The vertices of the GB domain polygon ([`Domain::regular`]: vertex i at
+    /// (cos 2πi/n, sin 2πi/n), for n = 4 the square (1,1), (−1,1), (−1,−1), (1,−1)); empty for
+    /// n < 3.
     pub fn regular_polygon(n: usize) -> Vec<DVec2> {
-        (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / n as f64;
-                DVec2::new(a.cos(), a.sin())
-            })
-            .collect()
+        Domain::regular(n)
+            .map(|d| d.vertices().to_vec())
+            .unwrap_or_default()
     }
 
-    /// The layout on the regular n-gon ([`SampleLayout::regular_polygon`]).
-    /// Its centre sample is exactly the origin.
+    /// The layout on the GB domain of n sides ([`SampleLayout::regular_polygon`]); its centre
+    /// sample is exactly the domain centre, the origin.
     pub fn regular(n: usize, resolution: usize) -> Result<Self, LayoutError> {
-        Self::build(&Self::regular_polygon(n), Some(DVec2::ZERO), resolution)
+        match Domain::regular(n) {
+            Ok(d) => Self::for_domain(&d, resolution),
+            Err(_) => Err(LayoutError::TooFewSides { n }),
+        }
+    }
+
+    /// The layout on a GB domain, centred at its centre.
+    pub fn for_domain(domain: &Domain, resolution: usize) -> Result<Self, LayoutError> {
+        Self::build(domain.vertices(), Some(domain.center()), resolution)
     }
 
     /// The layout on a strictly convex CCW domain polygon (vertex i ends side i), scaled about
@@ -231,4 +239,69 @@ pub fn tessellate_with(
     mesh.triangles.reserve(layout.triangles.len());
     emit_patch(layout, eval, |_| None, &mut mesh);
     mesh
+}
+
+/// Largest resolution accepted by [`tessellate_gb`] (n·r² triangles).
+pub const MAX_RESOLUTION: usize = 1024;
+
+/// Errors tessellating a GB patch.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TessellateError {
+    /// The patch is malformed.
+    #[error(transparent)]
+    Patch(#[from] GbError),
+    /// The layout cannot be built.
+    #[error(transparent)]
+    Layout(#[from] LayoutError),
+    /// Resolution above [`MAX_RESOLUTION`].
+    #[error("resolution {r} is above the supported maximum {MAX_RESOLUTION}")]
+    ResolutionTooHigh { r: usize },
+    /// The patch evaluates to a non-finite point at a sample.
+    #[error("the patch is not finite at sample {sample} (domain point {uv})")]
+    NonFinite { sample: usize, uv: DVec2 },
+}
+
+/// The unit normal at `uv`; where S_u × S_v degenerates (e.g. a corner with parallel tangents),
+/// the normal a short step towards the domain centre, else zero.
+pub fn normal_or_nearby(
+    patch: &GbPatch,
+    ev: &mut crate::gb::GbBasisEvaluator,
+    uv: DVec2,
+    form: WeightForm,
+) -> DVec3 {
+    let centre = ev.domain().center();
+    for step in [0.0, 1e-9, 1e-6, 1e-3] {
+        let q = uv + (centre - uv) * step;
+        if let Some(nrm) = patch.eval_derivs_with_form(ev, q, form).normal() {
+            return nrm;
+        }
+    }
+    DVec3::ZERO
+}
+
+/// One GB patch as a triangle mesh at resolution r by direct evaluation (no weight table; for
+/// many patches of one (n, d) use [`crate::gb::table::GbTable`]). Sample i is vertex i.
+pub fn tessellate_gb(
+    patch: &GbPatch,
+    resolution: usize,
+    form: WeightForm,
+) -> Result<TriMesh, TessellateError> {
+    if resolution > MAX_RESOLUTION {
+        return Err(TessellateError::ResolutionTooHigh { r: resolution });
+    }
+    patch.validate()?;
+    let mut ev = patch.evaluator()?;
+    let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+    let mut bad = None;
+    let mesh = tessellate_with(&layout, |s, uv| {
+        let p = patch.eval_derivs_with_form(&mut ev, uv, form).p;
+        if !p.is_finite() && bad.is_none() {
+            bad = Some((s, uv));
+        }
+        (p, normal_or_nearby(patch, &mut ev, uv, form))
+    });
+    if let Some((sample, uv)) = bad {
+        return Err(TessellateError::NonFinite { sample, uv });
+    }
+    Ok(mesh)
 }

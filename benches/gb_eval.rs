@@ -1,0 +1,164 @@
+//! ns per evaluated point (position + unit normal) of GB patches: weight tables
+//! ([`GbTable::eval_all`], one patch; [`GbTable::eval_batch`], 16 patches sharing a table) versus
+//! direct evaluation ([`GbPatch::eval_derivs_with_form`] with a reused evaluator), for
+//! n = 3..8, d = 3 and 5, r = 16 and 64. Criterion measures each case briefly; a summary table
+//! with the table/direct ratio is printed at the end.
+
+use criterion::{black_box, BenchmarkId, Criterion, Throughput};
+use gbsurf::gb::table::{ControlSoa, GbTable};
+use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
+use gbsurf::DVec3;
+use std::time::{Duration, Instant};
+
+const FORM: WeightForm = WeightForm::Squared;
+const BATCH: usize = 16;
+
+fn patch(n: usize, d: usize, seed: usize) -> GbPatch {
+    let l = d.div_ceil(2);
+    let ribbons = (0..n)
+        .map(|i| Ribbon {
+            degree: d,
+            rows: (0..l)
+                .map(|k| {
+                    (0..=d)
+                        .map(|j| {
+                            let a =
+                                (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
+                            let rad = 1.0 - 0.6 * k as f64 / d as f64;
+                            let wob = 0.05 * ((seed * 7 + i * 3 + j) as f64).sin();
+                            DVec3::new(
+                                rad * a.cos() + wob,
+                                rad * a.sin() - wob,
+                                0.4 * k as f64 + wob,
+                            )
+                        })
+                        .collect()
+                })
+                .collect(),
+        })
+        .collect();
+    GbPatch {
+        ribbons,
+        center: DVec3::new(0.0, 0.0, 0.9),
+    }
+}
+
+fn direct_all(
+    p: &GbPatch,
+    ev: &mut gbsurf::gb::GbBasisEvaluator,
+    table: &GbTable,
+    out: &mut Vec<(DVec3, DVec3)>,
+) {
+    out.clear();
+    for &uv in &table.layout.uv {
+        let s = p.eval_derivs_with_form(ev, uv, FORM);
+        out.push((s.p, s.normal().unwrap_or(DVec3::ZERO)));
+    }
+}
+
+/// CPU time of this thread in ns (Linux `/proc/thread-self/schedstat`), if available: the
+/// machine may be shared, so per-core cost is measured in CPU time, not wall time.
+fn thread_cpu_ns() -> Option<u64> {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// Median (wall, CPU) ns per point of `f` (which evaluates `points` points) over short runs.
+fn ns_per_point(points: usize, mut f: impl FnMut()) -> (f64, f64) {
+    f();
+    let mut wall = Vec::new();
+    let mut cpu = Vec::new();
+    for _ in 0..5 {
+        let start = Instant::now();
+        let c0 = thread_cpu_ns();
+        let mut reps = 0;
+        while start.elapsed() < Duration::from_millis(60) {
+            f();
+            reps += 1;
+        }
+        let pts = (reps * points) as f64;
+        wall.push(start.elapsed().as_nanos() as f64 / pts);
+        if let (Some(a), Some(b)) = (c0, thread_cpu_ns()) {
+            cpu.push((b - a) as f64 / pts);
+        }
+    }
+    let median = |mut v: Vec<f64>| {
+        if v.is_empty() {
+            return f64::NAN;
+        }
+        v.sort_by(|a, b| a.total_cmp(b));
+        v[v.len() / 2]
+    };
+    (median(wall), median(cpu))
+}
+
+fn main() {
+    let mut c = Criterion::default()
+        .warm_up_time(Duration::from_millis(100))
+        .measurement_time(Duration::from_millis(300))
+        .sample_size(10)
+        .configure_from_args();
+    let mut summary = Vec::new();
+    for d in [3, 5] {
+        for n in 3..=8 {
+            for r in [16, 64] {
+                let table = GbTable::new(n, d, r, FORM).unwrap();
+                let patches: Vec<GbPatch> = (0..BATCH).map(|s| patch(n, d, s)).collect();
+                let ctrls: Vec<ControlSoa> = patches
+                    .iter()
+                    .map(|p| table.controls_of(p).unwrap())
+                    .collect();
+                let samples = table.sample_count();
+                let (mut pos, mut nrm) = (Vec::new(), Vec::new());
+                let (mut bpos, mut bnrm) = (vec![Vec::new(); BATCH], vec![Vec::new(); BATCH]);
+                let mut ev = patches[0].evaluator().unwrap();
+                let mut direct_out = Vec::new();
+
+                let mut g = c.benchmark_group(format!("gb_eval/n{n}_d{d}_r{r}"));
+                g.throughput(Throughput::Elements(samples as u64));
+                g.bench_function(BenchmarkId::new("table", samples), |b| {
+                    b.iter(|| table.eval_all(black_box(&ctrls[0]), &mut pos, &mut nrm))
+                });
+                g.throughput(Throughput::Elements((samples * BATCH) as u64));
+                g.bench_function(BenchmarkId::new("table_batch16", samples), |b| {
+                    b.iter(|| table.eval_batch(black_box(&ctrls), &mut bpos, &mut bnrm))
+                });
+                if r == 16 {
+                    g.throughput(Throughput::Elements(samples as u64));
+                    g.bench_function(BenchmarkId::new("direct", samples), |b| {
+                        b.iter(|| {
+                            direct_all(black_box(&patches[0]), &mut ev, &table, &mut direct_out)
+                        })
+                    });
+                }
+                g.finish();
+
+                let t = ns_per_point(samples, || table.eval_all(&ctrls[0], &mut pos, &mut nrm));
+                let tb = ns_per_point(samples * BATCH, || {
+                    table.eval_batch(&ctrls, &mut bpos, &mut bnrm)
+                });
+                let dt = ns_per_point(samples, || {
+                    direct_all(&patches[0], &mut ev, &table, &mut direct_out)
+                });
+                let mib = table.memory_bytes() as f64 / (1 << 20) as f64;
+                summary.push((n, d, r, samples, mib, t, tb, dt));
+            }
+        }
+    }
+    println!(
+        "\nGB evaluation, ns per point (position + unit normal), 1 thread, median of 5 x 60 ms;"
+    );
+    println!("cpu = thread CPU time (per-core cost on a shared machine), wall = elapsed time");
+    println!("  n  d   r samples  MiB  table cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)");
+    for (n, d, r, s, mib, t, tb, dt) in summary {
+        println!(
+            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}",
+            t.1, t.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1
+        );
+    }
+    c.final_summary();
+}
