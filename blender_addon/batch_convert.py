@@ -102,11 +102,35 @@ def _open(path):
         addon()  # factory settings may have unregistered an extension-installed add-on
         if ext == ".obj":
             bpy.ops.wm.obj_import(filepath=path, forward_axis='Y', up_axis='Z')
+            _check_obj_import(path)
         elif ext == ".ply":
             bpy.ops.wm.ply_import(filepath=path, forward_axis='Y', up_axis='Z')
         else:
             raise RuntimeError(f"{path}: unknown file type {ext!r} (expected .blend, .obj, .ply)")
     return [o for o in bpy.context.scene.objects if o.type == 'MESH' and not o.gbsurf.is_result]
+
+
+def _check_obj_import(path):
+    """Blender's OBJ importer skips faces it cannot use (bad indices, unparsable lines) with only a
+    log message; a batch job must not silently convert less than the file holds."""
+    faces = corners = 0
+    with open(path, "r", errors="replace") as f:
+        for n, line in enumerate(f, 1):
+            parts = line.split()
+            if parts and parts[0] == "f":
+                faces += 1
+                corners += len(parts) - 1
+            elif parts and parts[0] not in {"v", "vt", "vn", "vp", "o", "g", "s", "usemtl",
+                                             "mtllib", "l", "p", "#", "cstype", "deg", "curv",
+                                             "parm", "end"} and not parts[0].startswith("#"):
+                raise RuntimeError(f"{path}:{n}: unknown OBJ statement {parts[0]!r}")
+    meshes = [o.data for o in bpy.context.scene.objects if o.type == 'MESH']
+    got_faces = sum(len(m.polygons) for m in meshes)
+    got_corners = sum(len(m.loops) for m in meshes)
+    if (got_faces, got_corners) != (faces, corners):
+        raise RuntimeError(
+            f"{path}: the OBJ importer kept {got_faces} of {faces} faces ({got_corners} of "
+            f"{corners} corners): invalid vertex indices or repeated corners")
 
 
 def _export(obj, path, fmt):
