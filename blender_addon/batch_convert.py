@@ -18,6 +18,7 @@ gbsurf/native.py (GBSURF_LIB, the bundled lib/, or the checkout's target/release
 """
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -25,6 +26,7 @@ import time
 import bpy
 
 _addon = None
+FLOAT32_MAX = 3.4028234663852886e38
 
 
 def addon():
@@ -111,12 +113,22 @@ def _open(path):
 
 
 def _check_obj_import(path):
-    """Blender's OBJ importer skips faces it cannot use (bad indices, unparsable lines) with only a
-    log message; a batch job must not silently convert less than the file holds."""
+    """Blender's OBJ importer skips faces it cannot use (bad indices, unparsable lines) and reads
+    unusable numbers (nan, inf, beyond float32) with only a log message; a batch job must not
+    silently convert something else than the file holds."""
     faces = corners = 0
     with open(path, "r", errors="replace") as f:
         for n, line in enumerate(f, 1):
             parts = line.split()
+            if parts and parts[0] == "v":
+                try:
+                    xyz = [float(x) for x in parts[1:4]]
+                except ValueError:
+                    raise RuntimeError(f"{path}:{n}: vertex coordinates are not numbers") from None
+                if len(xyz) != 3 or not all(math.isfinite(x) and abs(x) <= FLOAT32_MAX for x in xyz):
+                    raise RuntimeError(
+                        f"{path}:{n}: vertex {' '.join(parts[1:4])} is not three finite numbers "
+                        "that fit Blender's 32-bit coordinates")
             if parts and parts[0] == "f":
                 faces += 1
                 corners += len(parts) - 1

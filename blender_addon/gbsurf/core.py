@@ -66,7 +66,8 @@ def surface_material():
     if mat is not None:
         return mat
     mat = bpy.data.materials.new(MATERIAL_NAME)
-    mat.use_nodes = True
+    if bpy.app.version < (5, 0, 0):  # always node-based from 5.0 on (use_nodes deprecated)
+        mat.use_nodes = True
     nt = mat.node_tree
     bsdf = next((n for n in nt.nodes if n.type == 'BSDF_PRINCIPLED'), None)
     if bsdf is None:

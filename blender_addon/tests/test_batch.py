@@ -30,7 +30,8 @@ def test_batch_end_to_end(addon, tmp_path):
     bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
     helpers.select_only(bpy.data.objects["Icosphere"])
     ply = tmp_path / "ico.ply"
-    bpy.ops.wm.ply_export(filepath=str(ply), export_selected_objects=True, ascii_format=True)
+    bpy.ops.wm.ply_export(filepath=str(ply), export_selected_objects=True, ascii_format=True,
+                          export_normals=False, export_uv=False)
     out = tmp_path / "out"
     r = run_batch([helpers.MODELS / "cube.obj", helpers.MODELS / "grid_open.obj", blend, ply,
                    "-o", out, "--method", "TOPOLOGY", "--resolution", "3", "--format", "both"],

@@ -77,6 +77,7 @@ def test_blender_primitives(primitive, method):
     src = helpers.add_primitive(primitive)
     src.location = (1.0, 2.0, 3.0)
     src.rotation_euler = (0.3, 0.0, 0.5)
+    bpy.context.view_layer.update()
     out = convert_and_check(src, method, primitive)
     assert np.allclose(np.array(out.matrix_world), np.array(src.matrix_world))
 

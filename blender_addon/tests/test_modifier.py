@@ -26,10 +26,14 @@ def converted_cube(**kw):
 
 
 def test_undo_after_convert_restores_the_scene():
+    # Headless bpy pushes no undo step after an operator called from Python (the window manager
+    # does that in the UI for operators with the UNDO flag), so the test pushes the steps the UI
+    # would push: "cube added" before, "GB Surface" after the operator.
     helpers.add_primitive("cube")
     bpy.ops.ed.undo_push(message="cube added")
     before = helpers.snapshot()
     assert bpy.ops.object.gbsurf_convert(resolution=3, want_curves=True) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="GB Surface")
     assert "cube.GB" in bpy.data.objects and "cube.GB.curves" in bpy.data.objects
     bpy.ops.ed.undo()
     assert helpers.snapshot() == before
@@ -81,6 +85,7 @@ def test_update_error_leaves_the_result_unchanged():
 def test_update_without_source():
     src, out = converted_cube()
     bpy.data.objects.remove(src)
+    bpy.context.view_layer.update()
     assert out.gbsurf.source is None
     helpers.select_only(out)
     with pytest.raises(RuntimeError, match="source object is gone"):
