@@ -43,6 +43,33 @@ fn obj_groups_are_merged_and_normals_ignored() {
 }
 
 #[test]
+fn obj_cube_with_per_face_normals_and_texcoords_keeps_8_vertices() {
+    // Every corner carries its own v/vt/vn triple (24 distinct triples, as exported by Blender
+    // with split normals); only the position index counts, so the cube stays closed with 8
+    // vertices. Two groups, a comment after a statement and relative indices in the last face.
+    let text = "\
+v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n\
+g bottom_top\n\
+f 1/1/1 3/2/1 4/3/1 2/4/1\nf 5/1/2 6/2/2 8/3/2 7/4/2 # top\n\
+g sides\n\
+f 1/1/3 2/2/3 6/3/3 5/4/3\nf 3/1/4 7/2/4 8/3/4 4/4/4\nf 1//5 5//5 7//5 3//5\nf -7/1/-1 -5/2/-1 -1/3/-1 -3/4/-1\n";
+    let (m, map) = parse_obj(text).unwrap();
+    assert_eq!(m.positions.len(), 8);
+    assert_eq!(m.positions[7], DVec3::ONE);
+    assert_eq!(
+        m.faces,
+        vec![vec![0, 2, 3, 1], vec![4, 5, 7, 6], vec![0, 1, 5, 4], vec![2, 6, 7, 3], vec![0, 4, 6, 2], vec![1, 3, 7, 5]]
+    );
+    assert_eq!(map.vertex_lines, (1..=8).collect::<Vec<_>>());
+    assert_eq!(map.face_lines, vec![20, 21, 23, 24, 25, 26]);
+    let he = gbsurf::mesh::HalfEdgeMesh::from_polymesh(&m).unwrap();
+    assert_eq!((he.n_vertices(), he.n_edges(), he.n_faces()), (8, 12, 6));
+    assert!(he.warnings().is_empty());
+}
+
+#[test]
 fn obj_garbage_is_an_error_naming_the_line() {
     let cases = [
         ("v 1 2\n", 1),

@@ -4,12 +4,24 @@
 //! a [`SourceMap`] of line numbers) dispatch on the extension: `.obj`, `.off`, `.ply` (ASCII and
 //! binary little-endian), `.stl` (binary and ASCII; identical corner positions are welded).
 //!
-//! OBJ is read by a strict line parser of our own rather than `tobj`: `tobj` parses into `f32` by
-//! default (1e300 becomes `inf`, 7 significant digits), reports no line numbers, splits vertices by
-//! normal/texture index with `single_index` (which breaks the topology of a cube with per-face
-//! normals) and re-indexes per model (which disconnects groups). Ours keeps n-gons, reads `f64`,
-//! uses only position indices (`v/vt/vn` → `v`, negative = relative), merges all objects and
-//! groups, ignores `vn vt vp g o s usemtl mtllib l p` statements, and rejects anything else with
+//! OBJ is read by a strict line parser of our own ([`parse_obj`]), not by `tobj`. Checked
+//! against `tobj` 4.0.5 with `use_f64` and `LoadOptions { triangulate: false, single_index:
+//! false, ignore_points: true, ignore_lines: true, .. }`: its geometry cannot be mapped back to
+//! the file's `v` numbering, which our errors, warnings and [`SourceMap`] are keyed on. Each
+//! model (`o`/`g`/`usemtl` section) gets its own copy of only the positions its faces use,
+//! renumbered in first-use order, with no local → file index map; vertices used by no face are
+//! dropped (so no isolated-vertex warning is possible); matching copies back by value would weld
+//! coincident vertices (seams). Recovering the numbering would need the face indices and all
+//! coordinates parsed by a pre-scan, i.e. this parser again. `tobj` also drops 1- and 2-corner
+//! `f` statements silently under `ignore_points`/`ignore_lines` (treating `l` like `f`
+//! otherwise), ignores unknown statements (a garbage line would give a partial mesh), reports
+//! index errors as a bare `FaceVertexOutOfBounds` (no face, corner or line; index 0 wraps to
+//! `usize::MAX`) and rejects `v 0 0 0 # comment`.
+//!
+//! Ours keeps n-gons, reads `f64` (`nan`/`inf` parse and are rejected by validation with the
+//! vertex and line), uses only position indices (`v/vt/vn` → `v`, negative = relative), merges
+//! all objects and groups into one [`PolyMesh`] in file order, strips `#` comments, ignores
+//! `vn vt vp g o s usemtl mtllib l p` statements, and rejects anything else with
 //! [`MeshError::Parse`] naming the line, so a garbage file is an error, never a partial mesh.
 //!
 //! Writing: OBJ, PLY (ASCII or binary little-endian, optional per-vertex scalar properties),

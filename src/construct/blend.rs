@@ -1,0 +1,169 @@
+//! Direction blends for G1 twists (seed 000 §4.3–4.4, corrected: see MATH-NOTES).
+//!
+//! Along a boundary curve C(s) (cubic, tangent T(s) = C'(s), quadratic with Bernstein
+//! coefficients t_j = 3(C_{j+1} − C_j)) shared by patches A and B, both ribbons' cross-derivatives
+//! are written in A's parameter s as (seed 000 eq. 4.5)
+//!
+//! ```text
+//!   X_A(s) = α_A(s) D(s) + β_A(s) T(s),     X_B(s) = α_B(s) D(s) + β_B(s) T(s)
+//! ```
+//!
+//! with ONE direction blend D (quadratic) and linear scalars α, β (eq. 4.11–4.12). Then
+//! det(T, X_A, X_B) = α_A α_B det(T, D, D) = 0 for every s: the tangent planes agree along the
+//! whole curve (eq. 4.8). X = α D + β T is cubic; its Bernstein coefficients Q_j give the ribbon's
+//! second row by P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23).
+//!
+//! End values (eq. 4.7): D(0) = (X_A(0) − X_B(0)) / 2, D(1) = (X_A(1) − X_B(1)) / 2, where the
+//! X(0), X(1) are fixed by the curve network (corner blocks). The scalars at the ends are the
+//! unique solution of X = α D + β T in the node's tangent plane (eq. 4.13–4.15 is Cramer's rule for
+//! the same 2×2 system; here it is solved by the normal equations, which are exact when X lies in
+//! span(D, T) and a least-squares fit otherwise).
+//!
+//! The middle constraint D_{0.5} is a VECTOR (eq. 4.29 prints a position; MATH-NOTES):
+//! - [`BlendKind::Approx`] (eq. 4.16): D(u) = (1−u)² D0 + 2u(1−u) D_{0.5} + u² D1, i.e. D_{0.5} is
+//!   the middle Bernstein coefficient (approximated, D(½) = (D0 + 2D_{0.5} + D1)/4).
+//! - [`BlendKind::Interp`] (eq. 4.24): D(u) = (2u²−3u+1) D0 + 4u(1−u) D_{0.5} + (2u²−u) D1, i.e.
+//!   D(½) = D_{0.5}; its middle Bernstein coefficient is 2 D_{0.5} − (D0 + D1)/2.
+//!
+//! (The printed eq. 4.19–4.22 and 4.25–4.28 mix up indices; the products below are the plain
+//! Bernstein products of a linear and a quadratic polynomial.)
+
+use glam::DVec3;
+
+/// How the middle constraint D_{0.5} enters the quadratic direction blend.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum BlendKind {
+    /// D_{0.5} is the middle Bernstein coefficient (seed 000 eq. 4.16).
+    Approx,
+    /// D(½) = D_{0.5} (seed 000 eq. 4.24).
+    Interp,
+}
+
+/// A quadratic direction blend D(u) = Σ_j B²_j(u) d_j (Bernstein coefficients `d`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionBlend {
+    pub d: [DVec3; 3],
+}
+
+impl DirectionBlend {
+    /// The blend through D(0) = `d0`, D(1) = `d1` with middle constraint `mid` of the given kind.
+    pub fn new(kind: BlendKind, d0: DVec3, mid: DVec3, d1: DVec3) -> Self {
+        let m = match kind {
+            BlendKind::Approx => mid,
+            BlendKind::Interp => 2.0 * mid - 0.5 * (d0 + d1),
+        };
+        Self { d: [d0, m, d1] }
+    }
+
+    /// D(u).
+    pub fn eval(&self, u: f64) -> DVec3 {
+        let v = 1.0 - u;
+        v * v * self.d[0] + 2.0 * u * v * self.d[1] + u * u * self.d[2]
+    }
+}
+
+/// Bernstein coefficients of the cubic (linear a) · (quadratic q):
+/// c0 = a0 q0, c1 = (a1 q0 + 2 a0 q1)/3, c2 = (2 a1 q1 + a0 q2)/3, c3 = a1 q2.
+pub fn linear_times_quadratic(a: [f64; 2], q: [DVec3; 3]) -> [DVec3; 4] {
+    [
+        a[0] * q[0],
+        (a[1] * q[0] + 2.0 * a[0] * q[1]) / 3.0,
+        (2.0 * a[1] * q[1] + a[0] * q[2]) / 3.0,
+        a[1] * q[2],
+    ]
+}
+
+/// Bernstein coefficients 3(C_{j+1} − C_j) of the (quadratic) derivative of a cubic.
+pub fn hodograph(c: &[DVec3; 4]) -> [DVec3; 3] {
+    [3.0 * (c[1] - c[0]), 3.0 * (c[2] - c[1]), 3.0 * (c[3] - c[2])]
+}
+
+/// Solves x ≈ α d + β t by the normal equations (exact when x ∈ span(d, t)).
+/// Returns `None` when d and t are (nearly) parallel: |d × t| ≤ 1e-10 |d||t|.
+pub fn decompose(x: DVec3, d: DVec3, t: DVec3) -> Option<(f64, f64)> {
+    let dd = d.dot(d);
+    let tt = t.dot(t);
+    let dt = d.dot(t);
+    let cross = d.cross(t).length_squared();
+    if !(cross > 1e-20 * dd * tt) || dd == 0.0 || tt == 0.0 {
+        return None;
+    }
+    let det = dd * tt - dt * dt;
+    let xd = x.dot(d);
+    let xt = x.dot(t);
+    let alpha = (xd * tt - xt * dt) / det;
+    let beta = (dd * xt - dt * xd) / det;
+    Some((alpha, beta))
+}
+
+/// The Bernstein coefficients Q_0..Q_3 of X(s) = α(s) D(s) + β(s) T(s) for linear α, β (values
+/// at s = 0 and 1), the blend `d` and the curve `c` (T = C'). The end coefficients are replaced by
+/// the exact network values `x0`, `x1` (equal to α D + β T up to round-off when x lies in the
+/// tangent plane), so the corner blocks are reproduced bit-exactly.
+pub fn cross_derivative_coeffs(
+    alpha: [f64; 2],
+    beta: [f64; 2],
+    blend: &DirectionBlend,
+    c: &[DVec3; 4],
+    x0: DVec3,
+    x1: DVec3,
+) -> [DVec3; 4] {
+    let qa = linear_times_quadratic(alpha, blend.d);
+    let qb = linear_times_quadratic(beta, hodograph(c));
+    [x0, qa[1] + qb[1], qa[2] + qb[2], x1]
+}
+
+/// Angle in degrees between two vectors (0 when either vanishes).
+pub fn angle_deg(a: DVec3, b: DVec3) -> f64 {
+    let la = a.length();
+    let lb = b.length();
+    if la == 0.0 || lb == 0.0 {
+        return 0.0;
+    }
+    // atan2 form: accurate for tiny angles.
+    a.cross(b).length().atan2(a.dot(b)).to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interp_blend_hits_mid_value() {
+        let d0 = DVec3::new(1.0, 0.0, 0.0);
+        let d1 = DVec3::new(0.0, 1.0, 0.0);
+        let m = DVec3::new(0.3, 0.2, 0.5);
+        let b = DirectionBlend::new(BlendKind::Interp, d0, m, d1);
+        assert_near!(b.eval(0.0), d0);
+        assert_near!(b.eval(1.0), d1);
+        assert_near!(b.eval(0.5), m);
+        let a = DirectionBlend::new(BlendKind::Approx, d0, m, d1);
+        assert_near!(a.eval(0.5), 0.25 * d0 + 0.5 * m + 0.25 * d1);
+    }
+
+    #[test]
+    fn product_matches_pointwise() {
+        let a = [0.7, -1.3];
+        let q = [DVec3::new(1.0, 2.0, 3.0), DVec3::new(-1.0, 0.5, 2.0), DVec3::new(0.2, 0.1, -4.0)];
+        let c = linear_times_quadratic(a, q);
+        for k in 0..=10 {
+            let s = k as f64 / 10.0;
+            let lin = (1.0 - s) * a[0] + s * a[1];
+            let quad = DirectionBlend { d: q }.eval(s);
+            let b = crate::bezier::bernstein::bernstein_all(3, s);
+            let cub: DVec3 = (0..4).map(|j| b[j] * c[j]).sum();
+            assert_near!(cub, lin * quad);
+        }
+    }
+
+    #[test]
+    fn decompose_exact_in_plane() {
+        let d = DVec3::new(1.0, 0.2, 0.0);
+        let t = DVec3::new(0.3, 1.0, 0.0);
+        let x = 2.5 * d - 0.75 * t;
+        let (a, b) = decompose(x, d, t).unwrap();
+        assert_near!(a, 2.5);
+        assert_near!(b, -0.75);
+        assert!(decompose(x, d, 3.0 * d).is_none());
+    }
+}

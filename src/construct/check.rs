@@ -1,0 +1,215 @@
+//! Continuity measurements along shared sides of a [`Surface`].
+//!
+//! Ribbon level (no evaluator needed): along side i of patch A with parameter s, the ribbon gives
+//! the tangent T(s) = Σ_j B³_j'(s) P_{j,0} and the inward cross-derivative
+//! X(s) = 3 Σ_j B³_j(s)(P_{j,1} − P_{j,0}); the outward normal is T × X. Across a shared side the
+//! neighbour is sampled at 1 − s with its own T, X. The GB / CGB patch with squared correction
+//! weights reproduces each ribbon's cross-derivative along its side, so these angles are the
+//! patches' normal angles along the side.
+
+use super::blend::angle_deg;
+use super::surface::{Patch, Surface};
+use crate::bezier::bernstein::bernstein_all_d2;
+use crate::gb::Ribbon;
+use glam::DVec3;
+
+/// Worst value found and where: (patch, side, s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Worst {
+    pub value: f64,
+    pub patch: usize,
+    pub side: usize,
+    pub s: f64,
+}
+
+impl Worst {
+    fn update(&mut self, value: f64, patch: usize, side: usize, s: f64) {
+        if value > self.value || value.is_nan() {
+            *self = Worst { value, patch, side, s };
+        }
+    }
+}
+
+/// The ribbons of a patch.
+pub fn ribbons(p: &Patch) -> &[Ribbon] {
+    match p {
+        Patch::Gb(g) => &g.ribbons,
+        Patch::Cgb(c) => &c.ribbons,
+    }
+}
+
+/// (point, tangent d/ds, inward cross-derivative d/dh) of a ribbon at (s, h = 0).
+pub fn ribbon_frame(r: &Ribbon, s: f64) -> (DVec3, DVec3, DVec3) {
+    let d = r.degree;
+    let (b, db, _) = bernstein_all_d2(d, s);
+    let mut p = DVec3::ZERO;
+    let mut t = DVec3::ZERO;
+    let mut x = DVec3::ZERO;
+    for j in 0..=d {
+        p += b[j] * r.rows[0][j];
+        t += db[j] * r.rows[0][j];
+        x += b[j] * (r.rows[1][j] - r.rows[0][j]);
+    }
+    (p, t, d as f64 * x)
+}
+
+/// Max angle (degrees) between the ribbon normals T × X of the two patches along every shared side,
+/// at `samples` ≥ 2 equally spaced parameters (ends included).
+pub fn ribbon_g1_angle(surface: &Surface, samples: usize) -> Worst {
+    let mut w = Worst::default();
+    let samples = samples.max(2);
+    for (p, nb) in surface.neighbors.iter().enumerate() {
+        for (i, n) in nb.iter().enumerate() {
+            let Some(n) = n else { continue };
+            if (n.patch, n.side) < (p, i) {
+                continue;
+            }
+            let ra = &ribbons(&surface.patches[p])[i];
+            let rb = &ribbons(&surface.patches[n.patch])[n.side];
+            for k in 0..samples {
+                let s = k as f64 / (samples - 1) as f64;
+                let (_, ta, xa) = ribbon_frame(ra, s);
+                let (_, tb, xb) = ribbon_frame(rb, 1.0 - s);
+                w.update(angle_deg(ta.cross(xa), tb.cross(xb)), p, i, s);
+            }
+        }
+    }
+    w
+}
+
+/// Max distance between the two ribbons' boundary points along every shared side (the curve as
+/// seen from both patches, B at 1 − s).
+pub fn ribbon_gap(surface: &Surface, samples: usize) -> Worst {
+    let mut w = Worst::default();
+    let samples = samples.max(2);
+    for (p, nb) in surface.neighbors.iter().enumerate() {
+        for (i, n) in nb.iter().enumerate() {
+            let Some(n) = n else { continue };
+            let ra = &ribbons(&surface.patches[p])[i];
+            let rb = &ribbons(&surface.patches[n.patch])[n.side];
+            for k in 0..samples {
+                let s = k as f64 / (samples - 1) as f64;
+                let (pa, _, _) = ribbon_frame(ra, s);
+                let (pb, _, _) = ribbon_frame(rb, 1.0 - s);
+                w.update(pa.distance(pb), p, i, s);
+            }
+        }
+    }
+    w
+}
+
+/// Max distance between corner-block points that must coincide: ribbon i's row 1 column 0 and the
+/// boundary point of side i−1 at column d−1, row 1 column d and side i+1's boundary column 1, and
+/// the ends of consecutive boundaries.
+pub fn corner_block_defect(surface: &Surface) -> Worst {
+    let mut w = Worst::default();
+    for (p, patch) in surface.patches.iter().enumerate() {
+        let rs = ribbons(patch);
+        let n = rs.len();
+        for i in 0..n {
+            let prev = &rs[(i + n - 1) % n];
+            let next = &rs[(i + 1) % n];
+            let r = &rs[i];
+            let d = r.degree;
+            w.update(r.rows[1][0].distance(prev.rows[0][prev.degree - 1]), p, i, 0.0);
+            w.update(r.rows[1][d].distance(next.rows[0][1]), p, i, 1.0);
+            w.update(r.rows[0][d].distance(next.rows[0][0]), p, i, 1.0);
+        }
+    }
+    w
+}
+
+/// Evaluator-level measurements of the joins of a surface (see [`join_report`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JoinReport {
+    /// Max angle (degrees) between the two patches' unit normals at the same curve point.
+    pub angle_deg: Worst,
+    /// Max distance between the two patches' evaluations of the shared side.
+    pub gap: Worst,
+    /// Number of shared sides measured (each pair once).
+    pub sides: usize,
+    /// Samples where a patch normal was undefined (degenerate parameterization).
+    pub degenerate: usize,
+}
+
+/// Point, first and second derivatives of any patch at a domain point.
+pub fn patch_derivs(p: &Patch, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
+    match p {
+        Patch::Gb(g) => g.eval_derivs(uv, form),
+        Patch::Cgb(c) => c.eval_derivs(uv, form),
+    }
+}
+
+/// Sample parameters along a side: `samples` equally spaced interior points t_k = (k+1)/(samples+1)
+/// plus two points 1e-6 away from the corners (the corners themselves are the nodes, where the
+/// evaluator returns the corner point).
+pub fn side_params(samples: usize) -> Vec<f64> {
+    let mut t: Vec<f64> = (0..samples).map(|k| (k + 1) as f64 / (samples + 1) as f64).collect();
+    t.push(1e-6);
+    t.push(1.0 - 1e-6);
+    t
+}
+
+/// Evaluates both patches along every shared side: side i of patch A at t is side j of patch B at
+/// 1 − t (domain convention of [`crate::gb::Domain`]: side i runs from vertex i−1 to vertex i).
+/// Reports the max normal angle and the max positional gap.
+pub fn join_report(surface: &Surface, samples: usize, form: crate::gb::WeightForm) -> JoinReport {
+    use crate::gb::Domain;
+    let mut r = JoinReport::default();
+    let domains: Vec<Option<Domain>> =
+        surface.patches.iter().map(|p| Domain::regular(ribbons(p).len()).ok()).collect();
+    let ts = side_params(samples);
+    for (p, nb) in surface.neighbors.iter().enumerate() {
+        for (i, n) in nb.iter().enumerate() {
+            let Some(n) = n else { continue };
+            if (n.patch, n.side) < (p, i) {
+                continue;
+            }
+            let (Some(da), Some(db)) = (&domains[p], &domains[n.patch]) else {
+                r.degenerate += 1;
+                continue;
+            };
+            r.sides += 1;
+            for &t in &ts {
+                let a = patch_derivs(&surface.patches[p], da.side_point(i, t), form);
+                let b = patch_derivs(&surface.patches[n.patch], db.side_point(n.side, 1.0 - t), form);
+                r.gap.update(a.p.distance(b.p), p, i, t);
+                match (a.normal(), b.normal()) {
+                    (Some(na), Some(nb)) => r.angle_deg.update(angle_deg(na, nb), p, i, t),
+                    _ => r.degenerate += 1,
+                }
+            }
+        }
+    }
+    r
+}
+
+/// Max angle (degrees) between each patch's normal at its corners and the prescribed node normal
+/// (up to sign) — e.g. the face plane at the dual nodes (seed 000 §4.4.4). `corner_node(p, i)`
+/// gives the node at domain vertex i of patch p (or `None` to skip). The normal is taken at the
+/// domain point 1e-9 inside the corner.
+pub fn corner_plane_angle(
+    surface: &Surface,
+    node_normals: &[DVec3],
+    corner_node: impl Fn(usize, usize) -> Option<usize>,
+    form: crate::gb::WeightForm,
+) -> Worst {
+    use crate::gb::Domain;
+    let mut w = Worst::default();
+    for (p, patch) in surface.patches.iter().enumerate() {
+        let n = ribbons(patch).len();
+        let Ok(d) = Domain::regular(n) else { continue };
+        for i in 0..n {
+            let Some(node) = corner_node(p, i) else { continue };
+            let uv = d.vertex(i) * (1.0 - 1e-9);
+            match patch_derivs(patch, uv, form).normal() {
+                Some(nn) => {
+                    let a = angle_deg(nn, node_normals[node]);
+                    w.update(a.min(180.0 - a), p, i, 1.0);
+                }
+                None => w.update(f64::INFINITY, p, i, 1.0),
+            }
+        }
+    }
+    w
+}

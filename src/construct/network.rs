@@ -1,0 +1,246 @@
+//! The curve network and its assembly into patches: boundary rows, corner blocks and twists
+//! (seed 000 §2.4, §3.4, §4). Structure-agnostic: the dual (§2) and the topology-preserving (§3)
+//! builders both produce a [`CurveNetwork`], and [`assemble`] turns it into a [`Surface`].
+
+use super::blend::{cross_derivative_coeffs, decompose, BlendKind, DirectionBlend};
+use super::surface::{Patch, PatchSource, SideRef, Surface};
+use super::{ConstructError, ConstructOptions, TwistMode};
+use crate::gb::{CgbPatch, GbPatch, Ribbon};
+use glam::DVec3;
+
+/// How a patch side runs along a network curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SideUse {
+    /// Index into [`CurveNetwork::curves`].
+    pub curve: usize,
+    /// The side runs from the curve's last control point to its first.
+    pub reversed: bool,
+}
+
+/// One patch of the network before twists are set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchLayout {
+    /// Sides counter-clockwise seen from outside; side i runs from corner i−1 to corner i.
+    pub sides: Vec<SideUse>,
+    /// The first-approximation twist at corner i (the end of side i), used by
+    /// [`TwistMode::None`] and on open sides: seed 000 eq. 2.11 (dual) or the tile vertex (§3.4.1).
+    pub corner_twists: Vec<DVec3>,
+    /// Central control point of a GB patch (the mesh vertex, §2.4.1); `None` for a CGB patch.
+    pub center: Option<DVec3>,
+    /// What the patch stands for.
+    pub source: PatchSource,
+}
+
+/// A cubic curve network with node tangent planes and per-curve middle constraints: the
+/// "DualNetwork" of seed 000 §2.3 or the tile network of §3.3.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveNetwork {
+    /// Network nodes (face centroids / tile centres / boundary edge midpoints).
+    pub nodes: Vec<DVec3>,
+    /// Unit normal of the tangent plane prescribed at each node (all curve tangents there lie in it).
+    pub node_normals: Vec<DVec3>,
+    /// Cubic curves, control points C0..C3.
+    pub curves: Vec<[DVec3; 4]>,
+    /// `curve_nodes[c] = [start, end]` node indices of curve c.
+    pub curve_nodes: Vec<[usize; 2]>,
+    /// D_{0.5} of each curve before `mid_scale`, pointing to the left of the curve as stored, i.e.
+    /// into the patch that traverses it forward (seed 000 §4.4.4 / §4.4.5; unused on open curves).
+    pub mid: Vec<DVec3>,
+    /// The patches.
+    pub patches: Vec<PatchLayout>,
+}
+
+/// Which patch sides use a curve: (patch, side, reversed).
+type Use = (usize, usize, bool);
+
+/// Control points of the side as the patch traverses it.
+fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
+    let c = net.curves[u.curve];
+    if u.reversed {
+        [c[3], c[2], c[1], c[0]]
+    } else {
+        c
+    }
+}
+
+/// Builds the patches of a network.
+///
+/// Ribbon i of a patch: row 0 = the side's curve points; row 1 = [boundary point of side i−1 at
+/// column 2, twist, twist, boundary point of side i+1 at column 1] (the corner blocks interpolate
+/// the adjacent boundaries). Twists:
+/// - [`TwistMode::None`]: the layout's `corner_twists` (shared by both sides at a corner);
+/// - [`TwistMode::Approx`] / [`TwistMode::Interp`]: on every curve shared by two patches, one
+///   direction blend for both (see [`super::blend`]), with D_{0.5} = `mid_scale` · `mid[c]`;
+/// - on open sides (curve used once): the twist of the adjacent side at that corner when that side
+///   is shared, otherwise the corner twist, so the corner block stays consistent.
+pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
+    opts.validate()?;
+    let np = net.patches.len();
+    // Curve uses and consistency.
+    let mut uses: Vec<Vec<Use>> = vec![Vec::new(); net.curves.len()];
+    for (p, lay) in net.patches.iter().enumerate() {
+        let n = lay.sides.len();
+        if n < 3 {
+            return Err(ConstructError::TooFewSides { patch: p, sides: n });
+        }
+        if lay.corner_twists.len() != n {
+            return Err(ConstructError::Internal(format!(
+                "patch {p}: {} corner twists for {n} sides",
+                lay.corner_twists.len()
+            )));
+        }
+        for (i, s) in lay.sides.iter().enumerate() {
+            if s.curve >= net.curves.len() {
+                return Err(ConstructError::Internal(format!("patch {p} side {i}: no curve {}", s.curve)));
+            }
+            uses[s.curve].push((p, i, s.reversed));
+        }
+        // Consecutive sides must meet.
+        for i in 0..n {
+            let a = side_points(net, lay.sides[i]);
+            let b = side_points(net, lay.sides[(i + 1) % n]);
+            if a[3].distance(b[0]) > 1e-9 * (1.0 + a[3].length()) {
+                return Err(ConstructError::Internal(format!(
+                    "patch {p}: side {i} ends at {} but side {} starts at {}",
+                    a[3],
+                    (i + 1) % n,
+                    b[0]
+                )));
+            }
+        }
+    }
+    for (c, u) in uses.iter().enumerate() {
+        match u.len() {
+            0 | 1 => {}
+            2 if u[0].2 != u[1].2 => {}
+            2 => return Err(ConstructError::InconsistentOrientation { curve: c, patches: [u[0].0, u[1].0] }),
+            _ => return Err(ConstructError::NonManifoldCurve { curve: c, uses: u.len() }),
+        }
+    }
+
+    // Rows: rows[p][i] = [row0, row1].
+    let mut rows: Vec<Vec<[[DVec3; 4]; 2]>> = Vec::with_capacity(np);
+    for lay in &net.patches {
+        let n = lay.sides.len();
+        let b: Vec<[DVec3; 4]> = lay.sides.iter().map(|&s| side_points(net, s)).collect();
+        let r = (0..n)
+            .map(|i| {
+                let prev = &b[(i + n - 1) % n];
+                let next = &b[(i + 1) % n];
+                let t0 = lay.corner_twists[(i + n - 1) % n];
+                let t1 = lay.corner_twists[i];
+                [b[i], [prev[2], t0, t1, next[1]]]
+            })
+            .collect();
+        rows.push(r);
+    }
+
+    let mut neighbors: Vec<Vec<Option<SideRef>>> =
+        net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
+    let kind = match opts.twist {
+        TwistMode::None => None,
+        TwistMode::Approx => Some(BlendKind::Approx),
+        TwistMode::Interp => Some(BlendKind::Interp),
+    };
+    let mut shared: Vec<Vec<bool>> = net.patches.iter().map(|l| vec![false; l.sides.len()]).collect();
+    for (c, u) in uses.iter().enumerate() {
+        if u.len() != 2 {
+            continue;
+        }
+        let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
+        let (pa, sa, _) = a;
+        let (pb, sb, _) = b;
+        neighbors[pa][sa] = Some(SideRef { patch: pb, side: sb });
+        neighbors[pb][sb] = Some(SideRef { patch: pa, side: sa });
+        shared[pa][sa] = true;
+        shared[pb][sb] = true;
+        let Some(kind) = kind else { continue };
+        let cc = net.curves[c];
+        let na = rows[pa].len();
+        let nb = rows[pb].len();
+        // Cross-derivatives fixed by the network, all in A's parameter s.
+        let xa0 = 3.0 * (rows[pa][(sa + na - 1) % na][0][2] - cc[0]);
+        let xa1 = 3.0 * (rows[pa][(sa + 1) % na][0][1] - cc[3]);
+        let xb0 = 3.0 * (rows[pb][(sb + 1) % nb][0][1] - cc[0]);
+        let xb1 = 3.0 * (rows[pb][(sb + nb - 1) % nb][0][2] - cc[3]);
+        let t0 = 3.0 * (cc[1] - cc[0]);
+        let t1 = 3.0 * (cc[3] - cc[2]);
+        let d0 = end_direction(xa0, xb0, t0).ok_or(ConstructError::DegenerateCorner { curve: c, end: 0 })?;
+        let d1 = end_direction(xa1, xb1, t1).ok_or(ConstructError::DegenerateCorner { curve: c, end: 1 })?;
+        let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
+        let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
+            decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
+        };
+        let (aa0, ba0) = dec(xa0, d0, t0, 0)?;
+        let (aa1, ba1) = dec(xa1, d1, t1, 1)?;
+        let (ab0, bb0) = dec(xb0, d0, t0, 0)?;
+        let (ab1, bb1) = dec(xb1, d1, t1, 1)?;
+        let qa = cross_derivative_coeffs([aa0, aa1], [ba0, ba1], &blend, &cc, xa0, xa1);
+        let qb = cross_derivative_coeffs([ab0, ab1], [bb0, bb1], &blend, &cc, xb0, xb1);
+        // P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23); B runs the curve backwards: its column j is A's 3−j.
+        rows[pa][sa][1][1] = cc[1] + qa[1] / 3.0;
+        rows[pa][sa][1][2] = cc[2] + qa[2] / 3.0;
+        rows[pb][sb][1][1] = cc[2] + qb[2] / 3.0;
+        rows[pb][sb][1][2] = cc[1] + qb[1] / 3.0;
+    }
+    // Open sides: adopt the adjacent shared side's twist at each corner.
+    if kind.is_some() {
+        for p in 0..np {
+            let n = rows[p].len();
+            for i in 0..n {
+                if shared[p][i] {
+                    continue;
+                }
+                let prev = (i + n - 1) % n;
+                let next = (i + 1) % n;
+                if shared[p][prev] {
+                    rows[p][i][1][1] = rows[p][prev][1][2];
+                }
+                if shared[p][next] {
+                    rows[p][i][1][2] = rows[p][next][1][1];
+                }
+            }
+        }
+    }
+
+    let mut patches = Vec::with_capacity(np);
+    let mut sources = Vec::with_capacity(np);
+    for (p, lay) in net.patches.iter().enumerate() {
+        let ribbons: Vec<Ribbon> = rows[p]
+            .iter()
+            .map(|r| Ribbon { degree: 3, rows: vec![r[0].to_vec(), r[1].to_vec()] })
+            .collect();
+        for (i, r) in ribbons.iter().enumerate() {
+            if r.rows.iter().flatten().any(|q| !q.is_finite()) {
+                return Err(ConstructError::NonFinite { patch: p, side: i });
+            }
+        }
+        patches.push(match lay.center {
+            Some(center) => Patch::Gb(GbPatch { ribbons, center }),
+            None => Patch::Cgb(CgbPatch { ribbons }),
+        });
+        sources.push(lay.source);
+    }
+    Ok(Surface {
+        patches,
+        neighbors,
+        sources,
+        curves: net.curves.iter().map(|c| c.to_vec()).collect(),
+    })
+}
+
+/// D at a curve end (seed 000 eq. 4.7): (X_A − X_B)/2. If that is parallel to the tangent (the two
+/// patches fold onto the same side), the part of X_A normal to T is used instead; `None` when X_A
+/// itself is parallel to T (a degenerate corner).
+fn end_direction(xa: DVec3, xb: DVec3, t: DVec3) -> Option<DVec3> {
+    let d = 0.5 * (xa - xb);
+    if decompose(xa, d, t).is_some() {
+        return Some(d);
+    }
+    let tt = t.dot(t);
+    if tt == 0.0 {
+        return None;
+    }
+    let perp = xa - t * (xa.dot(t) / tt);
+    decompose(xa, perp, t).map(|_| perp)
+}

@@ -1,0 +1,217 @@
+//! Topology-preserving structure (seed 000 §3): one ribbon-only (CGB) patch per mesh face, curves
+//! along the mesh edges built from auxiliary "tiles" around the mesh vertices.
+//!
+//! Tiles (§3.3.1). Every edge (p, q) gets the split points p + (q − p)/w and q + (p − q)/w (w > 2).
+//! In a face p_0..p_{m−1} with edges E_k = (p_k, p_{k+1}), let a_k be E_k's split point near p_k and
+//! b_k the one near p_{k+1}. The division line of E_k joins b_{k−1} to a_{k+1} ("the first point of
+//! an edge with the second point of the edge two before"); the tile vertex of p_k in this face is
+//! the intersection of the division lines of E_{k−1} and E_k, computed in the face's best-fit plane
+//! (Newell normal through the centroid; the 3D point is the mean of the two lines' points at the
+//! 2D solution, so it lies on the face for planar faces). If the lines are parallel the mean of
+//! b_{k−1} and a_k is used.
+//!
+//! The tile of vertex v joins its tile vertices of the faces around v (counter-clockwise). At a
+//! boundary vertex (not in the seed; defined here) the tile also contains the split points of the
+//! two boundary edges at v: [e_0, t_0, …, t_{n−2}, e_{n−1}].
+//!
+//! Best tile plane (§3.3.2, eq. 3.1–3.6): centre p = mean of the tile points, normal
+//! n_p = Σ (q_i − p) × (q_{i+1} − p) normalized; with `best_plane` the tile points are projected:
+//! Q' = Q − ((Q − p)·n) n.
+//!
+//! Curves (§3.3.3): the curve of edge (u, v) has C0 = centre of tile u, C1 = midpoint of tile u's
+//! edge across (u, v), C2 = the same for tile v, C3 = centre of tile v. All tangents at a tile
+//! centre lie in the tile plane. The tile edge across the edge of outgoing half-edge h joins the
+//! tile vertex in face(twin h) and the one in face(h) (a boundary split point where there is no
+//! face), so an open mesh gets its boundary curves along the boundary edges the same way.
+//!
+//! Patches (§3.4): face p_0..p_{m−1} gives an m-sided CGB patch; side i runs along edge
+//! (p_{i−1}, p_i), corner i is the centre of tile p_i. First-approximation twist at corner i: the
+//! tile vertex of p_i in this face (§3.4.1), shared by both sides of the corner.
+//!
+//! CGB and G1: on side i the other ribbons' weights vanish to second order (squared correction
+//! weights for the neighbours, B³_0, B³_1 at h = 1 for the far sides) and ∂B_sum/∂h_i = 0, so the
+//! normalized patch (eq. 3.8) has ribbon i's cross-derivative along side i; measured with the
+//! `gb` CGB evaluator the normal angle across shared sides is ≤ 4e-13° on all test models
+//! (tests/construct_g1.rs).
+//!
+//! D_{0.5} (§4.4.5): the vector from the centre of the edge's "edge tile" (the quad of the four
+//! tile vertices next to the edge, a Doo–Sabin edge face) to the midpoint of its side in the face,
+//! times three (as a first chord of a cubic): with M_f, M_g the midpoints of the two tile vertices
+//! of the edge in faces f and g, D_{0.5} = 3 · (M_f − M_g)/2, pointing into f's patch.
+
+use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
+use super::surface::{PatchSource, Surface};
+use super::{ConstructError, ConstructOptions};
+use crate::mesh::geometry::newell_normal;
+use crate::mesh::{HalfEdgeMesh, HalfedgeId};
+use glam::{DVec2, DVec3};
+
+/// Tile geometry of a mesh: per half-edge h with a face, the tile vertex of origin(h) in face(h);
+/// per boundary half-edge-adjacent outgoing h, the split point on its edge; tile centres/normals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tiles {
+    /// `vertex[h]`: tile vertex of origin(h) in face(h) (unused for boundary half-edges).
+    pub vertex: Vec<DVec3>,
+    /// `split[h]`: the split point origin(h) + (target(h) − origin(h))/w, projected into the tile
+    /// plane of origin(h) when `best_plane` (used only on boundary edges).
+    pub split: Vec<DVec3>,
+    /// Tile centre of each mesh vertex.
+    pub center: Vec<DVec3>,
+    /// Unit normal of each tile's best-fit plane.
+    pub normal: Vec<DVec3>,
+}
+
+/// Intersection of the lines a0 + s(a1 − a0) and b0 + t(b1 − b0) in the plane (c, n).
+fn intersect_in_plane(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3, c: DVec3, n: DVec3) -> Option<DVec3> {
+    let ex = n.any_orthonormal_vector();
+    let ey = n.cross(ex);
+    let p2 = |p: DVec3| DVec2::new((p - c).dot(ex), (p - c).dot(ey));
+    let (pa, da) = (p2(a0), p2(a1) - p2(a0));
+    let (pb, db) = (p2(b0), p2(b1) - p2(b0));
+    let den = da.perp_dot(db);
+    if den.abs() <= 1e-12 * da.length() * db.length() {
+        return None;
+    }
+    let w = pb - pa;
+    let s = w.perp_dot(db) / den;
+    let t = w.perp_dot(da) / den;
+    Some(0.5 * (a0 + s * (a1 - a0) + b0 + t * (b1 - b0)))
+}
+
+/// Tiles of seed 000 §3.3.1–3.3.2 (see the module doc).
+pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Tiles, ConstructError> {
+    opts.validate()?;
+    let w = opts.tile_depth;
+    let nh = mesh.n_halfedges();
+    let pos = |h: HalfedgeId| (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
+    // Split points: near[h] = origin + (target − origin)/w.
+    let near = |h: HalfedgeId| {
+        let (p, q) = pos(h);
+        p + (q - p) / w
+    };
+    let mut vertex = vec![DVec3::ZERO; nh];
+    for f in mesh.faces() {
+        let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+        let m = hs.len();
+        let pts: Vec<DVec3> = hs.iter().map(|&h| pos(h).0).collect();
+        let c = pts.iter().copied().sum::<DVec3>() / m as f64;
+        let n = newell_normal(&pts);
+        let scale = pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max);
+        if !(n.length() > 1e-14 * scale) {
+            return Err(ConstructError::DegenerateFace { face: f.idx() });
+        }
+        let n = n.normalize();
+        let a = |k: usize| near(hs[k % m]); // a_k near p_k on E_k
+        let b = |k: usize| near(mesh.twin(hs[k % m])); // b_k near p_{k+1} on E_k
+        for k in 0..m {
+            // Division line of E_j: b_{j−1} → a_{j+1}.
+            let (km1, km2) = ((k + m - 1) % m, (k + m - 2) % m);
+            let (l0, l1) = (b(km2), a(k)); // E_{k−1}
+            let (r0, r1) = (b(km1), a(k + 1)); // E_k
+            vertex[hs[k].idx()] =
+                intersect_in_plane(l0, l1, r0, r1, c, n).unwrap_or_else(|| 0.5 * (b(km1) + a(k)));
+        }
+    }
+    let mut split: Vec<DVec3> = mesh.halfedges().map(near).collect();
+    let mut center = Vec::with_capacity(mesh.n_vertices());
+    let mut normal = Vec::with_capacity(mesh.n_vertices());
+    for v in mesh.vertices() {
+        let ring = tile_ring(mesh, v);
+        let pts: Vec<DVec3> =
+            ring.iter().map(|&(h, is_split)| if is_split { split[h.idx()] } else { vertex[h.idx()] }).collect();
+        let p = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+        let nn = newell_normal(&pts);
+        let scale = pts.iter().map(|q| (*q - p).length_squared()).fold(0.0, f64::max);
+        if !(nn.length() > 1e-14 * scale) {
+            return Err(ConstructError::DegenerateTile { vertex: v.idx() });
+        }
+        let nn = nn.normalize();
+        if opts.best_plane {
+            for &(h, is_split) in &ring {
+                let q = if is_split { &mut split[h.idx()] } else { &mut vertex[h.idx()] };
+                *q -= nn * nn.dot(*q - p);
+            }
+        }
+        center.push(p);
+        normal.push(nn);
+    }
+    Ok(Tiles { vertex, split, center, normal })
+}
+
+/// The tile polygon of v, counter-clockwise: (h, true) = split point on the edge of outgoing h,
+/// (h, false) = tile vertex in face(h) for outgoing h.
+fn tile_ring(mesh: &HalfEdgeMesh, v: crate::mesh::VertexId) -> Vec<(HalfedgeId, bool)> {
+    let out: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
+    if !mesh.is_boundary_vertex(v) {
+        return out.into_iter().map(|h| (h, false)).collect();
+    }
+    // out[0] is the boundary half-edge (no face); faces follow from out[1].
+    let n = out.len();
+    let mut ring = vec![(out[1 % n], true)];
+    ring.extend(out[1..].iter().map(|&h| (h, false)));
+    ring.push((out[0], true));
+    ring
+}
+
+/// Midpoint of the tile edge of origin(h) across the edge of outgoing h.
+fn tile_edge_mid(mesh: &HalfEdgeMesh, t: &Tiles, h: HalfedgeId) -> DVec3 {
+    let left = if mesh.face(h).is_some() { t.vertex[h.idx()] } else { t.split[h.idx()] };
+    let tw = mesh.twin(h);
+    let right = if mesh.face(tw).is_some() { t.vertex[mesh.next(tw).idx()] } else { t.split[h.idx()] };
+    0.5 * (left + right)
+}
+
+/// The tile curve network of seed 000 §3.3 (nodes = tile centres, index = vertex index).
+pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<CurveNetwork, ConstructError> {
+    let t = tiles(mesh, opts)?;
+    let mut curves = Vec::with_capacity(mesh.n_edges());
+    let mut curve_nodes = Vec::with_capacity(mesh.n_edges());
+    let mut mids = Vec::with_capacity(mesh.n_edges());
+    for e in mesh.edges() {
+        let h = mesh.edge_halfedge(e, 0);
+        let tw = mesh.twin(h);
+        let (u, v) = (mesh.origin(h), mesh.target(h));
+        curves.push([t.center[u.idx()], tile_edge_mid(mesh, &t, h), tile_edge_mid(mesh, &t, tw), t.center[v.idx()]]);
+        curve_nodes.push([u.idx(), v.idx()]);
+        // Edge tile: tile vertices of u and v in face(h) (left) and face(tw) (right).
+        let d = match (mesh.face(h), mesh.face(tw)) {
+            (Some(_), Some(_)) => {
+                let ml = 0.5 * (t.vertex[h.idx()] + t.vertex[mesh.next(h).idx()]);
+                let mr = 0.5 * (t.vertex[tw.idx()] + t.vertex[mesh.next(tw).idx()]);
+                1.5 * (ml - mr)
+            }
+            _ => DVec3::ZERO,
+        };
+        mids.push(d);
+    }
+    let mut patches = Vec::with_capacity(mesh.n_faces());
+    for f in mesh.faces() {
+        let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+        let m = hs.len();
+        // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
+        let sides =
+            (0..m).map(|i| hs[(i + m - 1) % m]).map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
+        patches.push(PatchLayout {
+            sides: sides.collect(),
+            corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
+            center: None,
+            source: PatchSource::Face(f.idx()),
+        });
+    }
+    Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
+}
+
+/// Topology-preserving construction (seed 000 §3, §4): concave faces split by
+/// [`super::convex_mesh`], then [`topology_network`] and [`assemble`]. One patch per face of the
+/// split mesh; its source is the input face it came from (a split face gives several patches).
+pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
+    let (m, origin) = super::convex_mesh(mesh)?;
+    let net = topology_network(&m, opts)?;
+    let mut s = assemble(&net, opts)?;
+    for src in &mut s.sources {
+        if let PatchSource::Face(f) = src {
+            *f = origin[*f];
+        }
+    }
+    Ok(s)
+}

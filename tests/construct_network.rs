@@ -1,0 +1,151 @@
+//! Assembly of a hand-made curve network: corner blocks, and G1 of the direction-blend twists
+//! along a shared curve between two triangles with arbitrary node tangent planes.
+
+use gbsurf::construct::check::{corner_block_defect, ribbon_frame, ribbon_g1_angle, ribbons};
+use gbsurf::construct::{
+    assemble, ConstructError, ConstructOptions, CurveNetwork, PatchLayout, PatchSource, SideUse, TwistMode,
+};
+use gbsurf::DVec3;
+use proptest::prelude::*;
+
+fn rot(v: DVec3, axis: DVec3, ang: f64) -> DVec3 {
+    let k = axis.normalize();
+    v * ang.cos() + k.cross(v) * ang.sin() + k * k.dot(v) * (1.0 - ang.cos())
+}
+
+
+/// Two triangles A = (C0, C3, P) and B = (C3, C0, Q) sharing curve 0 (C0 → C3).
+#[allow(clippy::too_many_arguments)]
+fn two_triangles(n0: DVec3, n3: DVec3, q: [f64; 6], th: [f64; 4], mid: DVec3) -> CurveNetwork {
+    let c0 = DVec3::ZERO;
+    let c3 = DVec3::new(3.0, 0.2, -0.1);
+    let p = DVec3::new(1.5, 2.5, 0.3);
+    let qq = DVec3::new(1.4, -2.4, -0.2);
+    let n0 = n0.normalize();
+    let n3 = n3.normalize();
+    // In-plane tangent at C0 towards C3 and at C3 towards C0.
+    let proj = |v: DVec3, n: DVec3| (v - n * v.dot(n)).normalize();
+    let a = proj(c3 - c0, n0) * q[0];
+    let b = proj(c0 - c3, n3) * q[1];
+    // A lies to the left of C0→C3 (seen from the normal side): rotate +θ at C0, −θ at C3.
+    let f = rot(a.normalize(), n0, th[0]) * q[2]; // towards P from C0
+    let g = rot(a.normalize(), n0, -th[1]) * q[3]; // towards Q from C0
+    let e = rot(b.normalize(), n3, -th[2]) * q[4]; // towards P from C3
+    let h = rot(b.normalize(), n3, th[3]) * q[5]; // towards Q from C3
+    let curves = vec![
+        [c0, c0 + a, c3 + b, c3],
+        [c3, c3 + e, p + 0.3 * (c3 - p), p],
+        [p, p + 0.3 * (c0 - p), c0 + f, c0],
+        [c0, c0 + g, qq + 0.3 * (c0 - qq), qq],
+        [qq, qq + 0.3 * (c3 - qq), c3 + h, c3],
+    ];
+    let s = |c, r| SideUse { curve: c, reversed: r };
+    let tw = |v: Vec<DVec3>| v;
+    CurveNetwork {
+        nodes: vec![c0, c3, p, qq],
+        node_normals: vec![n0, n3, DVec3::Z, DVec3::Z],
+        curves,
+        curve_nodes: vec![[0, 1], [1, 2], [2, 0], [0, 3], [3, 1]],
+        mid: vec![mid, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
+        patches: vec![
+            PatchLayout {
+                sides: vec![s(0, false), s(1, false), s(2, false)],
+                corner_twists: tw(vec![c3 + 0.2 * (p - c3), p + 0.2 * (c0 - p), c0 + 0.3 * (p - c0)]),
+                center: Some((c0 + c3 + p) / 3.0),
+                source: PatchSource::Vertex(0),
+            },
+            PatchLayout {
+                sides: vec![s(0, true), s(3, false), s(4, false)],
+                corner_twists: tw(vec![c0 + 0.3 * (qq - c0), qq + 0.2 * (c3 - qq), c3 + 0.3 * (qq - c3)]),
+                center: None,
+                source: PatchSource::Face(0),
+            },
+        ],
+    }
+}
+
+fn opts(t: TwistMode) -> ConstructOptions {
+    ConstructOptions { twist: t, ..Default::default() }
+}
+
+proptest! {
+    #[test]
+    fn blend_twists_are_g1_along_shared_curve(
+        n0 in (-0.5f64..0.5, -0.5f64..0.5), n3 in (-0.5f64..0.5, -0.5f64..0.5),
+        q in prop::array::uniform6(0.3f64..1.5),
+        th in prop::array::uniform4(0.4f64..2.6),
+        mid in (-2.0f64..2.0, 0.2f64..3.0, -1.0f64..1.0),
+        scale in 0.0f64..3.0,
+    ) {
+        let net = two_triangles(
+            DVec3::new(n0.0, n0.1, 1.0), DVec3::new(n3.0, n3.1, 1.0), q, th,
+            DVec3::new(mid.0, mid.1, mid.2),
+        );
+        for mode in [TwistMode::Approx, TwistMode::Interp] {
+            let o = ConstructOptions { mid_scale: scale, ..opts(mode) };
+            let s = assemble(&net, &o).unwrap();
+            prop_assert_eq!(corner_block_defect(&s).value, 0.0);
+            let g = ribbon_g1_angle(&s, 33);
+            prop_assert!(g.value < 1e-8, "{:?}: {:?}", mode, g);
+            // det(T, X_A, X_B) relative to the sizes, at many s.
+            let ra = &ribbons(&s.patches[0])[0];
+            let rb = &ribbons(&s.patches[1])[0];
+            for k in 0..=40 {
+                let u = k as f64 / 40.0;
+                let (pa, ta, xa) = ribbon_frame(ra, u);
+                let (pb, _, xb) = ribbon_frame(rb, 1.0 - u);
+                prop_assert!(pa.distance(pb) < 1e-14);
+                let det = ta.dot(xa.cross(xb));
+                prop_assert!(det.abs() <= 1e-12 * ta.length() * xa.length() * xb.length());
+            }
+        }
+    }
+}
+
+#[test]
+fn interp_blend_reproduces_mid_direction() {
+    // With Interp, X_A(½) = α_A(½) D_{0.5} + β_A(½) T(½): the normal at the middle is T(½) × D_{0.5}.
+    let mid = DVec3::new(0.3, 1.7, 0.4);
+    let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], mid);
+    let s = assemble(&net, &opts(TwistMode::Interp)).unwrap();
+    let (_, t, x) = ribbon_frame(&ribbons(&s.patches[0])[0], 0.5);
+    let n = t.cross(x).normalize();
+    assert!(n.dot(mid).abs() < 1e-12, "{}", n.dot(mid));
+}
+
+#[test]
+fn none_mode_uses_corner_twists_and_is_not_g1_here() {
+    let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
+    let s = assemble(&net, &opts(TwistMode::None)).unwrap();
+    let r = &ribbons(&s.patches[0])[0];
+    assert_eq!(r.rows[1][1], net.patches[0].corner_twists[2]);
+    assert_eq!(r.rows[1][2], net.patches[0].corner_twists[0]);
+    assert!(ribbon_g1_angle(&s, 17).value > 0.01);
+    assert_eq!(s.neighbors[0][0], Some(gbsurf::construct::SideRef { patch: 1, side: 0 }));
+    assert_eq!(s.neighbors[0][1], None);
+}
+
+#[test]
+fn open_sides_adopt_shared_twists() {
+    let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
+    let s = assemble(&net, &opts(TwistMode::Interp)).unwrap();
+    let r = ribbons(&s.patches[0]);
+    // Side 1 starts at corner 0 (end of shared side 0).
+    assert_eq!(r[1].rows[1][1], r[0].rows[1][2]);
+    assert_eq!(r[2].rows[1][2], r[0].rows[1][1]);
+}
+
+#[test]
+fn orientation_and_option_errors() {
+    let mut net = two_triangles(DVec3::Z, DVec3::Z, [1.0; 6], [1.2; 4], DVec3::Y);
+    let bad = ConstructOptions { fullness: 1.0, ..Default::default() };
+    assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
+    let bad = ConstructOptions { tile_depth: 2.0, ..Default::default() };
+    assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
+    net.patches[1].sides[0].reversed = false;
+    assert!(assemble(&net, &opts(TwistMode::Interp)).is_err());
+    let mut net = two_triangles(DVec3::Z, DVec3::Z, [1.0; 6], [1.2; 4], DVec3::Y);
+    net.patches[1].sides.truncate(2);
+    net.patches[1].corner_twists.truncate(2);
+    assert!(matches!(assemble(&net, &opts(TwistMode::Interp)), Err(ConstructError::TooFewSides { patch: 1, sides: 2 })));
+}
