@@ -2,7 +2,7 @@
 Blender's own Subdivision Surface of the same mesh (Cycles on the CPU).
 
     .venv/bin/python blender_addon/render_demo.py --zip dist/gbsurf-0.1.0.zip \
-        [--model ../shared/models/torus.obj] [-o out/demo/blender.png] [--samples 32]
+        [--model ../shared/models/torus.obj] [-o out/demo/blender.png] [--samples 16]
 
 The add-on is installed from the zip into a temporary user folder (BLENDER_USER_RESOURCES is set
 to one when unset), so the picture shows what the packaged extension does. Besides the PNG,
@@ -33,8 +33,8 @@ def parse(argv):
     p.add_argument("--method", default="DUAL")
     p.add_argument("--resolution", type=int, default=10)
     p.add_argument("--levels", type=int, default=3, help="Subdivision Surface levels")
-    p.add_argument("--samples", type=int, default=32)
-    p.add_argument("--size", default="1280x640")
+    p.add_argument("--samples", type=int, default=16)
+    p.add_argument("--size", default="1200x600")
     return p.parse_args(argv)
 
 
@@ -48,16 +48,21 @@ def grey_material():
     return mat
 
 
-def label(text, location, size):
-    cu = bpy.data.curves.new(text, 'FONT')
-    cu.body = text
-    cu.align_x = 'CENTER'
-    cu.size = size
-    ob = bpy.data.objects.new(text, cu)
-    ob.location = location
-    ob.rotation_euler = (1.2, 0.0, 0.0)
-    bpy.context.scene.collection.objects.link(ob)
-    return ob
+def stamp_note(scene, text):
+    """Writes `text` into the picture (render stamp with only the note)."""
+    r = scene.render
+    for name in dir(r):
+        if name.startswith("use_stamp_") and name not in {"use_stamp_note", "use_stamp_labels"}:
+            try:
+                setattr(r, name, False)
+            except (AttributeError, TypeError):
+                pass
+    r.use_stamp = True
+    r.use_stamp_note = True
+    r.stamp_note_text = text
+    r.stamp_font_size = 20
+    r.stamp_foreground = (1.0, 1.0, 1.0, 1.0)
+    r.stamp_background = (0.0, 0.0, 0.0, 0.55)
 
 
 def main(argv):
@@ -99,9 +104,6 @@ def main(argv):
     gb.location = -centre + Vector((-offset, 0, 0))
     ref.location = -centre + Vector((offset, 0, 0))
     extent = max(2 * offset + size.x, size.z * 2.2, size.y)
-    label("GB surface (mean curvature)", (-offset, -0.6 * size.y - 0.2 * extent, -0.5 * size.z - 0.08 * extent), 0.05 * extent)
-    label(f"Subdivision Surface, level {a.levels}", (offset, -0.6 * size.y - 0.2 * extent, -0.5 * size.z - 0.08 * extent), 0.05 * extent)
-
     scene = bpy.context.scene
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     scene.collection.objects.link(cam)
@@ -131,6 +133,8 @@ def main(argv):
     scene.render.resolution_x, scene.render.resolution_y = w, h
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = 'PNG'
+    stamp_note(scene, f"left: GB surface ({a.method.lower()}, r={a.resolution}), mean curvature "
+               f"blue < 0 < red    right: Subdivision Surface level {a.levels}")
     out = os.path.abspath(a.output)
     os.makedirs(os.path.dirname(out), exist_ok=True)
     scene.render.filepath = out
