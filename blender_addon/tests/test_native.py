@@ -121,3 +121,33 @@ def test_convert_cube_arrays():
     assert c.report["closed"] == 1 and c.report["patches"] == len(c.patches) == 8
     assert all(p["center"] is not None and len(p["ribbons"]) == 3 for p in c.patches)
     assert len(c.curves) == 12 and all(cv.shape[1] == 3 for cv in c.curves)
+
+
+def test_cancel_from_another_thread_like_the_modal_operator():
+    """The interactive Convert runs the library in a worker thread and cancels through the
+    progress callback when Esc is pressed on the main thread: the same contract, without UI."""
+    import threading
+
+    n = native()
+    sizes, idx = flat(CUBE_FACES)
+    started, cancel = threading.Event(), threading.Event()
+    outcome = []
+
+    def progress(f):
+        started.set()
+        cancel.wait(timeout=30)  # the "user" decides while the library waits in the callback
+        return not cancel.is_set()
+
+    def work():
+        try:
+            n.convert(CUBE_POS, sizes, idx, n.make_options(resolution=4), progress)
+            outcome.append("finished")
+        except n.Cancelled as e:
+            outcome.append(e.status)
+
+    t = threading.Thread(target=work)
+    t.start()
+    assert started.wait(timeout=30)
+    cancel.set()  # "Esc"
+    t.join(timeout=30)
+    assert outcome == ["GBSURF_ERR_CANCELLED"]
