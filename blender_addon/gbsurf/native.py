@@ -228,6 +228,10 @@ def make_options(
     lib = load()
     o = Options()
     _check(lib, lib.gbsurf_options_init(ctypes.byref(o)))
+    if o.struct_size != ctypes.sizeof(Options):
+        raise LibraryMissing(
+            f"{_lib_path}: GbsurfOptions has {o.struct_size} bytes, this add-on expects "
+            f"{ctypes.sizeof(Options)} (library and add-on from different versions)")
     try:
         o.method = METHODS[method]
         o.twist = TWISTS[twist]
