@@ -21,6 +21,7 @@
 #[macro_use]
 pub mod tol;
 
+pub mod api;
 pub mod bezier;
 pub mod construct;
 pub mod ffi;
@@ -33,4 +34,5 @@ pub mod quality;
 pub mod subdiv;
 pub mod tessellate;
 
+pub use api::{convert, convert_file, read_mesh, Conversion, ConvertError, ConvertOptions, Method, Twist};
 pub use glam::{DVec2, DVec3};

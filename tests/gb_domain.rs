@@ -197,3 +197,35 @@ proptest! {
         }
     }
 }
+
+/// Many-sided domains (a `.gbp` file may have up to 1024 sides): the (n−2)-fold Wachspress
+/// products must neither underflow (they did, to 0/0 = NaN everywhere, for n ≳ 180 with
+/// unscaled triangle areas) nor lose the corner values s_i(v_{i−1}) = 0, s_i(v_i) = 1.
+#[test]
+fn many_sided_domains_stay_finite_and_exact() {
+    for n in [150usize, 200, 300, 1024] {
+        let dom = Domain::regular(n).unwrap();
+        let mut pts = vec![DVec2::ZERO];
+        for i in (0..n).step_by(n / 7) {
+            for (a, b) in [(0.3, 0.3), (0.9, 0.05), (0.5, 0.5), (0.0, 1.0), (0.999, 0.0)] {
+                pts.push(domain_point(&dom, i, a, b));
+            }
+        }
+        for x in &pts {
+            let lam = dom.wachspress(*x);
+            assert!(lam.iter().all(|l| l.is_finite()), "n={n} at {x}");
+            assert_near!(lam.iter().map(|l| l.val).sum::<f64>(), 1.0, 1e-12);
+            let lp = dom.local_params(*x);
+            assert!(lp.iter().all(|p| p.s.is_finite() && p.h.is_finite()), "n={n} at {x}");
+        }
+        for i in (0..n).step_by(n / 5) {
+            let lp0 = dom.local_params(dom.vertex(i + n - 1));
+            let lp1 = dom.local_params(dom.vertex(i));
+            assert_near!(lp0[i].s.val, 0.0, 1e-12);
+            assert_near!(lp1[i].s.val, 1.0, 1e-12);
+            let mid = dom.local_params(dom.side_point(i, 0.25));
+            assert_near!(mid[i].s.val, 0.25, 1e-9);
+            assert_near!(mid[i].h.val, 0.0, 1e-12);
+        }
+    }
+}

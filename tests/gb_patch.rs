@@ -233,7 +233,7 @@ fn basis_is_a_partition_of_unity_everywhere() {
 fn boundary_interpolation_and_exact_corners() {
     for n in 3..=8 {
         let dom = Domain::regular(n).unwrap();
-        for d in 3..=6 {
+        for d in 3..=8 {
             let p = random_patch(n, d, (n * 10 + d) as u64);
             p.validate().unwrap();
             let mut ev = p.evaluator().unwrap();
@@ -258,7 +258,7 @@ fn boundary_interpolation_and_exact_corners() {
 fn no_nan_on_the_closed_domain() {
     for n in 3..=8 {
         let dom = Domain::regular(n).unwrap();
-        for d in 2..=6 {
+        for d in 2..=8 {
             for (pi, p) in [
                 random_patch(n, d, 99 + d as u64),
                 shared_patch(n, d, 7 + n as u64),
@@ -589,4 +589,55 @@ fn validate_names_the_offending_element() {
     assert!(q
         .eval(DVec2::new(0.1, 0.1), WeightForm::Squared)
         .is_finite());
+}
+
+/// Patches as they could arrive from a file or the C ABI: every public entry point returns an
+/// error or a value, never panics (absurd degrees used to overflow `d + 1` in the evaluators).
+#[test]
+fn malformed_patches_never_panic() {
+    use gbsurf::gb::{CgbPatch, GbError};
+    let x = DVec2::new(0.1, -0.2);
+    let huge = |d: usize, rows: Vec<Vec<DVec3>>| GbPatch {
+        ribbons: vec![Ribbon { degree: d, rows }; 4],
+        center: DVec3::ONE,
+    };
+    let mut cases = vec![
+        huge(usize::MAX, vec![]),
+        huge(usize::MAX - 1, vec![vec![DVec3::ZERO; 3]]),
+        huge(1 << 40, vec![]),
+        huge(0, vec![vec![]]),
+        huge(1, vec![vec![DVec3::ZERO; 2]]),
+        GbPatch {
+            ribbons: vec![],
+            center: DVec3::ONE,
+        },
+    ];
+    let mut ragged = random_patch(5, 5, 3);
+    ragged.ribbons[1].rows.clear();
+    ragged.ribbons[2].rows[2] = vec![DVec3::ONE; 9];
+    ragged.ribbons[4].degree = 7;
+    cases.push(ragged);
+    for (c, p) in cases.iter().enumerate() {
+        assert!(p.validate().is_err(), "case {c}");
+        let _ = p.eval(x, WeightForm::Squared);
+        let _ = p.normal(x, WeightForm::Linear);
+        let _ = p.curvature(x, WeightForm::Squared);
+        assert!(p.elevate().is_err(), "case {c}");
+        let cgb = CgbPatch {
+            ribbons: p.ribbons.clone(),
+        };
+        assert!(cgb.validate().is_err(), "case {c}");
+        let _ = cgb.eval(x, WeightForm::Squared);
+    }
+    assert!(matches!(
+        cases[0].validate(),
+        Err(GbError::DegreeTooHigh { side: 0, .. })
+    ));
+    // The evaluator itself refuses such degrees with a typed error.
+    assert!(matches!(
+        gbsurf::gb::GbBasisEvaluator::new(3, usize::MAX),
+        Err(GbError::DegreeTooHigh { .. })
+    ));
+    // Elevation stops with an error at the cap instead of looping or allocating without bound.
+    assert!(random_patch(3, 3, 1).elevate_to(usize::MAX).is_err());
 }

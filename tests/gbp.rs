@@ -210,6 +210,16 @@ fn malformed_files_give_typed_errors_with_lines() {
         err("\n5 0\n"),
         GbpError::BadDegree { line: 2, d: 0 }
     ));
+    // d = 1 has no GB correction weights: rejected on read and on write.
+    assert!(matches!(
+        err("3 1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"),
+        GbpError::BadDegree { line: 1, d: 1 }
+    ));
+    let linear = GbPatch::from_connected_listing(3, 1, &[DVec3::ZERO; 4]).unwrap();
+    assert!(matches!(
+        to_gbp_string(&linear),
+        Err(GbpError::DegreeOutput { d: 1 })
+    ));
     assert!(matches!(
         err("3 3\n\n\n"),
         GbpError::UnexpectedEof { line: 1, .. }
@@ -320,7 +330,7 @@ proptest! {
 
     /// write → read gives back the same patch, bit for bit.
     #[test]
-    fn round_trip_is_exact(n in 3usize..9, d in 1usize..8, seed in proptest::collection::vec(coord(), 3 * 200)) {
+    fn round_trip_is_exact(n in 3usize..9, d in 2usize..8, seed in proptest::collection::vec(coord(), 3 * 200)) {
         let count = 1 + listed_point_count(n, d);
         prop_assume!(3 * count <= seed.len());
         let pts: Vec<DVec3> = (0..count).map(|m| DVec3::new(seed[3 * m], seed[3 * m + 1], seed[3 * m + 2])).collect();

@@ -8,7 +8,7 @@ use super::domain::{Domain, LocalParam};
 use super::error::GbError;
 use super::eval::validate_ribbons;
 use super::patch::{CgbPatch, WeightForm};
-use super::weights::{corner_weight, mu_kind, BernsteinBuf, MuKind};
+use super::weights::{check_degree, corner_weight, mu_kind, BernsteinBuf, MuKind};
 use glam::{DVec2, DVec3};
 
 /// Reusable evaluator of CGB weights for given per-side degrees and layer counts.
@@ -25,7 +25,7 @@ pub struct CgbBasisEvaluator {
 }
 
 impl CgbBasisEvaluator {
-    /// Evaluator for sides with degrees `degrees[i]` (≥ 2) and `layers[i]` rows (1..=d_i+1).
+    /// Evaluator for sides with degrees `degrees[i]` (2..=[`super::weights::MAX_DEGREE`]) and `layers[i]` rows (1..=d_i+1).
     pub fn new(degrees: &[usize], layers: &[usize]) -> Result<Self, GbError> {
         let n = degrees.len();
         let domain = Domain::regular(n)?;
@@ -36,9 +36,7 @@ impl CgbBasisEvaluator {
             });
         }
         for (i, (&d, &l)) in degrees.iter().zip(layers).enumerate() {
-            if d < 2 {
-                return Err(GbError::DegreeTooLow { side: i, degree: d });
-            }
+            check_degree(i, d)?;
             if l == 0 || l > d + 1 {
                 return Err(GbError::LayerCount {
                     side: i,

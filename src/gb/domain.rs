@@ -18,8 +18,9 @@ pub struct LocalParam {
     pub h: Jet2,
 }
 
-/// Below this the denominator of s_i (an area-sized quantity) counts as zero: this happens only
-/// for n = 3 at the vertex opposite side i, where h_i = 1 and s_i does not matter.
+/// Below this the denominator of s_i (in the scaled area units of [`Domain`], 1 at the centre)
+/// counts as zero: this happens only for n = 3 at the vertex opposite side i, where h_i = 1 and
+/// s_i does not matter.
 const S_DEN_EPS: f64 = 1e-13;
 
 /// A regular n-sided domain polygon (n ≥ 3).
@@ -27,10 +28,16 @@ const S_DEN_EPS: f64 = 1e-13;
 pub struct Domain {
     n: usize,
     vertices: Vec<DVec2>,
-    /// c_i = A(v_{i−1}, v_i, v_{i+1}), the corner triangle areas.
+    /// c_i = A(v_{i−1}, v_i, v_{i+1}) / A(v_{n−1}, v_0, v_1), the corner triangle areas relative
+    /// to corner 0's (all 1 for a regular polygon).
     corner_area: Vec<f64>,
-    /// Gradient of D_i(x) = A(x, v_{i−1}, v_i) (constant; D_i is affine in x).
+    /// Gradient of the scaled D_i(x) = A(x, v_{i−1}, v_i) / D_c (constant; D_i is affine in x).
     side_grad: Vec<DVec2>,
+    /// 1 / D_c, D_c = A(0, v_{n−1}, v_0) the side areas at the centre. Scaling every D_j by 1/D_c
+    /// leaves λ and s unchanged but keeps the (n−2)-fold products of the Wachspress numerators
+    /// in range: the scaled D_j average exactly 1 (Σ D_j = area of the polygon), so each product
+    /// is at most (n/(n−2))^{n−2} < e², where the unscaled ones underflow to 0/0 for n ≳ 180.
+    area_scale: f64,
 }
 
 /// Signed area of the triangle (a, b, c), positive when counter-clockwise (seed 000 eq. 2.13).
@@ -62,14 +69,16 @@ impl Domain {
         };
         let prev = |i: usize| (i + n - 1) % n;
         let next = |i: usize| (i + 1) % n;
+        let c0 = signed_area(vertices[n - 1], vertices[0], vertices[1]);
         let corner_area = (0..n)
-            .map(|i| signed_area(vertices[prev(i)], vertices[i], vertices[next(i)]))
+            .map(|i| signed_area(vertices[prev(i)], vertices[i], vertices[next(i)]) / c0)
             .collect();
+        let area_scale = 1.0 / signed_area(DVec2::ZERO, vertices[n - 1], vertices[0]);
         // D_i(x) = ½ (v_{i−1} − x) × (v_i − x) = ½ [v_{i−1} × v_i + (v_i − v_{i−1}) × x]
         let side_grad = (0..n)
             .map(|i| {
                 let e = vertices[i] - vertices[prev(i)];
-                DVec2::new(-0.5 * e.y, 0.5 * e.x)
+                DVec2::new(-0.5 * e.y, 0.5 * e.x) * area_scale
             })
             .collect();
         Ok(Domain {
@@ -77,6 +86,7 @@ impl Domain {
             vertices,
             corner_area,
             side_grad,
+            area_scale,
         })
     }
 
@@ -124,7 +134,7 @@ impl Domain {
     #[inline]
     fn side_jet(&self, i: usize, uv: DVec2) -> Jet2 {
         let g = self.side_grad[i];
-        Jet2::affine(self.side_area(i, uv), g.x, g.y)
+        Jet2::affine(self.side_area(i, uv) * self.area_scale, g.x, g.y)
     }
 
     /// Length of scratch buffers needed by [`Self::local_params_into`]: 2n.
@@ -135,7 +145,8 @@ impl Domain {
     /// Wachspress coordinates λ_0 … λ_{n−1} with derivatives, in the product form
     /// λ_i ∝ A(v_{i−1}, v_i, v_{i+1}) · Π_{j∉{i,i+1}} D_j(x), normalized (seed 000 eq. 2.12;
     /// the product form has no division and is exact on the boundary).
-    /// `areas` (length n) receives the jets of D_j; `out` has length n.
+    /// `areas` (length n) receives the jets of D_j / D_c (see the field `area_scale`); `out` has
+    /// length n.
     pub fn wachspress_into(&self, uv: DVec2, areas: &mut [Jet2], out: &mut [Jet2]) {
         let n = self.n;
         for (j, a) in areas.iter_mut().enumerate().take(n) {

@@ -11,6 +11,14 @@ pub enum GbError {
     /// Degree below 2 (the correction weights μ need d ≥ 2).
     #[error("side {side}: degree {degree} is below the minimum 2")]
     DegreeTooLow { side: usize, degree: usize },
+    /// Degree above [`crate::gb::weights::MAX_DEGREE`] (also guards allocations against
+    /// absurd degrees coming from files or the C ABI).
+    #[error("side {side}: degree {degree} is above the supported maximum {max}")]
+    DegreeTooHigh {
+        side: usize,
+        degree: usize,
+        max: usize,
+    },
     /// Side `side` has a different degree from side 0.
     #[error("side {side}: degree {found} differs from the patch degree {expected}")]
     DegreeMismatch {

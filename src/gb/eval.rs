@@ -81,7 +81,7 @@ impl GbPatch {
         layers_for_degree(self.degree())
     }
 
-    /// Checks n ≥ 3, one degree d ≥ 2 on every side, l = ⌈d/2⌉ rows of d+1 points per side and
+    /// Checks n ≥ 3, one degree 2 ≤ d ≤ [`super::weights::MAX_DEGREE`] on every side, l = ⌈d/2⌉ rows of d+1 points per side and
     /// finite coordinates everywhere.
     pub fn validate(&self) -> Result<(), GbError> {
         let n = self.n();
@@ -202,12 +202,7 @@ pub(crate) fn validate_ribbons(
     mut extra: impl FnMut(usize, &super::patch::Ribbon) -> Result<(), GbError>,
 ) -> Result<(), GbError> {
     for (i, r) in ribbons.iter().enumerate() {
-        if r.degree < 2 {
-            return Err(GbError::DegreeTooLow {
-                side: i,
-                degree: r.degree,
-            });
-        }
+        super::weights::check_degree(i, r.degree)?;
         extra(i, r)?;
         for (k, row) in r.rows.iter().enumerate() {
             if row.len() != r.degree + 1 {

@@ -48,8 +48,10 @@ pub enum GbpError {
     /// More than [`MAX_SIDES`] sides.
     #[error("line {line}: n = {n} sides is more than the supported {MAX_SIDES}")]
     TooManySides { line: usize, n: usize },
-    /// Degree 0 or above [`MAX_DEGREE`].
-    #[error("line {line}: degree d = {d} is outside the supported range 1..={MAX_DEGREE}")]
+    /// Degree below 2 or above [`MAX_DEGREE`]. (`transfinite` reads d = 1 files, but a GB patch
+    /// needs d ≥ 2 for its correction weights μ; gbsurf does not evaluate such a patch, so it
+    /// rejects the file instead of returning a patch that cannot be evaluated.)
+    #[error("line {line}: degree d = {d} is outside the supported range 2..={MAX_DEGREE}")]
     BadDegree { line: usize, d: usize },
     /// A coordinate that is not a number.
     #[error("line {line}: coordinate {coord} of control point {point}: `{token}` is not a number")]
@@ -88,6 +90,9 @@ pub enum GbpError {
         row: usize,
         distance: f64,
     },
+    /// The patch to write has a degree outside 2..=[`MAX_DEGREE`], which the reader rejects.
+    #[error("cannot write .gbp: degree d = {d} is outside the supported range 2..={MAX_DEGREE}")]
+    DegreeOutput { d: usize },
     /// A coordinate to write is NaN or infinite.
     #[error("cannot write .gbp: control point {point} has a non-finite coordinate")]
     NonFiniteOutput { point: usize },
@@ -149,7 +154,7 @@ pub fn parse_gbp(text: &str) -> Result<GbPatch, GbpError> {
     if n > MAX_SIDES {
         return Err(GbpError::TooManySides { line: n_line, n });
     }
-    if d < 1 || d > MAX_DEGREE {
+    if !(2..=MAX_DEGREE).contains(&d) {
         return Err(GbpError::BadDegree { line: d_line, d });
     }
     let count = 1 + listed_point_count(n, d);
@@ -217,11 +222,14 @@ pub fn load_gbp(path: impl AsRef<Path>) -> Result<GbPatch, GbpError> {
 }
 
 /// Writes a connected patch as `.gbp`, one point per line, 17 significant digits (exact
-/// round trip). Fails if the patch is malformed, has a non-finite coordinate, or is not a
+/// round trip). Fails if the patch is malformed, has a degree the reader rejects, has a non-finite coordinate, or is not a
 /// connected net within 1e-12 relative to its size (such a patch has no `.gbp` form).
 pub fn write_gbp<W: Write>(patch: &GbPatch, mut w: W) -> Result<(), GbpError> {
     let listing = patch.connected_listing()?;
     let degree = patch.ribbons[0].degree;
+    if !(2..=MAX_DEGREE).contains(&degree) {
+        return Err(GbpError::DegreeOutput { d: degree });
+    }
     if let Some(point) = listing.iter().position(|p| !p.is_finite()) {
         return Err(GbpError::NonFiniteOutput { point });
     }

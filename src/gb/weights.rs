@@ -13,6 +13,26 @@ use super::patch::WeightForm;
 use crate::bezier::bernstein::bernstein_all_into;
 use glam::DVec2;
 
+/// Largest ribbon degree the evaluators accept (Bernstein weights of higher degree are
+/// numerically meaningless for surfaces; the bound also keeps malformed input from allocating
+/// or overflowing).
+pub const MAX_DEGREE: usize = 128;
+
+/// Err unless 2 ≤ d ≤ [`MAX_DEGREE`] (`side` names the ribbon in the error).
+pub(crate) fn check_degree(side: usize, d: usize) -> Result<(), GbError> {
+    if d < 2 {
+        return Err(GbError::DegreeTooLow { side, degree: d });
+    }
+    if d > MAX_DEGREE {
+        return Err(GbError::DegreeTooHigh {
+            side,
+            degree: d,
+            max: MAX_DEGREE,
+        });
+    }
+    Ok(())
+}
+
 /// Layers of a degree-d GB ribbon: l = ⌈d/2⌉.
 pub fn layers_for_degree(d: usize) -> usize {
     d.div_ceil(2)
@@ -210,12 +230,10 @@ pub struct GbBasisEvaluator {
 }
 
 impl GbBasisEvaluator {
-    /// Evaluator for n sides and degree d (n ≥ 3, d ≥ 2).
+    /// Evaluator for n sides and degree d (n ≥ 3, 2 ≤ d ≤ [`MAX_DEGREE`]).
     pub fn new(n: usize, d: usize) -> Result<Self, GbError> {
+        check_degree(0, d)?;
         let domain = Domain::regular(n)?;
-        if d < 2 {
-            return Err(GbError::DegreeTooLow { side: 0, degree: d });
-        }
         let layers = layers_for_degree(d);
         let mut mu = Vec::with_capacity(layers * (d + 1));
         for k in 0..layers {

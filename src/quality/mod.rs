@@ -1,1 +1,18 @@
-//! Quality measures: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
+//! Quality measures: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2,
+//! §4.2.2).
+//!
+//! - [`check`]: topology checks of output triangle meshes (closed, two-manifold, orientation,
+//!   duplicate vertices, zero-area triangles), by the project's own code.
+//! - [`curvature`]: discrete mean and Gaussian curvature (subdivision methods).
+//! - [`display`]: isophotes (a per-vertex scalar for a light direction) and planar slices.
+//! - [`report`]: the conversion report (serde JSON).
+
+pub mod check;
+pub mod curvature;
+pub mod display;
+pub mod report;
+
+pub use check::{check_mesh, vertex_normals, MeshCheck};
+pub use curvature::discrete_curvature;
+pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
+pub use report::Report;

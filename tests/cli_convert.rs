@@ -1,0 +1,212 @@
+//! The `gbsurf convert` command line: outputs, report keys, one-line errors for every bad model,
+//! nothing written on failure.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gbsurf-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn gbsurf(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_gbsurf")).args(args).output().unwrap();
+    (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    v.sort();
+    v
+}
+
+/// Runs a failing conversion writing every kind of output; checks one error line containing
+/// `needle` and an empty output folder.
+fn fails(input: &str, extra: &[&str], needle: &str) {
+    let dir = tmpdir(&format!("fail-{}", input.replace('/', "_")));
+    let d = |f: &str| dir.join(f).to_string_lossy().into_owned();
+    let (out, curves, report, patches) = (d("out.ply"), d("curves.obj"), d("report.json"), d("patches.json"));
+    let mut args = vec!["convert", input, "-o", &out, "--curves", &curves, "--report", &report, "--patches", &patches, "--quiet"];
+    args.extend_from_slice(extra);
+    let (ok, err) = gbsurf(&args);
+    assert!(!ok, "{input}: succeeded");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{input}: {err}");
+    assert!(lines[0].starts_with("gbsurf: error: "), "{err}");
+    assert!(lines[0].contains(needle), "{input}: {err} lacks {needle:?}");
+    assert!(files_in(&dir).is_empty(), "{input}: wrote {:?}", files_in(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn bad(name: &str) -> String {
+    format!("{MODELS}/bad/{name}")
+}
+
+#[test]
+fn bad_bowtie_vertex() {
+    fails(&bad("bowtie_vertex.obj"), &[], "vertex 0 (line 2) is non-manifold");
+}
+#[test]
+fn bad_duplicate_face() {
+    fails(&bad("duplicate_face.obj"), &[], "face 6 (line 16) duplicates face 0");
+}
+#[test]
+fn bad_empty() {
+    fails(&bad("empty.obj"), &[], "empty mesh");
+}
+#[test]
+fn bad_flipped_face() {
+    fails(&bad("flipped_face.obj"), &[], "inconsistent orientation");
+}
+#[test]
+fn bad_garbage() {
+    fails(&bad("garbage.obj"), &[], "line 1");
+}
+#[test]
+fn bad_huge_coordinates() {
+    fails(&bad("huge_coordinates.obj"), &[], "vertex 0 (line 2): coordinate 0");
+}
+#[test]
+fn bad_index_out_of_range() {
+    fails(&bad("index_out_of_range.obj"), &[], "face 5 (line 15) corner 3: vertex index 41 out of range");
+}
+#[test]
+fn bad_inf() {
+    fails(&bad("inf.obj"), &[], "vertex 0 (line 2): coordinate 0 is inf");
+}
+#[test]
+fn bad_nan() {
+    fails(&bad("nan.obj"), &[], "vertex 0 (line 2): coordinate 0 is NaN");
+}
+#[test]
+fn bad_nonmanifold_edge() {
+    fails(&bad("nonmanifold_edge.obj"), &[], "edge (0, 1) is shared by 4 faces");
+}
+#[test]
+fn bad_repeated_index() {
+    fails(&bad("repeated_index.obj"), &[], "face 5 (line 15) names vertex 3 more than once");
+}
+#[test]
+fn bad_zero_area() {
+    fails(&bad("zero_area.obj"), &[], "edge (0, 1) is shared by 3 faces");
+}
+#[test]
+fn bad_options_and_paths() {
+    let cube = format!("{MODELS}/cube.obj");
+    fails(&cube, &["--resolution", "0"], "--resolution 0");
+    fails(&cube, &["--fullness", "1.5"], "--fullness 1.5");
+    fails(&cube, &["--tile-depth", "1"], "--tile-depth 1");
+    fails(&cube, &["--levels", "20"], "--levels 20");
+    fails(&format!("{MODELS}/missing.obj"), &[], "missing.obj");
+    // An output folder that does not exist: nothing anywhere.
+    let (ok, err) = gbsurf(&["convert", &cube, "-o", "/nonexistent-dir-gbsurf/x.obj", "--quiet"]);
+    assert!(!ok && err.lines().count() == 1, "{err}");
+    // An unknown output extension is refused before any work.
+    let dir = tmpdir("ext");
+    let (ok, err) = gbsurf(&["convert", &cube, "-o", &dir.join("x.xyz").to_string_lossy(), "--quiet"]);
+    assert!(!ok && err.contains("--output") && err.lines().count() == 1, "{err}");
+    assert!(files_in(&dir).is_empty());
+}
+
+fn report_of(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+const KEYS: [&str; 11] = [
+    "method", "patches", "sides_histogram", "vertices", "triangles", "closed", "boundary_edges", "max_g1_deg", "mean_g1_deg",
+    "max_boundary_gap", "seconds",
+];
+
+#[test]
+fn subdivision_methods_write_mesh_and_report() {
+    let dir = tmpdir("subdiv");
+    for (method, ext) in [("catmull-clark", "ply"), ("doo-sabin", "stl")] {
+        let out = dir.join(format!("{method}.{ext}"));
+        let rep = dir.join(format!("{method}.json"));
+        let (ok, err) = gbsurf(&[
+            "convert",
+            &format!("{MODELS}/house.obj"),
+            "-o",
+            &out.to_string_lossy(),
+            "--method",
+            method,
+            "--levels",
+            "2",
+            "--report",
+            &rep.to_string_lossy(),
+            "--quiet",
+        ]);
+        assert!(ok, "{method}: {err}");
+        assert!(err.is_empty(), "--quiet printed {err}");
+        let r = report_of(&rep);
+        for k in KEYS {
+            assert!(r.get(k).is_some(), "{method}: key {k} missing");
+        }
+        assert_eq!(r["method"], method);
+        assert_eq!(r["closed"], true);
+        assert_eq!(r["boundary_edges"], 0);
+        assert_eq!(r["max_g1_deg"], 0.0);
+        // The written mesh reads back closed with the reported counts.
+        let m = gbsurf::mesh::read_mesh(&out).unwrap();
+        assert!(m.is_closed());
+        if ext == "ply" {
+            assert_eq!(m.n_vertices() as u64, r["vertices"].as_u64().unwrap());
+        }
+        assert_eq!(m.n_faces() as u64, r["triangles"].as_u64().unwrap());
+    }
+    // Curves of a subdivision surface do not exist: a clear error, nothing written.
+    fails(&format!("{MODELS}/cube.obj"), &["--method", "catmull-clark"], "needs a patch method");
+}
+
+#[test]
+fn dual_and_topology_write_all_outputs() {
+    let dir = tmpdir("patch");
+    for method in ["dual", "topology"] {
+        let p = |f: &str| dir.join(format!("{method}-{f}")).to_string_lossy().into_owned();
+        let (ok, err) = gbsurf(&[
+            "convert",
+            &format!("{MODELS}/l_prism.obj"),
+            "-o",
+            &p("surface.ply"),
+            "--method",
+            method,
+            "--resolution",
+            "4",
+            "--curves",
+            &p("curves.obj"),
+            "--nets",
+            &p("nets.obj"),
+            "--patches",
+            &p("patches.json"),
+            "--report",
+            &p("report.json"),
+        ]);
+        assert!(ok, "{method}: {err}");
+        // Not quiet: one summary line on stderr.
+        assert!(err.contains(&format!("{method}: ")), "{err}");
+        let r = report_of(Path::new(&p("report.json")));
+        for k in KEYS {
+            assert!(r.get(k).is_some(), "{method}: key {k} missing");
+        }
+        assert_eq!(r["closed"], true, "{method}");
+        assert!(r["max_boundary_gap"].as_f64().unwrap() <= 1e-12, "{method}: {}", r["max_boundary_gap"]);
+        assert!(r["max_g1_deg"].as_f64().unwrap() <= 1e-4, "{method}: {}", r["max_g1_deg"]);
+        let hist: u64 = r["sides_histogram"].as_object().unwrap().values().map(|v| v.as_u64().unwrap()).sum();
+        assert_eq!(hist, r["patches"].as_u64().unwrap());
+        let m = gbsurf::mesh::read_mesh(p("surface.ply")).unwrap();
+        assert!(m.is_closed());
+        let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p("patches.json")).unwrap()).unwrap();
+        assert_eq!(j["patches"].as_array().unwrap().len() as u64, r["patches"].as_u64().unwrap());
+        let expected = if method == "dual" { "gb" } else { "cgb" };
+        assert_eq!(j["patches"][0]["type"], expected);
+        let curves = std::fs::read_to_string(p("curves.obj")).unwrap();
+        assert_eq!(curves.lines().filter(|l| l.starts_with("l ")).count(), j["curves"].as_array().unwrap().len());
+        assert!(std::fs::read_to_string(p("nets.obj")).unwrap().lines().any(|l| l.starts_with("l ")));
+    }
+    // No temporary files left behind.
+    assert!(files_in(&dir).iter().all(|f| !f.starts_with('.')), "{:?}", files_in(&dir));
+}
