@@ -125,22 +125,24 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
         except mesh_io.SourceError as e:
             self.report({'ERROR'}, str(e))
             return {'CANCELLED'}
-        self._sources = sources
-        self._progress = _Progress(context.window_manager, len(sources))
-        self._convs, self._error = [], None
+        # The worker touches no Blender data and not the operator (RNA is not thread-safe): it
+        # shares only these plain Python objects with the main thread.
+        progress = _Progress(context.window_manager, len(sources))
+        convs, errors = [], []
+        names = [s.name for s in sources]
         options, outputs = self.library_options(), self.output_options()
 
         def work():
             try:
-                for i, (src_name, d) in enumerate(zip([s.name for s in sources], data)):
-                    self._progress.index = i
-                    self._convs.append(core.compute(_Named(src_name), options, outputs,
-                                                    self._progress, data=d))
+                for i, (name, d) in enumerate(zip(names, data)):
+                    progress.index = i
+                    convs.append(core.compute(_Named(name), options, outputs, progress, data=d))
             except core.ConvertError as e:
-                self._error = str(e)
+                errors.append(str(e))
             except Exception as e:  # reported on the main thread
-                self._error = f"GB Surface: {e}"
+                errors.append(f"GB Surface: {e}")
 
+        self._sources, self._progress, self._convs, self._errors = sources, progress, convs, errors
         self._thread = threading.Thread(target=work, daemon=True)
         wm = context.window_manager
         wm.progress_begin(0.0, 1.0)
@@ -160,8 +162,8 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
             return {'RUNNING_MODAL'}
         wm.event_timer_remove(self._timer)
         wm.progress_end()
-        if self._error:
-            self.report({'ERROR'} if not self._progress.cancel else {'WARNING'}, self._error)
+        if self._errors:
+            self.report({'ERROR'} if not self._progress.cancel else {'WARNING'}, self._errors[0])
             return {'CANCELLED'}
         return self._build(context, self._sources, self._convs)
 
