@@ -1,1 +1,312 @@
 //! The C ABI: the only module with `unsafe`.
+//!
+//! Conventions (see `cpp/include/gbsurf.h`, generated from this module by cbindgen):
+//! - every function is named `gbsurf_*`; every fallible function returns a `uint32_t` status
+//!   (`GBSURF_OK` = 0 or one of the `GBSURF_ERR_*` codes) and leaves a thread-local message
+//!   ([`gbsurf_last_error_message`]) naming the problem and the offending element;
+//! - no panic crosses the boundary: every entry runs inside `boundary`, a panic becomes
+//!   `GBSURF_ERR_PANIC`;
+//! - no input is a C enum: methods, twist modes, weight forms are `uint32_t` constants, checked;
+//! - handles are opaque (`GbsurfResult`), freed with their `*_free` function, which accepts NULL.
+
+#![deny(unsafe_op_in_unsafe_fn)]
+
+use std::cell::RefCell;
+use std::ffi::{c_char, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+mod options;
+mod result;
+
+pub use options::*;
+pub use result::*;
+
+// ---------------------------------------------------------------------------------------------
+// Status codes
+// ---------------------------------------------------------------------------------------------
+
+/// Success.
+pub const GBSURF_OK: u32 = 0;
+/// A required pointer argument was NULL.
+pub const GBSURF_ERR_NULL: u32 = 1;
+/// A count does not match its array (e.g. positions not a multiple of 3, face sizes not summing
+/// to the number of face indices).
+pub const GBSURF_ERR_COUNT: u32 = 2;
+/// An index is out of range (a face corner naming a missing vertex, a patch/side/curve index).
+pub const GBSURF_ERR_INDEX: u32 = 3;
+/// An input number is NaN or infinite.
+pub const GBSURF_ERR_NAN: u32 = 4;
+/// The mesh was rejected by validation (the message names the face, edge or vertex).
+pub const GBSURF_ERR_INVALID_MESH: u32 = 5;
+/// An option is out of range, or the options' `struct_size` is unknown.
+pub const GBSURF_ERR_INVALID_OPTION: u32 = 6;
+/// The progress callback asked to cancel.
+pub const GBSURF_ERR_CANCELLED: u32 = 7;
+/// An internal error (a caught panic); please report it.
+pub const GBSURF_ERR_PANIC: u32 = 8;
+/// A file could not be read or written, or could not be parsed.
+pub const GBSURF_ERR_IO: u32 = 9;
+/// A caller buffer is too small (the needed size is in the `*_len`/`written` output).
+pub const GBSURF_ERR_CAPACITY: u32 = 10;
+/// The element has no such data (e.g. the center of a ribbon-only patch).
+pub const GBSURF_ERR_KIND: u32 = 11;
+/// Surface construction failed for a valid mesh (message explains).
+pub const GBSURF_ERR_CONSTRUCTION: u32 = 12;
+
+/// ABI version: incremented on every incompatible change of this header.
+pub const GBSURF_ABI_VERSION: u32 = 1;
+
+// ---------------------------------------------------------------------------------------------
+// Error state and the panic boundary
+// ---------------------------------------------------------------------------------------------
+
+/// An error on its way to C: a status code and a message.
+#[derive(Debug, Clone)]
+pub(crate) struct FfiError {
+    pub code: u32,
+    pub message: String,
+}
+
+impl FfiError {
+    pub(crate) fn new(code: u32, message: impl Into<String>) -> Self {
+        Self {
+            code,
+            message: message.into(),
+        }
+    }
+}
+
+pub(crate) type FfiResult<T = ()> = Result<T, FfiError>;
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn set_last_error(message: &str) {
+    // Interior NULs cannot appear in a C string: replace them.
+    let c = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic payload".to_string()
+    }
+}
+
+/// Runs `f` at an entry point: catches panics, stores the message of an error, returns the code.
+/// The message of a successful call is cleared.
+pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
+    let outcome = catch_unwind(AssertUnwindSafe(f));
+    match outcome {
+        Ok(Ok(())) => {
+            set_last_error("");
+            GBSURF_OK
+        }
+        Ok(Err(e)) => {
+            set_last_error(&format!("{name}: {}", e.message));
+            e.code
+        }
+        Err(payload) => {
+            set_last_error(&format!(
+                "{name}: internal error (panic): {}",
+                panic_message(payload.as_ref())
+            ));
+            GBSURF_ERR_PANIC
+        }
+    }
+}
+
+/// A NULL check naming the argument.
+pub(crate) fn non_null<T>(p: *const T, arg: &str) -> FfiResult<*const T> {
+    if p.is_null() {
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!("argument `{arg}` is NULL"),
+        ))
+    } else {
+        Ok(p)
+    }
+}
+
+/// A NULL check for an output pointer.
+pub(crate) fn non_null_mut<T>(p: *mut T, arg: &str) -> FfiResult<*mut T> {
+    if p.is_null() {
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!("output argument `{arg}` is NULL"),
+        ))
+    } else {
+        Ok(p)
+    }
+}
+
+/// Builds a slice from a C pointer and length; a NULL pointer is accepted only when `len == 0`.
+///
+/// # Safety
+/// `p` must point to `len` readable values of `T` when non-null.
+pub(crate) unsafe fn slice_arg<'a, T>(p: *const T, len: usize, arg: &str) -> FfiResult<&'a [T]> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    let p = non_null(p, arg)?;
+    // SAFETY: the caller guarantees `len` readable elements at `p` (documented in the header).
+    Ok(unsafe { std::slice::from_raw_parts(p, len) })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Version and error queries
+// ---------------------------------------------------------------------------------------------
+
+static VERSION: &std::ffi::CStr = match std::ffi::CStr::from_bytes_with_nul(
+    concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes(),
+) {
+    Ok(s) => s,
+    Err(_) => panic!("version string"),
+};
+
+/// The library version as a static NUL-terminated string, e.g. "0.1.0". Never NULL.
+#[no_mangle]
+pub extern "C" fn gbsurf_version() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+/// The ABI version this library implements (compare with `GBSURF_ABI_VERSION` from the header).
+#[no_mangle]
+pub extern "C" fn gbsurf_abi_version() -> u32 {
+    GBSURF_ABI_VERSION
+}
+
+/// The message of the last failed call on this thread ("" after a successful call), as a
+/// NUL-terminated UTF-8 string. Valid until the next `gbsurf_*` call on this thread. Never NULL.
+#[no_mangle]
+pub extern "C" fn gbsurf_last_error_message() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// The length in bytes (without the terminating NUL) of [`gbsurf_last_error_message`].
+#[no_mangle]
+pub extern "C" fn gbsurf_last_error_length() -> usize {
+    LAST_ERROR.with(|e| e.borrow().as_bytes().len())
+}
+
+/// Copies the last error message into `buf` (NUL-terminated, truncated to `capacity - 1` bytes).
+/// Returns the full message length in bytes (without NUL), so a caller can retry with a larger
+/// buffer. `buf` may be NULL when `capacity` is 0. Does not change the stored message.
+///
+/// # Safety
+/// `buf` must point to `capacity` writable bytes when `capacity > 0`.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_last_error_copy(buf: *mut c_char, capacity: usize) -> usize {
+    let r = catch_unwind(|| {
+        LAST_ERROR.with(|e| {
+            let e = e.borrow();
+            let bytes = e.as_bytes();
+            if capacity > 0 && !buf.is_null() {
+                let n = bytes.len().min(capacity - 1);
+                // SAFETY: `buf` has `capacity` > n bytes (caller contract); the regions are distinct.
+                unsafe {
+                    std::ptr::copy_nonoverlapping(bytes.as_ptr() as *const c_char, buf, n);
+                    *buf.add(n) = 0;
+                }
+            }
+            bytes.len()
+        })
+    });
+    r.unwrap_or(0)
+}
+
+/// A static name for a status code, e.g. "GBSURF_ERR_NULL" ("GBSURF_ERR_UNKNOWN" for codes this
+/// library does not define). Never NULL.
+#[no_mangle]
+pub extern "C" fn gbsurf_status_name(status: u32) -> *const c_char {
+    let s: &'static [u8] = match status {
+        GBSURF_OK => b"GBSURF_OK\0",
+        GBSURF_ERR_NULL => b"GBSURF_ERR_NULL\0",
+        GBSURF_ERR_COUNT => b"GBSURF_ERR_COUNT\0",
+        GBSURF_ERR_INDEX => b"GBSURF_ERR_INDEX\0",
+        GBSURF_ERR_NAN => b"GBSURF_ERR_NAN\0",
+        GBSURF_ERR_INVALID_MESH => b"GBSURF_ERR_INVALID_MESH\0",
+        GBSURF_ERR_INVALID_OPTION => b"GBSURF_ERR_INVALID_OPTION\0",
+        GBSURF_ERR_CANCELLED => b"GBSURF_ERR_CANCELLED\0",
+        GBSURF_ERR_PANIC => b"GBSURF_ERR_PANIC\0",
+        GBSURF_ERR_IO => b"GBSURF_ERR_IO\0",
+        GBSURF_ERR_CAPACITY => b"GBSURF_ERR_CAPACITY\0",
+        GBSURF_ERR_KIND => b"GBSURF_ERR_KIND\0",
+        GBSURF_ERR_CONSTRUCTION => b"GBSURF_ERR_CONSTRUCTION\0",
+        _ => b"GBSURF_ERR_UNKNOWN\0",
+    };
+    s.as_ptr() as *const c_char
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    fn last() -> String {
+        // SAFETY: gbsurf_last_error_message never returns NULL and the string lives until the
+        // next call on this thread.
+        unsafe { CStr::from_ptr(gbsurf_last_error_message()) }
+            .to_string_lossy()
+            .into_owned()
+    }
+
+    #[test]
+    fn boundary_catches_panics_and_keeps_messages() {
+        let code = boundary("f", || panic!("boom {}", 3));
+        assert_eq!(code, GBSURF_ERR_PANIC);
+        assert!(last().contains("boom 3"), "{}", last());
+        let code = boundary("g", || Err(FfiError::new(GBSURF_ERR_INDEX, "face 4")));
+        assert_eq!(code, GBSURF_ERR_INDEX);
+        assert_eq!(last(), "g: face 4");
+        assert_eq!(gbsurf_last_error_length(), "g: face 4".len());
+        assert_eq!(boundary("h", || Ok(())), GBSURF_OK);
+        assert_eq!(last(), "");
+    }
+
+    #[test]
+    fn error_copy_truncates_and_reports_full_length() {
+        boundary("copy", || {
+            Err(FfiError::new(GBSURF_ERR_COUNT, "0123456789"))
+        });
+        let full = "copy: 0123456789";
+        let mut buf = [1 as c_char; 8];
+        // SAFETY: buf has 8 writable bytes.
+        let n = unsafe { gbsurf_last_error_copy(buf.as_mut_ptr(), buf.len()) };
+        assert_eq!(n, full.len());
+        // SAFETY: the copy is NUL-terminated within the buffer.
+        let got = unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert_eq!(got, &full[..7]);
+        // SAFETY: capacity 0 with NULL is allowed.
+        assert_eq!(
+            unsafe { gbsurf_last_error_copy(std::ptr::null_mut(), 0) },
+            full.len()
+        );
+    }
+
+    #[test]
+    fn status_names_are_distinct() {
+        let names: Vec<String> = (0..=13)
+            // SAFETY: static NUL-terminated strings.
+            .map(|c| {
+                unsafe { CStr::from_ptr(gbsurf_status_name(c)) }
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect();
+        assert_eq!(names[0], "GBSURF_OK");
+        assert_eq!(names[13], "GBSURF_ERR_UNKNOWN");
+        let mut uniq = names[..13].to_vec();
+        uniq.sort();
+        uniq.dedup();
+        assert_eq!(uniq.len(), 13);
+    }
+}

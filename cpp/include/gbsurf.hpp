@@ -1,0 +1,293 @@
+// gbsurf.hpp: header-only C++17 RAII wrapper of the gbsurf C API (gbsurf.h).
+//
+//   gbsurf::options opt;                       // defaults
+//   opt.method(gbsurf::method::topology).resolution(12);
+//   gbsurf::result r = gbsurf::convert_file("cube.obj", opt);
+//   auto pos = r.positions();                  // gbsurf::span<const double>, 3 per vertex
+//
+// Handles are freed automatically; every failing call throws gbsurf::error, which carries the
+// status code (GBSURF_ERR_*) and the library's message.
+#ifndef GBSURF_HPP
+#define GBSURF_HPP
+
+#include "gbsurf.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gbsurf {
+
+/// A failed call: the status code (GBSURF_ERR_*) and the message naming the problem.
+class error : public std::runtime_error {
+public:
+    error(uint32_t code, const std::string& message)
+        : std::runtime_error(std::string(gbsurf_status_name(code)) + ": " + message), code_(code) {}
+    /// The status code, one of the GBSURF_ERR_* values.
+    uint32_t code() const noexcept { return code_; }
+
+private:
+    uint32_t code_;
+};
+
+/// Throws gbsurf::error for a non-OK status, with the thread's last error message.
+inline void check(uint32_t status) {
+    if (status != GBSURF_OK) {
+        throw error(status, std::string(gbsurf_last_error_message(), gbsurf_last_error_length()));
+    }
+}
+
+/// The library version string, e.g. "0.1.0".
+inline std::string version() { return gbsurf_version(); }
+
+/// A read-only view of a contiguous array owned by a result.
+template <class T>
+class span {
+public:
+    span() = default;
+    span(const T* data, std::size_t size) : data_(data), size_(size) {}
+    const T* data() const noexcept { return data_; }
+    std::size_t size() const noexcept { return size_; }
+    bool empty() const noexcept { return size_ == 0; }
+    const T* begin() const noexcept { return data_; }
+    const T* end() const noexcept { return data_ + size_; }
+    const T& operator[](std::size_t i) const noexcept { return data_[i]; }
+    std::vector<T> to_vector() const { return std::vector<T>(begin(), end()); }
+
+private:
+    const T* data_ = nullptr;
+    std::size_t size_ = 0;
+};
+
+/// Construction methods.
+enum class method : uint32_t {
+    dual = GBSURF_METHOD_DUAL,
+    topology = GBSURF_METHOD_TOPOLOGY,
+    doo_sabin = GBSURF_METHOD_DOO_SABIN,
+    catmull_clark = GBSURF_METHOD_CATMULL_CLARK,
+};
+
+/// Twist constructions.
+enum class twist : uint32_t {
+    none = GBSURF_TWIST_NONE,
+    approx = GBSURF_TWIST_APPROX,
+    interp = GBSURF_TWIST_INTERP,
+};
+
+/// Correction weight forms.
+enum class weights : uint32_t {
+    squared = GBSURF_WEIGHTS_SQUARED,
+    linear = GBSURF_WEIGHTS_LINEAR,
+};
+
+/// Patch kinds.
+enum class patch_kind : uint32_t { gb = GBSURF_PATCH_GB, cgb = GBSURF_PATCH_CGB };
+
+/// Parses "dual", "topology", "doo-sabin", "catmull-clark".
+inline method parse_method(const std::string& s) {
+    if (s == "dual") return method::dual;
+    if (s == "topology") return method::topology;
+    if (s == "doo-sabin") return method::doo_sabin;
+    if (s == "catmull-clark") return method::catmull_clark;
+    throw error(GBSURF_ERR_INVALID_OPTION,
+                "unknown method '" + s + "' (expected dual, topology, doo-sabin or catmull-clark)");
+}
+
+/// Conversion options (defaults from gbsurf_options_init); fluent setters.
+class options {
+public:
+    options() { check(gbsurf_options_init(&raw_)); }
+    options& method(gbsurf::method m) { raw_.method = static_cast<uint32_t>(m); return *this; }
+    options& resolution(uint32_t r) { raw_.resolution = r; return *this; }
+    options& twist(gbsurf::twist t) { raw_.twist = static_cast<uint32_t>(t); return *this; }
+    options& weights(gbsurf::weights w) { raw_.weights = static_cast<uint32_t>(w); return *this; }
+    options& levels(uint32_t l) { raw_.levels = l; return *this; }
+    options& best_plane(bool b) { raw_.best_plane = b ? 1u : 0u; return *this; }
+    options& fullness(double f) { raw_.fullness = f; return *this; }
+    options& tile_depth(double w) { raw_.tile_depth = w; return *this; }
+    options& mid_scale(double s) { raw_.mid_scale = s; return *this; }
+    /// Throws gbsurf::error if a value is out of range.
+    void validate() const { check(gbsurf_options_validate(&raw_)); }
+    const GbsurfOptions& raw() const noexcept { return raw_; }
+    GbsurfOptions& raw() noexcept { return raw_; }
+
+private:
+    GbsurfOptions raw_{};
+};
+
+/// Progress callback: fraction done in [0, 1]; return false to cancel (gbsurf::error with
+/// GBSURF_ERR_CANCELLED). An exception thrown by it cancels the run and is rethrown.
+using progress_fn = std::function<bool(float)>;
+
+/// Degree and layer count of one ribbon.
+struct ribbon_shape {
+    std::size_t degree;
+    std::size_t layers;
+};
+
+/// The result of a conversion (owns a GbsurfResult handle; move-only).
+class result {
+public:
+    explicit result(GbsurfResult* h) : h_(h) {}
+    const GbsurfResult* get() const noexcept { return h_.get(); }
+
+    std::size_t vertex_count() const { return count(gbsurf_mesh_vertex_count); }
+    std::size_t triangle_count() const { return count(gbsurf_mesh_triangle_count); }
+    /// x y z per vertex.
+    span<double> positions() const { return view(gbsurf_mesh_positions); }
+    /// Unit normal x y z per vertex.
+    span<double> normals() const { return view(gbsurf_mesh_normals); }
+    /// Three vertex indices per triangle, counter-clockwise.
+    span<uint32_t> triangles() const { return view(gbsurf_mesh_triangles); }
+    /// Patch (or, for subdivision, input face) index per vertex.
+    span<uint32_t> patch_index() const { return view(gbsurf_mesh_patch_index); }
+    span<double> mean_curvature() const { return view(gbsurf_mesh_mean_curvature); }
+    span<double> gaussian_curvature() const { return view(gbsurf_mesh_gaussian_curvature); }
+    /// G1 deviation in degrees per vertex.
+    span<double> g1_deviation() const { return view(gbsurf_mesh_g1_deviation); }
+
+    std::size_t patch_count() const { return count(gbsurf_patch_count); }
+    patch_kind kind(std::size_t patch) const {
+        uint32_t k = 0;
+        check(gbsurf_patch_kind(get(), patch, &k));
+        return static_cast<patch_kind>(k);
+    }
+    std::size_t sides(std::size_t patch) const {
+        std::size_t n = 0;
+        check(gbsurf_patch_sides(get(), patch, &n));
+        return n;
+    }
+    ribbon_shape shape(std::size_t patch, std::size_t side) const {
+        ribbon_shape s{0, 0};
+        check(gbsurf_patch_degree(get(), patch, side, &s.degree, &s.layers));
+        return s;
+    }
+    /// Control points of a ribbon: 3 * (k * (degree + 1) + j) + c is coordinate c of P_{j,k}.
+    span<double> ribbon_points(std::size_t patch, std::size_t side) const {
+        const double* d = nullptr;
+        std::size_t n = 0;
+        check(gbsurf_patch_ribbon_points(get(), patch, side, &d, &n));
+        return {d, n};
+    }
+    /// Central control point of a GB patch (GBSURF_ERR_KIND for a CGB patch).
+    std::array<double, 3> center(std::size_t patch) const {
+        std::array<double, 3> c{};
+        check(gbsurf_patch_center(get(), patch, c.data()));
+        return c;
+    }
+
+    std::size_t curve_count() const { return count(gbsurf_curve_count); }
+    /// Bézier control points of a curve of the network, x y z each.
+    span<double> curve_points(std::size_t curve) const {
+        const double* d = nullptr;
+        std::size_t n = 0;
+        check(gbsurf_curve_points(get(), curve, &d, &n));
+        return {d, n};
+    }
+
+    GbsurfReport report() const {
+        GbsurfReport r{};
+        r.struct_size = sizeof(GbsurfReport);
+        check(gbsurf_result_report(get(), &r));
+        return r;
+    }
+    std::size_t patches_with_sides(std::size_t sides) const {
+        std::size_t n = 0;
+        check(gbsurf_report_patches_with_sides(get(), sides, &n));
+        return n;
+    }
+    std::vector<std::string> warnings() const {
+        std::vector<std::string> w(count(gbsurf_warning_count));
+        for (std::size_t i = 0; i < w.size(); ++i) {
+            const char* m = nullptr;
+            check(gbsurf_warning_message(get(), i, &m));
+            w[i] = m;
+        }
+        return w;
+    }
+
+private:
+    struct deleter {
+        void operator()(GbsurfResult* h) const noexcept { gbsurf_result_free(h); }
+    };
+    std::unique_ptr<GbsurfResult, deleter> h_;
+
+    std::size_t count(uint32_t (*f)(const GbsurfResult*, std::size_t*)) const {
+        std::size_t n = 0;
+        check(f(get(), &n));
+        return n;
+    }
+    template <class T>
+    span<T> view(uint32_t (*f)(const GbsurfResult*, const T**, std::size_t*)) const {
+        const T* d = nullptr;
+        std::size_t n = 0;
+        check(f(get(), &d, &n));
+        return {d, n};
+    }
+};
+
+namespace detail {
+struct progress_state {
+    const progress_fn* fn;
+    std::exception_ptr thrown;
+};
+// Never lets an exception unwind into the library: stores it and cancels.
+extern "C" inline bool progress_trampoline(float fraction, void* user) {
+    auto* st = static_cast<progress_state*>(user);
+    try {
+        return (*st->fn)(fraction);
+    } catch (...) {
+        st->thrown = std::current_exception();
+        return false;
+    }
+}
+template <class Call>
+result run(const progress_fn& progress, Call call) {
+    progress_state st{&progress, nullptr};
+    GbsurfResult* out = nullptr;
+    uint32_t status = progress ? call(&progress_trampoline, &st, &out) : call(nullptr, nullptr, &out);
+    if (st.thrown) {
+        gbsurf_result_free(out);
+        std::rethrow_exception(st.thrown);
+    }
+    check(status);
+    return result(out);
+}
+}  // namespace detail
+
+/// Converts a polygon mesh given as flat arrays (see gbsurf_convert).
+inline result convert(const double* positions, std::size_t positions_len, const uint32_t* face_sizes,
+                      std::size_t face_count, const uint32_t* face_indices, std::size_t face_indices_len,
+                      const options& opt = options(), const progress_fn& progress = {}) {
+    return detail::run(progress, [&](GbsurfProgressFn cb, void* user, GbsurfResult** out) {
+        return gbsurf_convert(positions, positions_len, face_sizes, face_count, face_indices,
+                              face_indices_len, &opt.raw(), cb, user, out);
+    });
+}
+
+/// Converts a polygon mesh given as vectors: x y z per vertex, corner count per face, corners.
+inline result convert(const std::vector<double>& positions, const std::vector<uint32_t>& face_sizes,
+                      const std::vector<uint32_t>& face_indices, const options& opt = options(),
+                      const progress_fn& progress = {}) {
+    return convert(positions.data(), positions.size(), face_sizes.data(), face_sizes.size(),
+                   face_indices.data(), face_indices.size(), opt, progress);
+}
+
+/// Reads a mesh file (OBJ, OFF, PLY, STL) with the library's strict readers and converts it.
+inline result convert_file(const std::string& path, const options& opt = options(),
+                           const progress_fn& progress = {}) {
+    return detail::run(progress, [&](GbsurfProgressFn cb, void* user, GbsurfResult** out) {
+        return gbsurf_convert_file(path.c_str(), &opt.raw(), cb, user, out);
+    });
+}
+
+}  // namespace gbsurf
+
+#endif  // GBSURF_HPP

@@ -1,0 +1,213 @@
+// gbsurf/openmesh.hpp: OpenMesh adapter of the gbsurf C++ wrapper (header-only; link OpenMeshCore).
+//
+//   OpenMesh::PolyMesh_ArrayKernelT<> in;  OpenMesh::IO::read_mesh(in, "model.off");
+//   gbsurf::openmesh::TriMesh out = gbsurf::openmesh::convert(in, gbsurf::options());
+//   double h = out.property(gbsurf::openmesh::mean_curvature(out), vh);
+//
+// The output TriMesh has double-precision points and vertex normals, and the named vertex
+// properties "gbsurf:patch" (int), "gbsurf:mean_curvature", "gbsurf:gaussian_curvature",
+// "gbsurf:g1_deviation" (double, degrees). curve_network() and control_nets() give the exact
+// description as OpenMesh meshes (vertices = control points, edges = control polygon lines).
+#ifndef GBSURF_OPENMESH_HPP
+#define GBSURF_OPENMESH_HPP
+
+#include "../gbsurf.hpp"
+
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <string>
+#include <vector>
+
+namespace gbsurf {
+namespace openmesh {
+
+/// Traits of the output meshes: double points and normals, vertex normals.
+struct Traits : public OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3d Point;
+    typedef OpenMesh::Vec3d Normal;
+    VertexAttributes(OpenMesh::Attributes::Normal);
+};
+
+/// The output triangle mesh type.
+typedef OpenMesh::TriMesh_ArrayKernelT<Traits> TriMesh;
+/// The type of the curve network and control net meshes.
+typedef OpenMesh::PolyMesh_ArrayKernelT<Traits> PolyMesh;
+
+/// Names of the vertex properties set on the output meshes.
+inline const char* patch_property_name() { return "gbsurf:patch"; }
+inline const char* mean_curvature_property_name() { return "gbsurf:mean_curvature"; }
+inline const char* gaussian_curvature_property_name() { return "gbsurf:gaussian_curvature"; }
+inline const char* g1_deviation_property_name() { return "gbsurf:g1_deviation"; }
+/// On curve network meshes: the curve index of each vertex.
+inline const char* curve_property_name() { return "gbsurf:curve"; }
+
+namespace detail {
+template <class T, class Mesh>
+OpenMesh::VPropHandleT<T> vprop(Mesh& mesh, const char* name) {
+    OpenMesh::VPropHandleT<T> h;
+    if (!mesh.get_property_handle(h, name)) mesh.add_property(h, name);
+    return h;
+}
+template <class T, class Mesh>
+OpenMesh::VPropHandleT<T> existing_vprop(const Mesh& mesh, const char* name) {
+    OpenMesh::VPropHandleT<T> h;
+    if (!mesh.get_property_handle(h, name)) {
+        throw error(GBSURF_ERR_KIND, std::string("the mesh has no vertex property ") + name);
+    }
+    return h;
+}
+}  // namespace detail
+
+/// Handles of the named properties of a converted mesh (throws GBSURF_ERR_KIND if missing).
+template <class Mesh> OpenMesh::VPropHandleT<int> patch(const Mesh& m) {
+    return detail::existing_vprop<int>(m, patch_property_name());
+}
+template <class Mesh> OpenMesh::VPropHandleT<double> mean_curvature(const Mesh& m) {
+    return detail::existing_vprop<double>(m, mean_curvature_property_name());
+}
+template <class Mesh> OpenMesh::VPropHandleT<double> gaussian_curvature(const Mesh& m) {
+    return detail::existing_vprop<double>(m, gaussian_curvature_property_name());
+}
+template <class Mesh> OpenMesh::VPropHandleT<double> g1_deviation(const Mesh& m) {
+    return detail::existing_vprop<double>(m, g1_deviation_property_name());
+}
+
+/// Converts any OpenMesh polygon mesh (any traits with points; deleted elements skipped) with the
+/// library. Face corners are taken in halfedge order (counter-clockwise).
+template <class InMesh>
+result convert_to_result(const InMesh& in, const options& opt = options(), const progress_fn& progress = {}) {
+    std::vector<uint32_t> index(in.n_vertices(), 0);
+    std::vector<double> positions;
+    positions.reserve(3 * in.n_vertices());
+    uint32_t next = 0;
+    for (auto vh : in.vertices()) {
+        const auto& p = in.point(vh);
+        positions.push_back(static_cast<double>(p[0]));
+        positions.push_back(static_cast<double>(p[1]));
+        positions.push_back(static_cast<double>(p[2]));
+        index[vh.idx()] = next++;
+    }
+    std::vector<uint32_t> sizes, corners;
+    sizes.reserve(in.n_faces());
+    for (auto fh : in.faces()) {
+        uint32_t n = 0;
+        auto h0 = in.halfedge_handle(fh);
+        auto h = h0;
+        do {
+            corners.push_back(index[in.to_vertex_handle(h).idx()]);
+            ++n;
+            h = in.next_halfedge_handle(h);
+        } while (h != h0 && n <= in.n_halfedges());
+        sizes.push_back(n);
+    }
+    return gbsurf::convert(positions, sizes, corners, opt, progress);
+}
+
+/// The output mesh of a result as an OpenMesh TriMesh with normals and the gbsurf properties.
+inline TriMesh to_trimesh(const result& r) {
+    TriMesh out;
+    auto pos = r.positions();
+    auto nrm = r.normals();
+    auto tri = r.triangles();
+    auto pat = r.patch_index();
+    auto h = r.mean_curvature();
+    auto k = r.gaussian_curvature();
+    auto g = r.g1_deviation();
+    const std::size_t nv = pos.size() / 3;
+    out.request_vertex_normals();
+    auto ph = detail::vprop<int>(out, patch_property_name());
+    auto hh = detail::vprop<double>(out, mean_curvature_property_name());
+    auto kh = detail::vprop<double>(out, gaussian_curvature_property_name());
+    auto gh = detail::vprop<double>(out, g1_deviation_property_name());
+    std::vector<TriMesh::VertexHandle> vhs;
+    vhs.reserve(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+        auto vh = out.add_vertex(TriMesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+        if (nrm.size() == pos.size()) out.set_normal(vh, TriMesh::Normal(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]));
+        out.property(ph, vh) = i < pat.size() ? static_cast<int>(pat[i]) : -1;
+        out.property(hh, vh) = i < h.size() ? h[i] : 0.0;
+        out.property(kh, vh) = i < k.size() ? k[i] : 0.0;
+        out.property(gh, vh) = i < g.size() ? g[i] : 0.0;
+        vhs.push_back(vh);
+    }
+    for (std::size_t t = 0; 3 * t + 2 < tri.size(); ++t) {
+        auto fh = out.add_face(vhs[tri[3 * t]], vhs[tri[3 * t + 1]], vhs[tri[3 * t + 2]]);
+        if (!fh.is_valid()) {
+            throw error(GBSURF_ERR_INVALID_MESH,
+                        "OpenMesh rejected output triangle " + std::to_string(t) + " (non-manifold)");
+        }
+    }
+    return out;
+}
+
+/// Converts an OpenMesh polygon mesh into a TriMesh (see convert_to_result and to_trimesh).
+template <class InMesh>
+TriMesh convert(const InMesh& in, const options& opt = options(), const progress_fn& progress = {}) {
+    return to_trimesh(convert_to_result(in, opt, progress));
+}
+
+/// The curve network: per curve its Bézier control points as vertices (property "gbsurf:curve")
+/// joined by edges along the control polygon. The mesh has no faces (OpenMesh file writers
+/// store only its vertices); use it in memory or walk its edges.
+inline PolyMesh curve_network(const result& r) {
+    PolyMesh out;
+    auto ch = detail::vprop<int>(out, curve_property_name());
+    for (std::size_t c = 0; c < r.curve_count(); ++c) {
+        auto pts = r.curve_points(c);
+        PolyMesh::VertexHandle prev;
+        for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
+            auto vh = out.add_vertex(PolyMesh::Point(pts[i], pts[i + 1], pts[i + 2]));
+            out.property(ch, vh) = static_cast<int>(c);
+            if (prev.is_valid()) out.new_edge(prev, vh);
+            prev = vh;
+        }
+    }
+    return out;
+}
+
+/// The control nets of all patches: per ribbon a grid of its control points (property
+/// "gbsurf:patch"), quads between consecutive rows (edges only for a one-row ribbon), and for a
+/// GB patch its central control point joined by an edge to the middle of each innermost row.
+inline PolyMesh control_nets(const result& r) {
+    PolyMesh out;
+    auto ph = detail::vprop<int>(out, patch_property_name());
+    for (std::size_t p = 0; p < r.patch_count(); ++p) {
+        std::vector<PolyMesh::VertexHandle> inner_middles;
+        for (std::size_t s = 0; s < r.sides(p); ++s) {
+            auto shape = r.shape(p, s);
+            auto pts = r.ribbon_points(p, s);
+            const std::size_t w = shape.degree + 1;
+            std::vector<PolyMesh::VertexHandle> grid;
+            for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
+                auto vh = out.add_vertex(PolyMesh::Point(pts[i], pts[i + 1], pts[i + 2]));
+                out.property(ph, vh) = static_cast<int>(p);
+                grid.push_back(vh);
+            }
+            if (grid.size() != w * shape.layers) continue;
+            if (shape.layers >= 2) {
+                for (std::size_t k = 0; k + 1 < shape.layers; ++k) {
+                    for (std::size_t j = 0; j + 1 < w; ++j) {
+                        out.add_face(grid[k * w + j], grid[k * w + j + 1], grid[(k + 1) * w + j + 1],
+                                     grid[(k + 1) * w + j]);
+                    }
+                }
+            } else {
+                for (std::size_t j = 0; j + 1 < w; ++j) out.new_edge(grid[j], grid[j + 1]);
+            }
+            if (shape.layers >= 1) inner_middles.push_back(grid[(shape.layers - 1) * w + shape.degree / 2]);
+        }
+        if (r.kind(p) == patch_kind::gb) {
+            auto c = r.center(p);
+            auto vh = out.add_vertex(PolyMesh::Point(c[0], c[1], c[2]));
+            out.property(ph, vh) = static_cast<int>(p);
+            for (auto m : inner_middles) out.new_edge(m, vh);
+        }
+    }
+    return out;
+}
+
+}  // namespace openmesh
+}  // namespace gbsurf
+
+#endif  // GBSURF_OPENMESH_HPP

@@ -1,0 +1,155 @@
+// The C++ wrapper and the OpenMesh adapter: bad models give the right gbsurf::error code, good
+// models give TriMeshes with normals and properties; exceptions from callbacks are rethrown.
+//   adapter_test MODELS_DIR
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <gbsurf/openmesh.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+
+static int failures = 0;
+#define CHECK(cond)                                                                      \
+    do {                                                                                 \
+        if (!(cond)) {                                                                   \
+            std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";   \
+            ++failures;                                                                  \
+        }                                                                                \
+    } while (0)
+
+// The code of a thrown gbsurf::error, GBSURF_OK when nothing was thrown.
+template <class F>
+uint32_t code_of(F f, std::string* message = nullptr) {
+    try {
+        f();
+    } catch (const gbsurf::error& e) {
+        if (message) *message = e.what();
+        return e.code();
+    }
+    return GBSURF_OK;
+}
+
+static void bad_models(const std::string& dir) {
+    // The library's strict readers: the exact code for every bad model.
+    const std::map<std::string, uint32_t> expected = {
+        {"bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH},   {"duplicate_face.obj", GBSURF_ERR_INVALID_MESH},
+        {"empty.obj", GBSURF_ERR_INVALID_MESH},           {"flipped_face.obj", GBSURF_ERR_INVALID_MESH},
+        {"garbage.obj", GBSURF_ERR_IO},                   {"huge_coordinates.obj", GBSURF_ERR_INVALID_MESH},
+        {"index_out_of_range.obj", GBSURF_ERR_INDEX},     {"inf.obj", GBSURF_ERR_NAN},
+        {"isolated_vertex.obj", GBSURF_OK},               {"nan.obj", GBSURF_ERR_NAN},
+        {"nonmanifold_edge.obj", GBSURF_ERR_INVALID_MESH}, {"repeated_index.obj", GBSURF_ERR_INVALID_MESH},
+        {"zero_area.obj", GBSURF_ERR_INVALID_MESH},
+    };
+    for (const auto& [name, code] : expected) {
+        const std::string path = dir + "/bad/" + name;
+        std::string msg;
+        uint32_t got = code_of([&] {
+            auto r = gbsurf::convert_file(path, gbsurf::options().resolution(3));
+            if (name == "isolated_vertex.obj") CHECK(!r.warnings().empty());
+        }, &msg);
+        if (got != code) {
+            std::cerr << name << ": got " << gbsurf_status_name(got) << " (" << msg << "), expected "
+                      << gbsurf_status_name(code) << "\n";
+            ++failures;
+        }
+        if (got != GBSURF_OK) CHECK(msg.find(name) != std::string::npos);  // names the file
+
+        // OpenMesh's reader repairs some defects (it splits non-manifold vertices, skips faces
+        // it cannot add, ...). Whatever reaches the adapter must give a result or an input
+        // error, never an internal one.
+        OpenMesh::PolyMesh_ArrayKernelT<> in;
+        if (!OpenMesh::IO::read_mesh(in, path)) continue;
+        got = code_of([&] { gbsurf::openmesh::convert(in, gbsurf::options().resolution(3)); }, &msg);
+        const std::set<uint32_t> input_errors = {GBSURF_OK, GBSURF_ERR_NAN, GBSURF_ERR_INDEX,
+                                                 GBSURF_ERR_INVALID_MESH, GBSURF_ERR_COUNT};
+        if (!input_errors.count(got)) {
+            std::cerr << name << " via OpenMesh: " << gbsurf_status_name(got) << " " << msg << "\n";
+            ++failures;
+        }
+        if (in.n_faces() == 0) CHECK(got == GBSURF_ERR_INVALID_MESH);
+    }
+}
+
+static void wrapper_errors() {
+    const std::vector<double> p = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    const std::vector<uint32_t> s = {4, 4, 4, 4, 4, 4};
+    const std::vector<uint32_t> f = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+    CHECK(code_of([&] { gbsurf::options().resolution(0).validate(); }) == GBSURF_ERR_INVALID_OPTION);
+    CHECK(code_of([&] { gbsurf::parse_method("loop"); }) == GBSURF_ERR_INVALID_OPTION);
+    CHECK(code_of([&] { gbsurf::convert(p, s, std::vector<uint32_t>(f.begin(), f.end() - 1)); }) == GBSURF_ERR_COUNT);
+    auto f2 = f;
+    f2[5] = 8;
+    std::string msg;
+    CHECK(code_of([&] { gbsurf::convert(p, s, f2); }, &msg) == GBSURF_ERR_INDEX);
+    CHECK(msg.find("face 1 corner 1") != std::string::npos);
+    // A progress callback that returns false cancels; one that throws cancels and rethrows.
+    CHECK(code_of([&] { gbsurf::convert(p, s, f, gbsurf::options(), [](float) { return false; }); }) ==
+          GBSURF_ERR_CANCELLED);
+    bool rethrown = false;
+    try {
+        gbsurf::convert(p, s, f, gbsurf::options(), [](float) -> bool { throw std::runtime_error("stop"); });
+    } catch (const std::runtime_error& e) {
+        rethrown = std::string(e.what()) == "stop";
+    }
+    CHECK(rethrown);
+}
+
+static void good_model(const std::string& dir) {
+    OpenMesh::PolyMesh_ArrayKernelT<> in;
+    if (!OpenMesh::IO::read_mesh(in, dir + "/cube.obj")) {
+        std::cerr << "cannot read cube.obj\n";
+        ++failures;
+        return;
+    }
+    for (auto m : {gbsurf::method::dual, gbsurf::method::topology}) {
+        std::string msg;
+        uint32_t code = code_of([&] {
+            gbsurf::result r = gbsurf::openmesh::convert_to_result(in, gbsurf::options().method(m).resolution(4));
+            gbsurf::openmesh::TriMesh out = gbsurf::openmesh::to_trimesh(r);
+            CHECK(out.n_vertices() == r.vertex_count());
+            CHECK(out.n_faces() == r.triangle_count());
+            CHECK(out.has_vertex_normals());
+            auto ph = gbsurf::openmesh::patch(out);
+            auto gh = gbsurf::openmesh::g1_deviation(out);
+            auto kh = gbsurf::openmesh::gaussian_curvature(out);
+            int max_patch = -1;
+            for (auto vh : out.vertices()) {
+                max_patch = std::max(max_patch, out.property(ph, vh));
+                CHECK(std::isfinite(out.property(gh, vh)) && std::isfinite(out.property(kh, vh)));
+                CHECK(std::abs(out.normal(vh).norm() - 1.0) < 1e-9);
+            }
+            CHECK(static_cast<std::size_t>(max_patch) + 1 == r.patch_count());
+            CHECK(r.patch_count() == (m == gbsurf::method::dual ? 8u : 6u));
+            CHECK(r.report().closed == 1);
+            CHECK(r.patches_with_sides(m == gbsurf::method::dual ? 3 : 4) == r.patch_count());
+            auto curves = gbsurf::openmesh::curve_network(r);
+            CHECK(r.curve_count() == 12);
+            CHECK(curves.n_vertices() > 0 && curves.n_edges() > 0);
+            auto nets = gbsurf::openmesh::control_nets(r);
+            CHECK(nets.n_vertices() > 0);
+        }, &msg);
+        if (code != GBSURF_OK) {
+            std::cerr << "cube " << static_cast<int>(m) << ": " << msg << "\n";
+            ++failures;
+        }
+    }
+}
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::cerr << "usage: adapter_test MODELS_DIR\n";
+        return 2;
+    }
+    bad_models(argv[1]);
+    wrapper_errors();
+    good_model(argv[1]);
+    if (failures) {
+        std::cerr << failures << " failures\n";
+        return 1;
+    }
+    std::cout << "adapter_test: all checks passed\n";
+    return 0;
+}

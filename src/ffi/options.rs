@@ -1,0 +1,300 @@
+//! The options struct of the C ABI and the report figures.
+
+use super::*;
+use crate::api::{ConvertError, ConvertOptions, Method, Twist};
+use crate::gb::WeightForm;
+
+/// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
+pub const GBSURF_METHOD_DUAL: u32 = 0;
+/// Method: topology-preserving structure, one ribbon-only patch per mesh face (seed 000 §3).
+pub const GBSURF_METHOD_TOPOLOGY: u32 = 1;
+/// Method: Doo–Sabin subdivision, for comparison (no patches).
+pub const GBSURF_METHOD_DOO_SABIN: u32 = 2;
+/// Method: Catmull–Clark subdivision, for comparison (no patches).
+pub const GBSURF_METHOD_CATMULL_CLARK: u32 = 3;
+
+/// Twist: first approximation (G1 only where four-sided patches meet).
+pub const GBSURF_TWIST_NONE: u32 = 0;
+/// Twist: approximating direction blend (seed 000 eq. 4.16).
+pub const GBSURF_TWIST_APPROX: u32 = 1;
+/// Twist: interpolating direction blend (seed 000 eq. 4.24). The default.
+pub const GBSURF_TWIST_INTERP: u32 = 2;
+
+/// Correction weights: squared α (default, keeps G1).
+pub const GBSURF_WEIGHTS_SQUARED: u32 = 0;
+/// Correction weights: linear α (comparison only).
+pub const GBSURF_WEIGHTS_LINEAR: u32 = 1;
+
+/// Conversion options. Always initialize with `gbsurf_options_init`, which sets `struct_size`
+/// and the defaults, then change fields. Unknown `struct_size` values are rejected
+/// (`GBSURF_ERR_INVALID_OPTION`), so the struct can grow at its end in later versions.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GbsurfOptions {
+    /// `sizeof(GbsurfOptions)`, set by `gbsurf_options_init`.
+    pub struct_size: u32,
+    /// `GBSURF_METHOD_*`. Default `GBSURF_METHOD_DUAL`.
+    pub method: u32,
+    /// Samples per patch side, 1..=1024. Default 8.
+    pub resolution: u32,
+    /// `GBSURF_TWIST_*`. Default `GBSURF_TWIST_INTERP`.
+    pub twist: u32,
+    /// `GBSURF_WEIGHTS_*`. Default `GBSURF_WEIGHTS_SQUARED`.
+    pub weights: u32,
+    /// Subdivision levels of the comparison methods, 0..=8. Default 3.
+    pub levels: u32,
+    /// 1: project onto best-fit planes (seed 000 §3.3.2), 0: do not. Default 1.
+    pub best_plane: u32,
+    /// Must be 0.
+    pub reserved: u32,
+    /// Fullness κ of the dual curves, 0 ≤ κ < 1 (seed 000 eq. 2.2). Default 1/3.
+    pub fullness: f64,
+    /// Tile split ratio w > 2 of the topology-preserving structure. Default 3.
+    pub tile_depth: f64,
+    /// Factor on the middle constraint of the direction blends, finite. Default 1.
+    pub mid_scale: f64,
+}
+
+const OPTIONS_SIZE: u32 = std::mem::size_of::<GbsurfOptions>() as u32;
+
+impl From<&ConvertOptions> for GbsurfOptions {
+    fn from(o: &ConvertOptions) -> Self {
+        GbsurfOptions {
+            struct_size: OPTIONS_SIZE,
+            method: match o.method {
+                Method::Dual => GBSURF_METHOD_DUAL,
+                Method::Topology => GBSURF_METHOD_TOPOLOGY,
+                Method::DooSabin => GBSURF_METHOD_DOO_SABIN,
+                Method::CatmullClark => GBSURF_METHOD_CATMULL_CLARK,
+            },
+            resolution: u32::try_from(o.resolution).unwrap_or(u32::MAX),
+            twist: match o.twist {
+                Twist::None => GBSURF_TWIST_NONE,
+                Twist::Approx => GBSURF_TWIST_APPROX,
+                Twist::Interp => GBSURF_TWIST_INTERP,
+            },
+            weights: match o.weights {
+                WeightForm::Squared => GBSURF_WEIGHTS_SQUARED,
+                WeightForm::Linear => GBSURF_WEIGHTS_LINEAR,
+            },
+            levels: o.levels,
+            best_plane: o.best_plane as u32,
+            reserved: 0,
+            fullness: o.fullness,
+            tile_depth: o.tile_depth,
+            mid_scale: o.mid_scale,
+        }
+    }
+}
+
+fn bad_option(name: &str, value: impl std::fmt::Display, expected: &str) -> FfiError {
+    FfiError::new(
+        GBSURF_ERR_INVALID_OPTION,
+        format!("option {name} = {value}: {expected}"),
+    )
+}
+
+impl GbsurfOptions {
+    /// The Rust options, every value checked (unknown enum values, `struct_size`, ranges).
+    pub(crate) fn to_convert_options(self) -> FfiResult<ConvertOptions> {
+        if self.struct_size != OPTIONS_SIZE {
+            return Err(bad_option(
+                "struct_size",
+                self.struct_size,
+                &format!(
+                    "unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"
+                ),
+            ));
+        }
+        let method = match self.method {
+            GBSURF_METHOD_DUAL => Method::Dual,
+            GBSURF_METHOD_TOPOLOGY => Method::Topology,
+            GBSURF_METHOD_DOO_SABIN => Method::DooSabin,
+            GBSURF_METHOD_CATMULL_CLARK => Method::CatmullClark,
+            m => return Err(bad_option("method", m, "expected GBSURF_METHOD_* (0..=3)")),
+        };
+        let twist = match self.twist {
+            GBSURF_TWIST_NONE => Twist::None,
+            GBSURF_TWIST_APPROX => Twist::Approx,
+            GBSURF_TWIST_INTERP => Twist::Interp,
+            t => return Err(bad_option("twist", t, "expected GBSURF_TWIST_* (0..=2)")),
+        };
+        let weights = match self.weights {
+            GBSURF_WEIGHTS_SQUARED => WeightForm::Squared,
+            GBSURF_WEIGHTS_LINEAR => WeightForm::Linear,
+            w => {
+                return Err(bad_option(
+                    "weights",
+                    w,
+                    "expected GBSURF_WEIGHTS_* (0..=1)",
+                ))
+            }
+        };
+        let best_plane = match self.best_plane {
+            0 => false,
+            1 => true,
+            b => return Err(bad_option("best_plane", b, "expected 0 or 1")),
+        };
+        if self.reserved != 0 {
+            return Err(bad_option("reserved", self.reserved, "must be 0"));
+        }
+        for (name, v) in [
+            ("fullness", self.fullness),
+            ("tile_depth", self.tile_depth),
+            ("mid_scale", self.mid_scale),
+        ] {
+            if !v.is_finite() {
+                return Err(FfiError::new(
+                    GBSURF_ERR_NAN,
+                    format!("option {name} = {v} is not finite"),
+                ));
+            }
+        }
+        let o = ConvertOptions {
+            method,
+            resolution: self.resolution as usize,
+            fullness: self.fullness,
+            tile_depth: self.tile_depth,
+            twist,
+            mid_scale: self.mid_scale,
+            best_plane,
+            weights,
+            levels: self.levels,
+        };
+        o.validate()
+            .map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;
+        Ok(o)
+    }
+}
+
+/// The options behind a C pointer: NULL means the defaults.
+pub(crate) fn read_options(options: *const GbsurfOptions) -> FfiResult<ConvertOptions> {
+    if options.is_null() {
+        return Ok(ConvertOptions::default());
+    }
+    // Read the size first: an older/newer caller's struct may be smaller than ours.
+    // SAFETY: a non-null options pointer points to at least its `struct_size` field (contract).
+    let size = unsafe { std::ptr::read_unaligned(options as *const u32) };
+    if size != OPTIONS_SIZE {
+        return Err(bad_option(
+            "struct_size",
+            size,
+            &format!(
+                "unknown size (this library expects {OPTIONS_SIZE}); call gbsurf_options_init"
+            ),
+        ));
+    }
+    // SAFETY: the caller's struct has our full size (checked above).
+    unsafe { *options }.to_convert_options()
+}
+
+/// The status code of a conversion error.
+pub(crate) fn convert_error(e: ConvertError) -> FfiError {
+    let code = match &e {
+        ConvertError::InvalidOption { .. } => GBSURF_ERR_INVALID_OPTION,
+        ConvertError::Mesh(m) => result::mesh_error_code(m),
+        ConvertError::Io { .. } => GBSURF_ERR_IO,
+        ConvertError::Cancelled => GBSURF_ERR_CANCELLED,
+        ConvertError::Construct(_) | ConvertError::Subdiv(_) | ConvertError::Tessellate(_) => {
+            GBSURF_ERR_CONSTRUCTION
+        }
+    };
+    FfiError::new(code, e.to_string())
+}
+
+/// Sets `*options` to the defaults (including `struct_size`).
+///
+/// # Safety
+/// `options` must be NULL or point to a writable `GbsurfOptions`.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_options_init(options: *mut GbsurfOptions) -> u32 {
+    boundary("gbsurf_options_init", || {
+        let p = non_null_mut(options, "options")?;
+        // SAFETY: non-null and writable (contract).
+        unsafe { p.write(GbsurfOptions::from(&ConvertOptions::default())) };
+        Ok(())
+    })
+}
+
+/// Checks options without converting anything: `GBSURF_OK` or the code and message
+/// `gbsurf_convert` would give for them.
+///
+/// # Safety
+/// `options` must be NULL or point to an initialized `GbsurfOptions`.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_options_validate(options: *const GbsurfOptions) -> u32 {
+    boundary("gbsurf_options_validate", || {
+        non_null(options, "options")?;
+        read_options(options).map(|_| ())
+    })
+}
+
+/// Report figures of a conversion. Set `struct_size = sizeof(GbsurfReport)` before calling
+/// `gbsurf_result_report` (unknown sizes are rejected so the struct can grow).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GbsurfReport {
+    /// `sizeof(GbsurfReport)`, set by the caller.
+    pub struct_size: u32,
+    /// The `GBSURF_METHOD_*` used.
+    pub method: u32,
+    /// 1 if the output is a closed, consistently oriented two-manifold.
+    pub closed: u32,
+    /// 1 if the output is a consistently oriented two-manifold (possibly with boundary).
+    pub two_manifold: u32,
+    /// Number of patches (patch methods) or faces of the subdivided mesh (subdivision methods).
+    pub patches: u64,
+    /// Output vertices.
+    pub vertices: u64,
+    /// Output triangles.
+    pub triangles: u64,
+    /// Output edges used by one triangle only.
+    pub boundary_edges: u64,
+    /// Output vertices at identical positions (extra copies).
+    pub duplicate_vertices: u64,
+    /// Output triangles of (relatively) zero area.
+    pub zero_area_triangles: u64,
+    /// Tessellation resolution or subdivision levels.
+    pub resolution: u64,
+    /// Input vertices.
+    pub input_vertices: u64,
+    /// Input faces.
+    pub input_faces: u64,
+    /// Number of warnings.
+    pub warnings: u64,
+    /// Largest angle (degrees) between the normals of two patches on a shared boundary.
+    pub max_g1_deg: f64,
+    /// Mean of that angle over the output vertices on shared boundaries.
+    pub mean_g1_deg: f64,
+    /// Largest distance between two patches' samples of a shared boundary before welding.
+    pub max_boundary_gap: f64,
+    /// Wall-clock seconds of the conversion.
+    pub seconds: f64,
+}
+
+pub(crate) const REPORT_SIZE: u32 = std::mem::size_of::<GbsurfReport>() as u32;
+
+impl GbsurfReport {
+    pub(crate) fn from_report(r: &crate::quality::Report, method: u32) -> Self {
+        GbsurfReport {
+            struct_size: REPORT_SIZE,
+            method,
+            closed: r.closed as u32,
+            two_manifold: r.two_manifold as u32,
+            patches: r.patches as u64,
+            vertices: r.vertices as u64,
+            triangles: r.triangles as u64,
+            boundary_edges: r.boundary_edges as u64,
+            duplicate_vertices: r.duplicate_vertices as u64,
+            zero_area_triangles: r.zero_area_triangles as u64,
+            resolution: r.resolution as u64,
+            input_vertices: r.input_vertices as u64,
+            input_faces: r.input_faces as u64,
+            warnings: r.warnings.len() as u64,
+            max_g1_deg: r.max_g1_deg,
+            mean_g1_deg: r.mean_g1_deg,
+            max_boundary_gap: r.max_boundary_gap,
+            seconds: r.seconds,
+        }
+    }
+}

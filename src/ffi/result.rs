@@ -1,0 +1,908 @@
+//! The conversion entry points and the opaque result handle with its accessors.
+
+use super::*;
+use crate::api::{Conversion, ConvertError, ConvertOptions};
+use crate::construct::{Patch, Surface};
+use crate::mesh::{MeshError, PolyMesh};
+use glam::DVec3;
+use std::ffi::{c_void, CStr};
+
+/// Patch kind: an n-sided Generalized Bézier patch (ribbons plus a central control point).
+pub const GBSURF_PATCH_GB: u32 = 0;
+/// Patch kind: a ribbon-only patch (CGB), no central control point.
+pub const GBSURF_PATCH_CGB: u32 = 1;
+
+/// Progress callback: called with the finished fraction in [0, 1] and the caller's `user_data`;
+/// return `true` to continue, `false` to cancel (the conversion then fails with
+/// `GBSURF_ERR_CANCELLED`). It runs on the calling thread and must not unwind.
+pub type GbsurfProgressFn =
+    Option<unsafe extern "C" fn(fraction: f32, user_data: *mut c_void) -> bool>;
+
+/// One ribbon, flattened: `points[3 * (k * (degree + 1) + j) + c]` is coordinate c of P_{j,k}.
+struct FlatRibbon {
+    degree: usize,
+    layers: usize,
+    points: Vec<f64>,
+}
+
+struct FlatPatch {
+    kind: u32,
+    center: Option<[f64; 3]>,
+    ribbons: Vec<FlatRibbon>,
+}
+
+/// The opaque result of a conversion: the output triangle mesh with its per-vertex data, the
+/// patches (none for the subdivision methods), the curve network, the report and the warnings.
+/// Free it with `gbsurf_result_free`.
+pub struct GbsurfResult {
+    positions: Vec<f64>,
+    normals: Vec<f64>,
+    triangles: Vec<u32>,
+    patch_index: Vec<u32>,
+    mean_curvature: Vec<f64>,
+    gaussian_curvature: Vec<f64>,
+    g1_deviation_deg: Vec<f64>,
+    patches: Vec<FlatPatch>,
+    curves: Vec<Vec<f64>>,
+    report: GbsurfReport,
+    sides_histogram: Vec<(u64, u64)>,
+    warnings: Vec<CString>,
+}
+
+fn flatten(v: &[DVec3]) -> Vec<f64> {
+    v.iter().flat_map(|p| p.to_array()).collect()
+}
+
+fn flatten_surface(s: &Surface) -> (Vec<FlatPatch>, Vec<Vec<f64>>) {
+    let flat_ribbon = |r: &crate::gb::Ribbon| FlatRibbon {
+        degree: r.degree,
+        layers: r.rows.len(),
+        points: r.rows.iter().flat_map(|row| flatten(row)).collect(),
+    };
+    let patches = s
+        .patches
+        .iter()
+        .map(|p| match p {
+            Patch::Gb(g) => FlatPatch {
+                kind: GBSURF_PATCH_GB,
+                center: Some(g.center.to_array()),
+                ribbons: g.ribbons.iter().map(flat_ribbon).collect(),
+            },
+            Patch::Cgb(c) => FlatPatch {
+                kind: GBSURF_PATCH_CGB,
+                center: None,
+                ribbons: c.ribbons.iter().map(flat_ribbon).collect(),
+            },
+        })
+        .collect();
+    let curves = s.curves.iter().map(|c| flatten(c)).collect();
+    (patches, curves)
+}
+
+/// The status code of a mesh error.
+pub(crate) fn mesh_error_code(e: &MeshError) -> u32 {
+    match e {
+        MeshError::Parse { .. } | MeshError::Io { .. } => GBSURF_ERR_IO,
+        MeshError::NonFiniteCoordinate { .. } => GBSURF_ERR_NAN,
+        MeshError::IndexOutOfRange { .. } => GBSURF_ERR_INDEX,
+        _ => GBSURF_ERR_INVALID_MESH,
+    }
+}
+
+/// Checks the flat input arrays and builds the polygon mesh. Counts, NaN and indices are checked
+/// here so each gets its own code and a message naming the element.
+fn build_mesh(positions: &[f64], face_sizes: &[u32], face_indices: &[u32]) -> FfiResult<PolyMesh> {
+    if positions.len() % 3 != 0 {
+        return Err(FfiError::new(
+            GBSURF_ERR_COUNT,
+            format!("positions_len = {} is not a multiple of 3", positions.len()),
+        ));
+    }
+    let total: u64 = face_sizes.iter().map(|&s| s as u64).sum();
+    if total != face_indices.len() as u64 {
+        return Err(FfiError::new(
+            GBSURF_ERR_COUNT,
+            format!(
+                "face sizes sum to {total} but face_indices_len = {}",
+                face_indices.len()
+            ),
+        ));
+    }
+    if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
+        return Err(FfiError::new(
+            GBSURF_ERR_NAN,
+            format!(
+                "vertex {}: coordinate {} is {} (not finite)",
+                i / 3,
+                i % 3,
+                positions[i]
+            ),
+        ));
+    }
+    let nv = positions.len() / 3;
+    let pts: Vec<DVec3> = positions.chunks_exact(3).map(DVec3::from_slice).collect();
+    let mut faces = Vec::with_capacity(face_sizes.len());
+    let mut at = 0usize;
+    for (f, &size) in face_sizes.iter().enumerate() {
+        let face = &face_indices[at..at + size as usize];
+        if let Some(c) = face.iter().position(|&v| v as usize >= nv) {
+            return Err(FfiError::new(
+                GBSURF_ERR_INDEX,
+                format!(
+                    "face {f} corner {c}: vertex index {} out of range (0..{nv})",
+                    face[c]
+                ),
+            ));
+        }
+        faces.push(face.to_vec());
+        at += size as usize;
+    }
+    Ok(PolyMesh::new(pts, faces))
+}
+
+/// Runs a conversion (`job`: the options and the progress closure → the result) with the C
+/// progress callback and packs the result.
+fn run(
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    job: impl FnOnce(&ConvertOptions, crate::api::Progress<'_>) -> Result<Conversion, ConvertError>,
+) -> FfiResult<Box<GbsurfResult>> {
+    let opts = read_options(options)?;
+    let mut cb = |fraction: f32| -> bool {
+        match progress {
+            // SAFETY: the caller passed a valid function pointer (NULL is the None case).
+            Some(f) => unsafe { f(fraction, user_data) },
+            None => true,
+        }
+    };
+    let progress_arg: crate::api::Progress<'_> = if progress.is_some() {
+        Some(&mut cb)
+    } else {
+        None
+    };
+    let conv = job(&opts, progress_arg).map_err(convert_error)?;
+    let method = GbsurfOptions::from(&opts).method;
+    Ok(Box::new(pack(conv, method)))
+}
+
+fn pack(conv: crate::api::Conversion, method: u32) -> GbsurfResult {
+    let m = &conv.mesh;
+    let (patches, curves) = conv
+        .surface
+        .as_ref()
+        .map(flatten_surface)
+        .unwrap_or_default();
+    GbsurfResult {
+        positions: flatten(&m.positions),
+        normals: flatten(&m.normals),
+        triangles: m.triangles.iter().flatten().copied().collect(),
+        patch_index: m.patch.clone(),
+        mean_curvature: m.mean_curvature.clone(),
+        gaussian_curvature: m.gaussian_curvature.clone(),
+        g1_deviation_deg: m.g1_deviation_deg.clone(),
+        patches,
+        curves,
+        report: GbsurfReport::from_report(&conv.report, method),
+        sides_histogram: conv
+            .report
+            .sides_histogram
+            .iter()
+            .filter_map(|(k, &v)| Some((k.parse::<u64>().ok()?, v as u64)))
+            .collect(),
+        warnings: conv
+            .warnings
+            .iter()
+            .map(|w| CString::new(w.replace('\0', "\\0")).unwrap_or_default())
+            .collect(),
+    }
+}
+
+fn write_out(out: *mut *mut GbsurfResult, r: Box<GbsurfResult>) {
+    // SAFETY: `out` was checked non-null by the caller of this helper and points to a writable
+    // pointer (header contract).
+    unsafe { *out = Box::into_raw(r) };
+}
+
+/// Converts a polygon mesh given as flat arrays into a smooth surface.
+///
+/// - `positions`: `positions_len` doubles, x y z per vertex (`positions_len` a multiple of 3);
+/// - `face_sizes`: `face_count` corner counts (each ≥ 3);
+/// - `face_indices`: `face_indices_len` 0-based vertex indices, the faces one after another,
+///   counter-clockwise seen from outside (`face_indices_len` = sum of `face_sizes`);
+/// - `options`: NULL for the defaults, else initialized by `gbsurf_options_init`;
+/// - `progress`: may be NULL; `user_data` is passed to it unchanged;
+/// - `out`: receives the result handle (set to NULL first; set only on success).
+///
+/// Errors: `GBSURF_ERR_NULL`, `_COUNT`, `_NAN`, `_INDEX` (message names vertex/face/corner),
+/// `_INVALID_MESH`, `_INVALID_OPTION`, `_CANCELLED`, `_CONSTRUCTION`, `_PANIC`.
+///
+/// # Safety
+/// Every non-null pointer must point to the stated number of readable elements; `out` to a
+/// writable pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_convert(
+    positions: *const f64,
+    positions_len: usize,
+    face_sizes: *const u32,
+    face_count: usize,
+    face_indices: *const u32,
+    face_indices_len: usize,
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    boundary("gbsurf_convert", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: pointer/length pairs per the contract above.
+        let (p, s, i) = unsafe {
+            (
+                slice_arg(positions, positions_len, "positions")?,
+                slice_arg(face_sizes, face_count, "face_sizes")?,
+                slice_arg(face_indices, face_indices_len, "face_indices")?,
+            )
+        };
+        let mesh = build_mesh(p, s, i)?;
+        let r = run(options, progress, user_data, |o, cb| {
+            crate::api::convert(&mesh, o, cb)
+        })?;
+        write_out(out, r);
+        Ok(())
+    })
+}
+
+/// Reads a mesh file (OBJ, OFF, PLY, STL; strict readers, errors name the line) and converts it
+/// like `gbsurf_convert`. `path` is a NUL-terminated UTF-8 path. Errors additionally include
+/// `GBSURF_ERR_IO` (unreadable or malformed file).
+///
+/// # Safety
+/// `path` must be a NUL-terminated string; the other pointers as for `gbsurf_convert`.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_convert_file(
+    path: *const c_char,
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    boundary("gbsurf_convert_file", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        let path = non_null(path, "path")?;
+        // SAFETY: NUL-terminated (contract).
+        let path = unsafe { CStr::from_ptr(path) }
+            .to_str()
+            .map_err(|_| FfiError::new(GBSURF_ERR_IO, "path is not valid UTF-8"))?;
+        let r = run(options, progress, user_data, |o, cb| {
+            crate::api::convert_file(path, o, cb)
+        })
+        .map_err(|mut e| {
+            e.message = format!("{path}: {}", e.message);
+            e
+        });
+        write_out(out, r?);
+        Ok(())
+    })
+}
+
+/// Frees a result handle. NULL is a no-op.
+///
+/// # Safety
+/// `result` must be NULL or a handle from `gbsurf_convert*` not freed before.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_result_free(result: *mut GbsurfResult) {
+    if result.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: created by Box::into_raw in write_out and not freed before (contract).
+        drop(unsafe { Box::from_raw(result) });
+    }));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accessors
+// ---------------------------------------------------------------------------------------------
+
+fn handle<'a>(r: *const GbsurfResult) -> FfiResult<&'a GbsurfResult> {
+    let r = non_null(r, "result")?;
+    // SAFETY: a live handle from gbsurf_convert* (contract of every accessor).
+    Ok(unsafe { &*r })
+}
+
+fn put<T>(out: *mut T, arg: &str, v: T) -> FfiResult {
+    let out = non_null_mut(out, arg)?;
+    // SAFETY: non-null, writable (contract).
+    unsafe { out.write(v) };
+    Ok(())
+}
+
+/// Copies `src` into a caller buffer of `capacity` elements; `written` receives `src.len()` (also
+/// on `GBSURF_ERR_CAPACITY`, so the caller learns the size needed). `buf` may be NULL when
+/// `capacity` is 0 (a size query, which then fails with `_CAPACITY` unless `src` is empty).
+fn copy_out<T: Copy>(src: &[T], buf: *mut T, capacity: usize, written: *mut usize) -> FfiResult {
+    put(written, "written", src.len())?;
+    if src.len() > capacity {
+        return Err(FfiError::new(
+            GBSURF_ERR_CAPACITY,
+            format!("buffer holds {capacity} values, {} needed", src.len()),
+        ));
+    }
+    if src.is_empty() {
+        return Ok(());
+    }
+    let buf = non_null_mut(buf, "buf")?;
+    // SAFETY: `buf` has `capacity` ≥ src.len() writable elements (contract); distinct regions.
+    unsafe { std::ptr::copy_nonoverlapping(src.as_ptr(), buf, src.len()) };
+    Ok(())
+}
+
+fn view<T>(src: &[T], data: *mut *const T, len: *mut usize) -> FfiResult {
+    let data = non_null_mut(data, "data")?;
+    let len = non_null_mut(len, "len")?;
+    // SAFETY: both checked non-null and writable (contract).
+    unsafe {
+        *data = src.as_ptr();
+        *len = src.len();
+    }
+    Ok(())
+}
+
+/// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_positions(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_positions", || {
+        view(&handle(result)?.positions, data, len)
+    })
+}
+
+/// Copies the output vertex positions (x y z per vertex: 3 × vertex count doubles) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_positions(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_positions", || {
+        copy_out(&handle(result)?.positions, buf, capacity, written)
+    })
+}
+
+/// View of the unit vertex normals (x y z per vertex): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_normals(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_normals", || {
+        view(&handle(result)?.normals, data, len)
+    })
+}
+
+/// Copies the unit vertex normals (x y z per vertex) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_normals(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_normals", || {
+        copy_out(&handle(result)?.normals, buf, capacity, written)
+    })
+}
+
+/// View of the triangles (3 vertex indices each, counter-clockwise seen from outside): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_triangles(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_triangles", || {
+        view(&handle(result)?.triangles, data, len)
+    })
+}
+
+/// Copies the triangles (3 vertex indices each, counter-clockwise seen from outside) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_triangles(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_triangles", || {
+        copy_out(&handle(result)?.triangles, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_patch_index(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_patch_index", || {
+        view(&handle(result)?.patch_index, data, len)
+    })
+}
+
+/// Copies the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_patch_index(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_patch_index", || {
+        copy_out(&handle(result)?.patch_index, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_mean_curvature(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_mean_curvature", || {
+        view(&handle(result)?.mean_curvature, data, len)
+    })
+}
+
+/// Copies the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_mean_curvature(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_mean_curvature", || {
+        copy_out(&handle(result)?.mean_curvature, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex Gaussian curvature K = k1 k2: `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_gaussian_curvature(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_gaussian_curvature", || {
+        view(&handle(result)?.gaussian_curvature, data, len)
+    })
+}
+
+/// Copies the per-vertex Gaussian curvature K = k1 k2 into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_gaussian_curvature(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_gaussian_curvature", || {
+        copy_out(&handle(result)?.gaussian_curvature, buf, capacity, written)
+    })
+}
+
+/// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches): `*data` points into the handle (valid until it is freed), `*len` is the
+/// number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_g1_deviation(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_g1_deviation", || {
+        view(&handle(result)?.g1_deviation_deg, data, len)
+    })
+}
+
+/// Copies the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches) into `buf` (`capacity` values); `*written` receives the number of values (also on
+/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_copy_g1_deviation", || {
+        copy_out(&handle(result)?.g1_deviation_deg, buf, capacity, written)
+    })
+}
+
+/// Number of vertices of the output mesh.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_vertex_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_vertex_count", || {
+        put(count, "count", handle(result)?.positions.len() / 3)
+    })
+}
+
+/// Number of triangles of the output mesh.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_triangle_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_triangle_count", || {
+        put(count, "count", handle(result)?.triangles.len() / 3)
+    })
+}
+
+fn patch_at(r: &GbsurfResult, patch: usize) -> FfiResult<&FlatPatch> {
+    r.patches.get(patch).ok_or_else(|| {
+        FfiError::new(
+            GBSURF_ERR_INDEX,
+            format!("patch index {patch} out of range (0..{})", r.patches.len()),
+        )
+    })
+}
+
+fn ribbon_at(r: &GbsurfResult, patch: usize, side: usize) -> FfiResult<&FlatRibbon> {
+    let p = patch_at(r, patch)?;
+    p.ribbons.get(side).ok_or_else(|| {
+        FfiError::new(
+            GBSURF_ERR_INDEX,
+            format!(
+                "patch {patch}: side index {side} out of range (0..{})",
+                p.ribbons.len()
+            ),
+        )
+    })
+}
+
+/// Number of patches (0 for the subdivision methods).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
+    boundary("gbsurf_patch_count", || {
+        put(count, "count", handle(result)?.patches.len())
+    })
+}
+
+/// Kind of patch `patch`: `GBSURF_PATCH_GB` or `GBSURF_PATCH_CGB`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `kind` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_kind(
+    result: *const GbsurfResult,
+    patch: usize,
+    kind: *mut u32,
+) -> u32 {
+    boundary("gbsurf_patch_kind", || {
+        put(kind, "kind", patch_at(handle(result)?, patch)?.kind)
+    })
+}
+
+/// Number of sides n of patch `patch`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `sides` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_sides(
+    result: *const GbsurfResult,
+    patch: usize,
+    sides: *mut usize,
+) -> u32 {
+    boundary("gbsurf_patch_sides", || {
+        put(
+            sides,
+            "sides",
+            patch_at(handle(result)?, patch)?.ribbons.len(),
+        )
+    })
+}
+
+/// Degree d and layer count l of the ribbon on side `side` of patch `patch` (a GB patch has
+/// the same d on all sides; a CGB patch may differ per side).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `degree` and `layers` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_degree(
+    result: *const GbsurfResult,
+    patch: usize,
+    side: usize,
+    degree: *mut usize,
+    layers: *mut usize,
+) -> u32 {
+    boundary("gbsurf_patch_degree", || {
+        let rb = ribbon_at(handle(result)?, patch, side)?;
+        non_null_mut(layers, "layers")?;
+        put(degree, "degree", rb.degree)?;
+        put(layers, "layers", rb.layers)
+    })
+}
+
+/// View of the control points of the ribbon on side `side` of patch `patch`:
+/// `(*data)[3 * (k * (degree + 1) + j) + c]` is coordinate c of P_{j,k} (row k = 0 is the
+/// boundary curve); `*len` = 3 · layers · (degree + 1).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_ribbon_points(
+    result: *const GbsurfResult,
+    patch: usize,
+    side: usize,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_patch_ribbon_points", || {
+        view(&ribbon_at(handle(result)?, patch, side)?.points, data, len)
+    })
+}
+
+/// Copy-out variant of `gbsurf_patch_ribbon_points`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_copy_ribbon_points(
+    result: *const GbsurfResult,
+    patch: usize,
+    side: usize,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_patch_copy_ribbon_points", || {
+        copy_out(
+            &ribbon_at(handle(result)?, patch, side)?.points,
+            buf,
+            capacity,
+            written,
+        )
+    })
+}
+
+/// The central control point of GB patch `patch` into `xyz[0..3]`. A CGB patch has none:
+/// `GBSURF_ERR_KIND`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `xyz` has 3 writable doubles or is NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_patch_center(
+    result: *const GbsurfResult,
+    patch: usize,
+    xyz: *mut f64,
+) -> u32 {
+    boundary("gbsurf_patch_center", || {
+        let p = patch_at(handle(result)?, patch)?;
+        let c = p.center.ok_or_else(|| {
+            FfiError::new(
+                GBSURF_ERR_KIND,
+                format!("patch {patch} is a ribbon-only (CGB) patch: no central control point"),
+            )
+        })?;
+        let xyz = non_null_mut(xyz, "xyz")?;
+        // SAFETY: 3 writable doubles (contract).
+        unsafe { std::ptr::copy_nonoverlapping(c.as_ptr(), xyz, 3) };
+        Ok(())
+    })
+}
+
+/// Number of curves of the curve network (each boundary curve once).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_curve_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
+    boundary("gbsurf_curve_count", || {
+        put(count, "count", handle(result)?.curves.len())
+    })
+}
+
+fn curve_at(r: &GbsurfResult, curve: usize) -> FfiResult<&[f64]> {
+    r.curves.get(curve).map(|c| c.as_slice()).ok_or_else(|| {
+        FfiError::new(
+            GBSURF_ERR_INDEX,
+            format!("curve index {curve} out of range (0..{})", r.curves.len()),
+        )
+    })
+}
+
+/// View of the Bézier control points of curve `curve` (x y z each; degree = len / 3 − 1).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_curve_points(
+    result: *const GbsurfResult,
+    curve: usize,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    boundary("gbsurf_curve_points", || {
+        view(curve_at(handle(result)?, curve)?, data, len)
+    })
+}
+
+/// Copy-out variant of `gbsurf_curve_points`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_curve_copy_points(
+    result: *const GbsurfResult,
+    curve: usize,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary("gbsurf_curve_copy_points", || {
+        copy_out(curve_at(handle(result)?, curve)?, buf, capacity, written)
+    })
+}
+
+/// Number of warnings (things accepted but changed, e.g. dropped isolated vertices).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_warning_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_warning_count", || {
+        put(count, "count", handle(result)?.warnings.len())
+    })
+}
+
+/// Warning `index` as a NUL-terminated UTF-8 string owned by the handle.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `message` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_warning_message(
+    result: *const GbsurfResult,
+    index: usize,
+    message: *mut *const c_char,
+) -> u32 {
+    boundary("gbsurf_warning_message", || {
+        let r = handle(result)?;
+        let w = r.warnings.get(index).ok_or_else(|| {
+            FfiError::new(
+                GBSURF_ERR_INDEX,
+                format!(
+                    "warning index {index} out of range (0..{})",
+                    r.warnings.len()
+                ),
+            )
+        })?;
+        put(message, "message", w.as_ptr())
+    })
+}
+
+/// Fills `*report` with the report figures. Set `report->struct_size = sizeof(GbsurfReport)`
+/// first (unknown sizes: `GBSURF_ERR_INVALID_OPTION`).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `report` NULL or a writable `GbsurfReport`.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_result_report(
+    result: *const GbsurfResult,
+    report: *mut GbsurfReport,
+) -> u32 {
+    boundary("gbsurf_result_report", || {
+        let r = handle(result)?;
+        let out = non_null_mut(report, "report")?;
+        // SAFETY: non-null; at least the size field is readable (contract).
+        let size = unsafe { std::ptr::read_unaligned(out as *const u32) };
+        if size != REPORT_SIZE {
+            return Err(FfiError::new(
+                GBSURF_ERR_INVALID_OPTION,
+                format!("report struct_size = {size}: unknown size (this library expects {REPORT_SIZE})"),
+            ));
+        }
+        // SAFETY: the caller's struct has our full size (checked above).
+        unsafe { out.write(r.report) };
+        Ok(())
+    })
+}
+
+/// Number of patches (subdivision methods: faces) with `sides` sides (0 when there are none).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_report_patches_with_sides(
+    result: *const GbsurfResult,
+    sides: usize,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_report_patches_with_sides", || {
+        let r = handle(result)?;
+        let c = r
+            .sides_histogram
+            .iter()
+            .find(|(n, _)| *n == sides as u64)
+            .map_or(0, |&(_, c)| c);
+        put(count, "count", c as usize)
+    })
+}

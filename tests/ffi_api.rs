@@ -1,0 +1,438 @@
+//! The C ABI called from Rust: every misuse returns its own status code with a message naming the
+//! element, nothing panics across the boundary, handles are freed.
+#![allow(clippy::missing_safety_doc)]
+
+use gbsurf::ffi::*;
+use std::ffi::{c_void, CStr};
+use std::ptr::{null, null_mut};
+
+fn last() -> String {
+    // SAFETY: never NULL, valid until the next call on this thread.
+    unsafe { CStr::from_ptr(gbsurf_last_error_message()) }.to_string_lossy().into_owned()
+}
+
+/// The unit cube as flat arrays (outward CCW quads).
+fn cube() -> (Vec<f64>, Vec<u32>, Vec<u32>) {
+    let p = vec![
+        0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1., 0., 1., 1.,
+    ];
+    let f = vec![
+        0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+    ];
+    (p, vec![4; 6], f)
+}
+
+unsafe fn convert(
+    p: &[f64],
+    s: &[u32],
+    f: &[u32],
+    o: *const GbsurfOptions,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    unsafe { gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), o, None, null_mut(), out) }
+}
+
+#[test]
+fn versions() {
+    // SAFETY: static string.
+    let v = unsafe { CStr::from_ptr(gbsurf_version()) }.to_str().unwrap();
+    assert_eq!(v, env!("CARGO_PKG_VERSION"));
+    assert_eq!(gbsurf_abi_version(), GBSURF_ABI_VERSION);
+}
+
+#[test]
+fn options_init_matches_rust_defaults_and_validates() {
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct.
+    assert_eq!(unsafe { gbsurf_options_init(o.as_mut_ptr()) }, GBSURF_OK);
+    // SAFETY: initialized by gbsurf_options_init.
+    let mut o = unsafe { o.assume_init() };
+    assert_eq!(o.struct_size as usize, std::mem::size_of::<GbsurfOptions>());
+    let d = gbsurf::api::ConvertOptions::default();
+    assert_eq!(o.resolution as usize, d.resolution);
+    assert_eq!(o.method, GBSURF_METHOD_DUAL);
+    assert_eq!(o.twist, GBSURF_TWIST_INTERP);
+    assert_eq!(o.fullness, d.fullness);
+    // SAFETY: valid struct.
+    assert_eq!(unsafe { gbsurf_options_validate(&o) }, GBSURF_OK);
+    // SAFETY: NULL is allowed and reported.
+    assert_eq!(unsafe { gbsurf_options_init(null_mut()) }, GBSURF_ERR_NULL);
+    assert!(last().contains("options"), "{}", last());
+
+    type Case = (fn(&mut GbsurfOptions), u32, &'static str);
+    let cases: [Case; 9] = [
+        (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
+        (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
+        (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
+        (|o| o.weights = 2, GBSURF_ERR_INVALID_OPTION, "weights"),
+        (|o| o.best_plane = 2, GBSURF_ERR_INVALID_OPTION, "best_plane"),
+        (|o| o.resolution = 0, GBSURF_ERR_INVALID_OPTION, "resolution"),
+        (|o| o.levels = 9, GBSURF_ERR_INVALID_OPTION, "levels"),
+        (|o| o.fullness = f64::NAN, GBSURF_ERR_NAN, "fullness"),
+        (|o| o.fullness = 1.0, GBSURF_ERR_INVALID_OPTION, "fullness"),
+    ];
+    for (edit, code, word) in cases {
+        let mut bad = o;
+        edit(&mut bad);
+        // SAFETY: valid struct.
+        assert_eq!(unsafe { gbsurf_options_validate(&bad) }, code, "{word}: {}", last());
+        assert!(last().contains(word), "{word}: {}", last());
+        // The same code from gbsurf_convert, which then leaves `out` NULL.
+        let (p, s, f) = cube();
+        let mut out = 1usize as *mut GbsurfResult;
+        // SAFETY: valid arrays and out pointer.
+        assert_eq!(unsafe { convert(&p, &s, &f, &bad, &mut out) }, code);
+        assert!(out.is_null());
+    }
+    o.tile_depth = 2.5;
+    // SAFETY: valid struct.
+    assert_eq!(unsafe { gbsurf_options_validate(&o) }, GBSURF_OK);
+}
+
+#[test]
+fn null_pointers_each_named() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // SAFETY: each call passes one NULL where a pointer is required; the rest valid.
+    unsafe {
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), null_mut()),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("out"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(null(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("positions"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), null(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("face_sizes"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), null(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("face_indices"), "{}", last());
+        assert_eq!(gbsurf_convert_file(null(), null(), None, null_mut(), &mut out), GBSURF_ERR_NULL);
+        assert!(out.is_null());
+        let mut n = 0usize;
+        assert_eq!(gbsurf_mesh_vertex_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert!(last().contains("result"), "{}", last());
+        let mut d = null();
+        assert_eq!(gbsurf_mesh_positions(null(), &mut d, &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_patch_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_curve_count(null(), &mut n), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_result_report(null(), null_mut()), GBSURF_ERR_NULL);
+        // Freeing NULL is a no-op.
+        gbsurf_result_free(null_mut());
+    }
+}
+
+#[test]
+fn wrong_counts_out_of_range_and_nan_get_their_codes() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // SAFETY: all slices valid for the lengths passed.
+    unsafe {
+        assert_eq!(convert(&p[..23], &s, &f, null(), &mut out), GBSURF_ERR_COUNT);
+        assert!(last().contains("23"), "{}", last());
+        assert_eq!(convert(&p, &s, &f[..23], null(), &mut out), GBSURF_ERR_COUNT);
+        assert!(last().contains("24") && last().contains("23"), "{}", last());
+        let mut f2 = f.clone();
+        f2[9] = 8; // face 2 corner 1
+        assert_eq!(convert(&p, &s, &f2, null(), &mut out), GBSURF_ERR_INDEX);
+        assert!(last().contains("face 2 corner 1") && last().contains("vertex index 8"), "{}", last());
+        let mut p2 = p.clone();
+        p2[13] = f64::NAN; // vertex 4, axis 1
+        assert_eq!(convert(&p2, &s, &f, null(), &mut out), GBSURF_ERR_NAN);
+        assert!(last().contains("vertex 4") && last().contains("coordinate 1"), "{}", last());
+        p2[13] = f64::INFINITY;
+        assert_eq!(convert(&p2, &s, &f, null(), &mut out), GBSURF_ERR_NAN);
+        // Validation errors name the element: a face listed twice.
+        let mut s3 = s.clone();
+        s3.push(4);
+        let mut f3 = f.clone();
+        f3.extend_from_slice(&f[..4]);
+        assert_eq!(convert(&p, &s3, &f3, null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(last().contains("face 6"), "{}", last());
+        // A face with two corners.
+        assert_eq!(convert(&p, &[2, 4], &[0, 1, 0, 3, 2, 1], null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(last().contains("face 0"), "{}", last());
+        // Empty input.
+        assert_eq!(convert(&[], &[], &[], null(), &mut out), GBSURF_ERR_INVALID_MESH);
+        assert!(out.is_null());
+    }
+}
+
+unsafe extern "C" fn cancel_at_once(fraction: f32, user: *mut c_void) -> bool {
+    // SAFETY: the test passes a pointer to a Vec<f32>.
+    unsafe { (*(user as *mut Vec<f32>)).push(fraction) };
+    false
+}
+
+#[test]
+fn cancelling_progress_gives_cancelled() {
+    let (p, s, f) = cube();
+    let mut seen: Vec<f32> = Vec::new();
+    let mut out = null_mut();
+    // SAFETY: valid arrays; user data is a live Vec<f32>.
+    let code = unsafe {
+        gbsurf_convert(
+            p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(),
+            Some(cancel_at_once), &mut seen as *mut Vec<f32> as *mut c_void, &mut out,
+        )
+    };
+    assert_eq!(code, GBSURF_ERR_CANCELLED, "{}", last());
+    assert!(out.is_null());
+    assert_eq!(seen, vec![0.0]);
+    assert!(last().contains("cancelled"), "{}", last());
+}
+
+#[test]
+fn convert_file_reports_io_and_named_validation_errors() {
+    let bad = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/bad/");
+    let cases = [
+        ("garbage.obj", GBSURF_ERR_IO, "line 1"),
+        ("nan.obj", GBSURF_ERR_NAN, "vertex 0"),
+        ("inf.obj", GBSURF_ERR_NAN, "vertex 0"),
+        ("index_out_of_range.obj", GBSURF_ERR_INDEX, "face 5"),
+        ("duplicate_face.obj", GBSURF_ERR_INVALID_MESH, "face 6"),
+        ("flipped_face.obj", GBSURF_ERR_INVALID_MESH, "line 15"),
+        ("nonmanifold_edge.obj", GBSURF_ERR_INVALID_MESH, "edge"),
+        ("bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH, "vertex 0"),
+        ("repeated_index.obj", GBSURF_ERR_INVALID_MESH, "face"),
+        ("zero_area.obj", GBSURF_ERR_INVALID_MESH, "edge (0, 1)"),
+        ("huge_coordinates.obj", GBSURF_ERR_INVALID_MESH, "exceeds"),
+        ("empty.obj", GBSURF_ERR_INVALID_MESH, "empty"),
+        ("no_such_file.obj", GBSURF_ERR_IO, "no_such_file"),
+    ];
+    for (name, code, word) in cases {
+        let path = std::ffi::CString::new(format!("{bad}{name}")).unwrap();
+        let mut out = null_mut();
+        // SAFETY: NUL-terminated path, valid out pointer.
+        let got = unsafe { gbsurf_convert_file(path.as_ptr(), null(), None, null_mut(), &mut out) };
+        assert_eq!(got, code, "{name}: {}", last());
+        assert!(last().contains(word), "{name}: {}", last());
+        assert!(out.is_null());
+    }
+}
+
+/// Converts the cube with `method` (levels/resolution 2) and returns the handle.
+fn cube_result(method: u32) -> *mut GbsurfResult {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = method;
+    o.levels = 2;
+    o.resolution = 2;
+    let mut out = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    let code = unsafe { convert(&p, &s, &f, &o, &mut out) };
+    assert_eq!(code, GBSURF_OK, "method {method}: {}", last());
+    assert!(!out.is_null());
+    out
+}
+
+/// The views, copies and report of a result agree with the Rust API's conversion.
+fn check_result_matches_rust(method: u32, rust_method: gbsurf::api::Method) {
+    let r = cube_result(method);
+    let (p, s, f) = cube();
+    let mut faces = Vec::new();
+    let mut at = 0;
+    for &n in &s {
+        faces.push(f[at..at + n as usize].to_vec());
+        at += n as usize;
+    }
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
+    // SAFETY: `r` is a live handle; all outputs are valid locals.
+    unsafe {
+        let (mut n, mut t) = (0usize, 0usize);
+        assert_eq!(gbsurf_mesh_vertex_count(r, &mut n), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_triangle_count(r, &mut t), GBSURF_OK);
+        assert_eq!(n, conv.mesh.positions.len());
+        assert_eq!(t, conv.mesh.triangles.len());
+        let (mut d, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_positions(r, &mut d, &mut len), GBSURF_OK);
+        let pos = std::slice::from_raw_parts(d, len);
+        let expect: Vec<f64> = conv.mesh.positions.iter().flat_map(|v| v.to_array()).collect();
+        assert_eq!(pos, &expect[..]);
+        let mut buf = vec![0.0; len];
+        let mut written = 0usize;
+        assert_eq!(gbsurf_mesh_copy_normals(r, buf.as_mut_ptr(), buf.len(), &mut written), GBSURF_OK);
+        let normals: Vec<f64> = conv.mesh.normals.iter().flat_map(|v| v.to_array()).collect();
+        assert_eq!((written, &buf[..]), (normals.len(), &normals[..]));
+        assert_eq!(gbsurf_mesh_copy_normals(r, buf.as_mut_ptr(), 5, &mut written), GBSURF_ERR_CAPACITY);
+        assert_eq!(written, normals.len());
+        assert!(last().contains("5") && last().contains(&normals.len().to_string()), "{}", last());
+        let (mut u, mut ulen) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_triangles(r, &mut u, &mut ulen), GBSURF_OK);
+        let tris: Vec<u32> = conv.mesh.triangles.iter().flatten().copied().collect();
+        assert_eq!(std::slice::from_raw_parts(u, ulen), &tris[..]);
+        assert_eq!(gbsurf_mesh_patch_index(r, &mut u, &mut ulen), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, ulen), &conv.mesh.patch[..]);
+        for (f, v) in [
+            (gbsurf_mesh_mean_curvature as unsafe extern "C" fn(_, _, _) -> u32, &conv.mesh.mean_curvature),
+            (gbsurf_mesh_gaussian_curvature, &conv.mesh.gaussian_curvature),
+            (gbsurf_mesh_g1_deviation, &conv.mesh.g1_deviation_deg),
+        ] {
+            assert_eq!(f(r, &mut d, &mut len), GBSURF_OK);
+            assert_eq!(std::slice::from_raw_parts(d, len), &v[..]);
+        }
+        let mut rep = GbsurfReport { struct_size: std::mem::size_of::<GbsurfReport>() as u32, ..Default::default() };
+        assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_OK);
+        assert_eq!(rep.method, method);
+        assert_eq!(rep.vertices as usize, n);
+        assert_eq!(rep.triangles as usize, t);
+        assert_eq!(rep.closed, conv.report.closed as u32);
+        assert_eq!(rep.patches as usize, conv.report.patches);
+        let mut c = 0usize;
+        assert_eq!(gbsurf_report_patches_with_sides(r, 4, &mut c), GBSURF_OK);
+        assert_eq!(Some(&c), conv.report.sides_histogram.get("4").or(Some(&0)));
+        rep.struct_size = 3;
+        assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_ERR_INVALID_OPTION);
+        gbsurf_result_free(r);
+    }
+}
+
+#[test]
+fn catmull_clark_result_matches_rust_api() {
+    check_result_matches_rust(GBSURF_METHOD_CATMULL_CLARK, gbsurf::api::Method::CatmullClark);
+}
+
+#[test]
+fn doo_sabin_result_matches_rust_api_and_has_no_patches() {
+    check_result_matches_rust(GBSURF_METHOD_DOO_SABIN, gbsurf::api::Method::DooSabin);
+    let r = cube_result(GBSURF_METHOD_DOO_SABIN);
+    // SAFETY: live handle, valid outputs.
+    unsafe {
+        let mut n = 9usize;
+        assert_eq!(gbsurf_patch_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, 0);
+        assert_eq!(gbsurf_curve_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, 0);
+        let mut k = 0u32;
+        assert_eq!(gbsurf_patch_kind(r, 0, &mut k), GBSURF_ERR_INDEX);
+        assert!(last().contains("patch index 0 out of range (0..0)"), "{}", last());
+        let (mut d, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_curve_points(r, 0, &mut d, &mut len), GBSURF_ERR_INDEX);
+        gbsurf_result_free(r);
+    }
+}
+
+/// Patches and curves through the C ABI are the Rust surface's, flattened as documented.
+fn check_patches_match_rust(method: u32, rust_method: gbsurf::api::Method) {
+    let r = cube_result(method);
+    let (p, s, f) = cube();
+    let faces: Vec<Vec<u32>> = f.chunks(4).map(|c| c.to_vec()).collect();
+    assert_eq!(s.len(), faces.len());
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let surface = gbsurf::api::convert(&mesh, &opts, None).unwrap().surface.unwrap();
+    // SAFETY: `r` is a live handle; outputs are valid locals.
+    unsafe {
+        let mut n = 0usize;
+        assert_eq!(gbsurf_patch_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, surface.patches.len());
+        for (pi, patch) in surface.patches.iter().enumerate() {
+            let (kind, ribbons, center) = match patch {
+                gbsurf::construct::Patch::Gb(g) => (GBSURF_PATCH_GB, &g.ribbons, Some(g.center)),
+                gbsurf::construct::Patch::Cgb(c) => (GBSURF_PATCH_CGB, &c.ribbons, None),
+            };
+            let mut k = 99u32;
+            assert_eq!(gbsurf_patch_kind(r, pi, &mut k), GBSURF_OK);
+            assert_eq!(k, kind);
+            let mut sides = 0usize;
+            assert_eq!(gbsurf_patch_sides(r, pi, &mut sides), GBSURF_OK);
+            assert_eq!(sides, ribbons.len());
+            for (si, rb) in ribbons.iter().enumerate() {
+                let (mut d, mut l) = (0usize, 0usize);
+                assert_eq!(gbsurf_patch_degree(r, pi, si, &mut d, &mut l), GBSURF_OK);
+                assert_eq!((d, l), (rb.degree, rb.rows.len()));
+                let (mut ptr, mut len) = (null(), 0usize);
+                assert_eq!(gbsurf_patch_ribbon_points(r, pi, si, &mut ptr, &mut len), GBSURF_OK);
+                let pts = std::slice::from_raw_parts(ptr, len);
+                assert_eq!(len, 3 * l * (d + 1));
+                for (kk, row) in rb.rows.iter().enumerate() {
+                    for (j, q) in row.iter().enumerate() {
+                        let at = 3 * (kk * (d + 1) + j);
+                        assert_eq!(&pts[at..at + 3], &q.to_array(), "patch {pi} side {si} P[{j},{kk}]");
+                    }
+                }
+            }
+            assert_eq!(gbsurf_patch_degree(r, pi, sides, &mut 0, &mut 0), GBSURF_ERR_INDEX);
+            let mut xyz = [0.0; 3];
+            match center {
+                Some(c) => {
+                    assert_eq!(gbsurf_patch_center(r, pi, xyz.as_mut_ptr()), GBSURF_OK);
+                    assert_eq!(xyz, c.to_array());
+                }
+                None => {
+                    assert_eq!(gbsurf_patch_center(r, pi, xyz.as_mut_ptr()), GBSURF_ERR_KIND);
+                    assert!(last().contains(&format!("patch {pi}")), "{}", last());
+                }
+            }
+        }
+        assert_eq!(gbsurf_curve_count(r, &mut n), GBSURF_OK);
+        assert_eq!(n, surface.curves.len());
+        for (ci, c) in surface.curves.iter().enumerate() {
+            let expect: Vec<f64> = c.iter().flat_map(|q| q.to_array()).collect();
+            let mut buf = vec![0.0; expect.len()];
+            let mut w = 0usize;
+            assert_eq!(gbsurf_curve_copy_points(r, ci, buf.as_mut_ptr(), buf.len(), &mut w), GBSURF_OK);
+            assert_eq!((w, buf), (expect.len(), expect));
+        }
+        gbsurf_result_free(r);
+    }
+}
+
+#[test]
+fn dual_patches_and_curves_match_rust_surface() {
+    check_patches_match_rust(GBSURF_METHOD_DUAL, gbsurf::api::Method::Dual);
+}
+
+#[test]
+fn topology_patches_and_curves_match_rust_surface() {
+    check_patches_match_rust(GBSURF_METHOD_TOPOLOGY, gbsurf::api::Method::Topology);
+}
+
+unsafe extern "C" fn record_until(fraction: f32, user: *mut c_void) -> bool {
+    // SAFETY: the tests pass a pointer to (stop fraction, seen fractions).
+    let (stop, seen) = unsafe { &mut *(user as *mut (f32, Vec<f32>)) };
+    seen.push(fraction);
+    fraction < *stop
+}
+
+#[test]
+fn progress_reaches_one_and_cancels_mid_run() {
+    let (p, s, f) = cube();
+    for (stop, code) in [(2.0f32, GBSURF_OK), (0.5, GBSURF_ERR_CANCELLED)] {
+        let mut state: (f32, Vec<f32>) = (stop, Vec::new());
+        let mut out = null_mut();
+        // SAFETY: valid arrays; user data is a live (f32, Vec<f32>).
+        let got = unsafe {
+            gbsurf_convert(
+                p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(),
+                Some(record_until), &mut state as *mut (f32, Vec<f32>) as *mut c_void, &mut out,
+            )
+        };
+        assert_eq!(got, code, "{}", last());
+        let seen = &state.1;
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        if code == GBSURF_OK {
+            assert_eq!(seen.last(), Some(&1.0));
+            // SAFETY: live handle.
+            unsafe { gbsurf_result_free(out) };
+        } else {
+            assert!(out.is_null());
+            assert!(*seen.last().unwrap() >= 0.5 && seen.len() >= 2, "{seen:?}");
+        }
+    }
+}
