@@ -1,0 +1,343 @@
+"""The conversion work shared by the operators, live mode and the batch script.
+
+Every function here computes first and creates Blender data last; if creating fails, what was
+created is removed again, so a failure leaves the file as it was.
+"""
+
+import bpy
+import numpy as np
+
+from . import mesh_io, native
+from .props import DISPLAY_ATTRIBUTE, OPTION_NAMES, OUTPUT_NAMES
+
+DEFAULTS = {
+    "method": 'DUAL', "resolution": 8, "fullness": 1.0 / 3.0, "tile_depth": 3.0,
+    "twist": 'INTERP', "mid_scale": 1.0, "best_plane": True, "weights": 'SQUARED', "levels": 3,
+    "want_curves": False, "want_control_net": False,
+}
+MATERIAL_NAME = "GB Surface Color"
+
+
+class ConvertError(Exception):
+    """A conversion failed; the message is ready for `Operator.report`."""
+
+
+def split_options(options):
+    """(library options, output flags) from keyword options; unknown names raise."""
+    unknown = set(options) - set(DEFAULTS)
+    if unknown:
+        raise ConvertError(f"unknown option(s): {', '.join(sorted(unknown))}")
+    merged = {**DEFAULTS, **options}
+    return ({k: merged[k] for k in OPTION_NAMES}, {k: merged[k] for k in OUTPUT_NAMES})
+
+
+def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None):
+    """Reads the (evaluated) source and runs the library: a `native.Conversion`.
+
+    `data` = (positions, face_sizes, face_indices) skips reading (already read, e.g. by a
+    thread-based caller). Raises ConvertError with a message naming the object."""
+    name = getattr(obj, "name", "?")
+    try:
+        if data is None:
+            data = mesh_io.read_object(obj, depsgraph)
+        positions, sizes, indices = data
+        if len(sizes) == 0:
+            raise ConvertError(f"{name}: the mesh has no faces")
+        opts = native.make_options(**lib_options)
+        patch_method = lib_options["method"] in {'DUAL', 'TOPOLOGY'}
+        return native.convert(
+            positions, sizes, indices, opts, progress,
+            want_patches=patch_method and outputs.get("want_control_net", False),
+            want_curves=patch_method and outputs.get("want_curves", False),
+        )
+    except native.Cancelled:
+        raise ConvertError(f"{name}: cancelled") from None
+    except native.GbsurfError as e:
+        raise ConvertError(f"{name}: {e}") from None
+    except mesh_io.SourceError as e:
+        raise ConvertError(str(e)) from None
+
+
+# --- building Blender data ---------------------------------------------------------------------
+
+def surface_material():
+    """A material showing the mesh's default colour attribute (shared by all results)."""
+    mat = bpy.data.materials.get(MATERIAL_NAME)
+    if mat is not None:
+        return mat
+    mat = bpy.data.materials.new(MATERIAL_NAME)
+    if bpy.app.version < (5, 0, 0):  # always node-based from 5.0 on (use_nodes deprecated)
+        mat.use_nodes = True
+    nt = mat.node_tree
+    bsdf = next((n for n in nt.nodes if n.type == 'BSDF_PRINCIPLED'), None)
+    if bsdf is None:
+        bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    col = nt.nodes.new("ShaderNodeVertexColor")  # empty layer name: the render colour attribute
+    col.location = (bsdf.location.x - 300, bsdf.location.y)
+    nt.links.new(col.outputs["Color"], bsdf.inputs["Base Color"])
+    bsdf.inputs["Roughness"].default_value = 0.4
+    return mat
+
+
+def set_display(mesh, display):
+    """Makes the colour attribute of `display` the active and the render colour."""
+    name = DISPLAY_ATTRIBUTE.get(display)
+    attr = mesh.color_attributes.get(name) if name else None
+    if attr is None:
+        return
+    mesh.color_attributes.active_color = attr
+    if hasattr(mesh.attributes, "default_color_name"):
+        mesh.attributes.default_color_name = name
+    else:
+        mesh.color_attributes.render_color_index = list(mesh.color_attributes).index(attr)
+
+
+def fill_surface(mesh, conv, display='MEAN_CURVATURE'):
+    """The output triangle mesh with smooth shading, its attributes and colours."""
+    mesh_io.write_triangles(mesh, conv.positions, conv.triangles)
+    mesh_io.shade_smooth(mesh)
+    mesh_io.set_point_attribute(mesh, "gb_patch", 'INT', conv.patch_index.astype(np.int32))
+    mesh_io.set_point_attribute(mesh, "gb_mean_curvature", 'FLOAT', conv.mean_curvature)
+    mesh_io.set_point_attribute(mesh, "gb_gaussian_curvature", 'FLOAT', conv.gaussian_curvature)
+    mesh_io.set_point_attribute(mesh, "gb_g1_deviation", 'FLOAT', conv.g1_deviation)
+    mesh_io.set_point_attribute(
+        mesh, "gb_curvature_color", 'FLOAT_COLOR', mesh_io.diverging_colors(conv.mean_curvature))
+    mesh_io.set_point_attribute(
+        mesh, "gb_g1_color", 'FLOAT_COLOR', mesh_io.sequential_colors(conv.g1_deviation, 1.0))
+    mesh_io.set_point_attribute(
+        mesh, "gb_patch_color", 'FLOAT_COLOR', mesh_io.index_colors(conv.patch_index))
+    set_display(mesh, display)
+    mesh.materials.append(surface_material())
+    return mesh
+
+
+def _elevate_to_cubic(p):
+    """Cubic Bezier control points of a Bezier curve of degree 1 or 2 (exact)."""
+    if len(p) == 2:
+        return np.array([p[0], (2 * p[0] + p[1]) / 3, (p[0] + 2 * p[1]) / 3, p[1]])
+    if len(p) == 3:
+        return np.array([p[0], (p[0] + 2 * p[1]) / 3, (2 * p[1] + p[2]) / 3, p[2]])
+    return p
+
+
+def fill_curves(curve, curves):
+    """Bezier splines for the curve network: degree <= 3 exactly as cubic Bezier splines, degree
+    4-5 as single-span NURBS with endpoint knots (the same Bezier curve), higher as polylines."""
+    curve.dimensions = '3D'
+    for pts in curves:
+        pts = np.asarray(pts, dtype=np.float64)
+        deg = len(pts) - 1
+        if deg < 1:
+            continue
+        if deg <= 3:
+            c = _elevate_to_cubic(pts)
+            sp = curve.splines.new('BEZIER')
+            sp.bezier_points.add(1)
+            bp = sp.bezier_points
+            bp.foreach_set("co", c[[0, 3]].astype(np.float32).reshape(-1))
+            bp.foreach_set("handle_left", np.array([2 * c[0] - c[1], c[2]], np.float32).reshape(-1))
+            bp.foreach_set("handle_right", np.array([c[1], 2 * c[3] - c[2]], np.float32).reshape(-1))
+            for p in bp:
+                p.handle_left_type = p.handle_right_type = 'FREE'
+        elif deg <= 5:
+            sp = curve.splines.new('NURBS')
+            sp.points.add(deg)
+            w = np.ones((len(pts), 1))
+            sp.points.foreach_set("co", np.hstack([pts, w]).astype(np.float32).reshape(-1))
+            sp.order_u = deg + 1
+            sp.use_endpoint_u = True
+        else:
+            t = np.linspace(0.0, 1.0, 32)[:, None]
+            samples = _de_casteljau(pts, t)
+            sp = curve.splines.new('POLY')
+            sp.points.add(len(samples) - 1)
+            w = np.ones((len(samples), 1))
+            sp.points.foreach_set("co", np.hstack([samples, w]).astype(np.float32).reshape(-1))
+    return curve
+
+
+def _de_casteljau(pts, t):
+    p = np.repeat(pts[None, :, :], len(t), axis=0)
+    tt = t[:, :, None]
+    while p.shape[1] > 1:
+        p = (1 - tt) * p[:, :-1] + tt * p[:, 1:]
+    return p[:, 0]
+
+
+def fill_control_net(mesh, patches):
+    """The ribbons' control nets (quads between rows, edges for single rows) and the centres."""
+    positions, sizes, faces, edges = [], [], [], []
+    base = 0
+    for patch in patches:
+        for rb in patch["ribbons"]:
+            layers, cols = rb.shape[0], rb.shape[1]
+            positions.append(rb.reshape(-1, 3))
+            grid = base + np.arange(layers * cols).reshape(layers, cols)
+            if layers >= 2:
+                q = np.stack([grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]], axis=-1)
+                faces.append(q.reshape(-1))
+                sizes.append(np.full(q.shape[0] * q.shape[1], 4))
+            else:
+                edges.append(np.stack([grid[0, :-1], grid[0, 1:]], axis=-1))
+            base += layers * cols
+        if patch["center"] is not None:
+            positions.append(patch["center"].reshape(1, 3))
+            base += 1
+    pos = np.concatenate(positions) if positions else np.zeros((0, 3))
+    sz = np.concatenate(sizes) if sizes else np.zeros(0)
+    fi = np.concatenate(faces) if faces else np.zeros(0)
+    ed = np.concatenate(edges) if edges else None
+    mesh_io.write_polygons(mesh, pos, sz, fi, ed)
+    return mesh
+
+
+def _link_like(new, src, collection=None):
+    cols = [collection] if collection is not None else list(src.users_collection)
+    if not cols:
+        cols = [bpy.context.scene.collection]
+    for c in cols:
+        c.objects.link(new)
+
+
+def _remove_ids(ids):
+    for idb in reversed(ids):
+        try:
+            if isinstance(idb, bpy.types.Object):
+                bpy.data.objects.remove(idb, do_unlink=True)
+            elif isinstance(idb, bpy.types.Mesh):
+                bpy.data.meshes.remove(idb, do_unlink=True)
+            elif isinstance(idb, bpy.types.Curve):
+                bpy.data.curves.remove(idb, do_unlink=True)
+        except ReferenceError:
+            pass
+
+
+def _report_text(conv):
+    r = conv.report
+    text = f"{r['patches']} patches, {r['vertices']} vertices, {r['triangles']} triangles"
+    if r["max_g1_deg"] > 0:
+        text += f", max G1 {r['max_g1_deg']:.3g} deg"
+    return text
+
+
+def _make_extras(result, conv, outputs, created):
+    """Creates / replaces / removes the curve and control-net objects of `result`."""
+    s = result.gbsurf
+    base = result.name
+    for flag, attr, suffix, kind in (
+        ("want_curves", "curves_object", ".curves", 'CURVE'),
+        ("want_control_net", "net_object", ".net", 'MESH'),
+    ):
+        old = getattr(s, attr)
+        data = None
+        if outputs.get(flag) and (conv.curves if kind == 'CURVE' else conv.patches):
+            if kind == 'CURVE':
+                data = bpy.data.curves.new(base + suffix, 'CURVE')
+                created.append(data)
+                fill_curves(data, conv.curves)
+            else:
+                data = bpy.data.meshes.new(base + suffix)
+                created.append(data)
+                fill_control_net(data, conv.patches)
+        if data is None:
+            if old is not None:
+                setattr(s, attr, None)
+                old_data = old.data
+                bpy.data.objects.remove(old, do_unlink=True)
+                _remove_orphan(old_data)
+            continue
+        if old is not None and old.type == kind:
+            old_data = old.data
+            old.data = data
+            _remove_orphan(old_data)
+        else:
+            ob = bpy.data.objects.new(base + suffix, data)
+            created.append(ob)
+            _link_like(ob, result)
+            ob.parent = result
+            setattr(s, attr, ob)
+
+
+def _remove_orphan(data):
+    if data is not None and data.users == 0:
+        if isinstance(data, bpy.types.Mesh):
+            bpy.data.meshes.remove(data)
+        elif isinstance(data, bpy.types.Curve):
+            bpy.data.curves.remove(data)
+
+
+def build_result(src, conv, lib_options, outputs, collection=None):
+    """Creates `<src.name>.GB` (plus extras) from a finished conversion; all or nothing."""
+    created = []
+    try:
+        name = src.name + ".GB"
+        mesh = bpy.data.meshes.new(name)
+        created.append(mesh)
+        fill_surface(mesh, conv)
+        obj = bpy.data.objects.new(name, mesh)
+        created.append(obj)
+        _link_like(obj, src, collection)
+        obj.matrix_world = src.matrix_world
+        s = obj.gbsurf
+        s.is_result = True
+        # Assign without triggering the live update callbacks (live is still off).
+        s.source = src
+        for k, v in {**lib_options, **outputs}.items():
+            setattr(s, k, v)
+        s.info = _report_text(conv)
+        _make_extras(obj, conv, outputs, created)
+        return obj
+    except Exception:
+        _remove_ids(created)
+        raise
+
+
+def convert_object(obj, progress=None, depsgraph=None, collection=None, **options):
+    """Converts one mesh object into a new object `<name>.GB` beside it and returns it.
+
+    Keyword options: method ('DUAL', 'TOPOLOGY', 'DOO_SABIN', 'CATMULL_CLARK'), resolution,
+    fullness, tile_depth, twist ('NONE', 'APPROX', 'INTERP'), mid_scale, best_plane, weights
+    ('SQUARED', 'LINEAR'), levels, want_curves, want_control_net. `progress(fraction) -> bool`
+    may cancel. Raises ConvertError; nothing is created then."""
+    lib_options, outputs = split_options(options)
+    conv = compute(obj, lib_options, outputs, progress, depsgraph)
+    return build_result(obj, conv, lib_options, outputs, collection)
+
+
+def compute_for(result, progress=None, depsgraph=None):
+    """Runs the library for a result object's source and stored settings (no data changed)."""
+    s = result.gbsurf
+    if not s.is_result:
+        raise ConvertError(f"{result.name}: not a GB surface")
+    if s.source is None:
+        raise ConvertError(f"{result.name}: its source object is gone")
+    return compute(s.source, s.library_options(), s.output_options(), progress, depsgraph)
+
+
+def apply(result, conv):
+    """Replaces a result object's mesh (and extras) by a finished conversion; all or nothing."""
+    s = result.gbsurf
+    created = []
+    try:
+        mesh = bpy.data.meshes.new(result.data.name)
+        created.append(mesh)
+        fill_surface(mesh, conv, s.display)
+        old = result.data
+        result.data = mesh
+        created.remove(mesh)
+        _remove_orphan(old)
+        mesh.name = result.name
+        if s.source is not None and result.matrix_world != s.source.matrix_world:
+            result.matrix_world = s.source.matrix_world
+        s.info = _report_text(conv)
+        _make_extras(result, conv, s.output_options(), created)
+    except Exception:
+        _remove_ids(created)
+        raise
+    return result
+
+
+def regenerate(result, progress=None, depsgraph=None):
+    """Rebuilds a result object from its source and stored settings (the object stays, its mesh
+    data is replaced). Raises ConvertError; the object is unchanged then."""
+    return apply(result, compute_for(result, progress, depsgraph))

@@ -1,0 +1,214 @@
+"""Mesh data in and out of Blender with numpy (`foreach_get`/`foreach_set`, no per-vertex loops).
+
+Input keeps n-gons: faces are read as polygon `loop_start`/`loop_total` plus the corners' vertex
+indices (loop triangles are never used). Output builds the mesh by
+`vertices.add`/`loops.add`/`polygons.add` and `foreach_set`. Positions and corner vertices go
+through the generic attributes `position` and `.corner_vert` when the mesh has them (Blender 4+):
+their `foreach_set` copies the buffer at once, while `loops.foreach_set("vertex_index")` is about
+300 times slower (0.3 s for 1.9 M corners).
+"""
+
+import bpy
+import numpy as np
+
+
+def _set_corner_verts(mesh, idx):
+    """Corner vertex indices: the `.corner_vert` attribute (Blender 4+) is ~100x faster than
+    `loops.foreach_set("vertex_index")`, which goes through RNA per element."""
+    attr = mesh.attributes.get(".corner_vert")
+    if attr is not None:
+        attr.data.foreach_set("value", idx)
+    else:
+        mesh.loops.foreach_set("vertex_index", idx)
+
+
+def _get_corner_verts(mesh, out):
+    attr = mesh.attributes.get(".corner_vert")
+    if attr is not None and len(attr.data) == len(out):
+        attr.data.foreach_get("value", out)
+    else:
+        mesh.loops.foreach_get("vertex_index", out)
+
+
+def _set_positions(mesh, co):
+    attr = mesh.attributes.get("position")
+    if attr is not None and attr.data_type == 'FLOAT_VECTOR':
+        attr.data.foreach_set("vector", co)
+    else:
+        mesh.vertices.foreach_set("co", co)
+
+
+def _get_positions(mesh, out):
+    attr = mesh.attributes.get("position")
+    if attr is not None and attr.data_type == 'FLOAT_VECTOR' and len(attr.data) * 3 == len(out):
+        attr.data.foreach_get("vector", out)
+    else:
+        mesh.vertices.foreach_get("co", out)
+
+
+class SourceError(ValueError):
+    """The source mesh cannot be converted (names the element)."""
+
+
+def read_mesh(mesh):
+    """(positions (V,3) float64, face_sizes (F,) uint32, face_indices (sum sizes,) uint32)."""
+    nv, nl, nf = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
+    co = np.empty(nv * 3, dtype=np.float32)
+    _get_positions(mesh, co)
+    sizes = np.empty(nf, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", sizes)
+    starts = np.empty(nf, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", starts)
+    corner_verts = np.empty(nl, dtype=np.int32)
+    _get_corner_verts(mesh, corner_verts)
+    # Blender stores the corners of face f at loop_start[f] .. + loop_total[f]; faces are in
+    # order in every mesh Blender builds, but gather explicitly if not.
+    expected = np.concatenate(([0], np.cumsum(sizes)[:-1])) if nf else starts
+    if nf and not np.array_equal(starts, expected):
+        order = np.repeat(starts, sizes) + (np.arange(sizes.sum()) - np.repeat(expected, sizes))
+        corner_verts = corner_verts[order]
+    else:
+        corner_verts = corner_verts[: int(sizes.sum())]
+    return (
+        co.astype(np.float64).reshape(-1, 3),
+        sizes.astype(np.uint32),
+        corner_verts.astype(np.uint32),
+    )
+
+
+def read_object(obj, depsgraph=None):
+    """The evaluated mesh (modifiers applied) of a mesh object, in its local coordinates."""
+    if obj is None or obj.type != 'MESH':
+        raise SourceError(f"{getattr(obj, 'name', None)!r} is not a mesh object")
+    if depsgraph is None:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(depsgraph)
+    mesh = ev.to_mesh()
+    try:
+        return read_mesh(mesh)
+    finally:
+        ev.to_mesh_clear()
+
+
+def write_triangles(mesh, positions, triangles):
+    """Fills an empty mesh with vertices and triangles (numpy path)."""
+    positions = np.ascontiguousarray(positions, dtype=np.float32).reshape(-1, 3)
+    tris = np.ascontiguousarray(triangles, dtype=np.int32).reshape(-1, 3)
+    nv, nt = len(positions), len(tris)
+    mesh.vertices.add(nv)
+    _set_positions(mesh, positions.reshape(-1))
+    mesh.loops.add(nt * 3)
+    _set_corner_verts(mesh, tris.reshape(-1))
+    mesh.polygons.add(nt)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, nt * 3, 3, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    return mesh
+
+
+def write_polygons(mesh, positions, face_sizes, face_indices, edges=None):
+    """Fills an empty mesh with n-gons (and optional loose edges), numpy path."""
+    positions = np.ascontiguousarray(positions, dtype=np.float32).reshape(-1, 3)
+    sizes = np.ascontiguousarray(face_sizes, dtype=np.int32).reshape(-1)
+    idx = np.ascontiguousarray(face_indices, dtype=np.int32).reshape(-1)
+    mesh.vertices.add(len(positions))
+    _set_positions(mesh, positions.reshape(-1))
+    if edges is not None and len(edges):
+        e = np.ascontiguousarray(edges, dtype=np.int32).reshape(-1, 2)
+        mesh.edges.add(len(e))
+        mesh.edges.foreach_set("vertices", e.reshape(-1))
+    mesh.loops.add(len(idx))
+    _set_corner_verts(mesh, idx)
+    mesh.polygons.add(len(sizes))
+    starts = np.zeros(len(sizes), dtype=np.int32)
+    if len(sizes) > 1:
+        np.cumsum(sizes[:-1], out=starts[1:])
+    mesh.polygons.foreach_set("loop_start", starts)
+    mesh.update(calc_edges=True)
+    return mesh
+
+
+def set_point_attribute(mesh, name, kind, values):
+    """Creates (or replaces) a per-vertex attribute: kind 'INT', 'FLOAT' or 'FLOAT_COLOR'."""
+    old = mesh.attributes.get(name)
+    if old is not None:
+        mesh.attributes.remove(old)
+    attr = mesh.attributes.new(name, kind, 'POINT')
+    if kind == 'INT':
+        attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.int32).reshape(-1))
+    elif kind == 'FLOAT':
+        attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
+    else:
+        attr.data.foreach_set("color", np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
+    return attr
+
+
+def get_point_attribute(mesh, name):
+    """The values of a per-vertex attribute as numpy (INT, FLOAT or color attributes)."""
+    attr = mesh.attributes[name]
+    n = len(attr.data)
+    if attr.data_type == 'INT':
+        out = np.empty(n, dtype=np.int32)
+        attr.data.foreach_get("value", out)
+    elif attr.data_type == 'FLOAT':
+        out = np.empty(n, dtype=np.float32)
+        attr.data.foreach_get("value", out)
+    else:
+        out = np.empty(n * 4, dtype=np.float32)
+        attr.data.foreach_get("color", out)
+        out = out.reshape(-1, 4)
+    return out
+
+
+def shade_smooth(mesh):
+    """Smooth shading of every face (`sharp_face` false)."""
+    if hasattr(mesh, "shade_smooth"):
+        mesh.shade_smooth()
+    else:  # Blender < 4.1
+        mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
+
+
+# --- colour maps -------------------------------------------------------------------------------
+
+def diverging_colors(values, scale=None):
+    """Blue (negative) - white (zero) - red (positive) RGBA, |v| >= scale saturates.
+
+    scale defaults to the 95th percentile of |values| (robust against spikes at corners)."""
+    v = np.asarray(values, dtype=np.float64)
+    if scale is None:
+        finite = np.abs(v[np.isfinite(v)])
+        scale = float(np.percentile(finite, 95)) if finite.size else 1.0
+    if not scale > 0.0:
+        scale = 1.0
+    t = np.clip(np.nan_to_num(v / scale), -1.0, 1.0)
+    rgba = np.ones((len(v), 4), dtype=np.float32)
+    pos, neg = t > 0, t < 0
+    rgba[pos, 1] = 1.0 - t[pos]
+    rgba[pos, 2] = 1.0 - t[pos]
+    rgba[neg, 0] = 1.0 + t[neg]
+    rgba[neg, 1] = 1.0 + t[neg]
+    return rgba
+
+
+def sequential_colors(values, vmax=None):
+    """Green (0) - yellow - red (>= vmax) RGBA; vmax defaults to max(values) (at least 1e-9)."""
+    v = np.nan_to_num(np.asarray(values, dtype=np.float64))
+    if vmax is None:
+        vmax = float(v.max()) if v.size else 1.0
+    vmax = max(vmax, 1e-9)
+    t = np.clip(v / vmax, 0.0, 1.0)
+    rgba = np.ones((len(v), 4), dtype=np.float32)
+    rgba[:, 0] = np.clip(2.0 * t, 0.0, 1.0)
+    rgba[:, 1] = np.clip(2.0 * (1.0 - t), 0.0, 1.0)
+    rgba[:, 2] = 0.0
+    return rgba
+
+
+def index_colors(indices):
+    """A distinct pastel colour per integer (hashing, deterministic)."""
+    i = np.asarray(indices, dtype=np.uint64)
+    h = (i * np.uint64(2654435761)) % np.uint64(2**32)
+    rgba = np.ones((len(i), 4), dtype=np.float32)
+    rgba[:, 0] = 0.35 + 0.6 * ((h & np.uint64(0xFF)) / 255.0)
+    rgba[:, 1] = 0.35 + 0.6 * (((h >> np.uint64(8)) & np.uint64(0xFF)) / 255.0)
+    rgba[:, 2] = 0.35 + 0.6 * (((h >> np.uint64(16)) & np.uint64(0xFF)) / 255.0)
+    return rgba

@@ -1,0 +1,361 @@
+"""ctypes loader of the gbsurf C ABI (libgbsurf.so, see cpp/include/gbsurf.h).
+
+Where the library is looked for, first hit wins:
+1. the environment variable GBSURF_LIB (a file path; when set, nothing else is tried),
+2. `lib/libgbsurf.so` inside this add-on (placed there by scripts/build-addon),
+3. `target/release/libgbsurf.so` of the source checkout this add-on lives in (development).
+
+Every function gets its `argtypes`/`restype`; a non-zero status becomes a `GbsurfError` carrying
+the status name and the library's thread-local message. This module imports no `bpy`, so it runs in
+worker threads.
+"""
+
+import ctypes
+import os
+from ctypes import (
+    POINTER,
+    Structure,
+    c_bool,
+    c_char_p,
+    c_double,
+    c_float,
+    c_size_t,
+    c_uint32,
+    c_uint64,
+    c_void_p,
+)
+
+import numpy as np
+
+ABI_VERSION = 1
+
+METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
+TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
+WEIGHTS = {"SQUARED": 0, "LINEAR": 1}
+
+ERR_CANCELLED = 7
+PATCH_GB = 0
+
+
+class GbsurfError(Exception):
+    """A failed library call: `code` (status), `status` (its name) and the library's message."""
+
+    def __init__(self, code, status, message):
+        super().__init__(message or status)
+        self.code = code
+        self.status = status
+        self.message = message
+
+
+class LibraryMissing(GbsurfError):
+    """The native library was not found or could not be loaded."""
+
+    def __init__(self, message):
+        super().__init__(-1, "LIBRARY_MISSING", message)
+
+
+class Cancelled(GbsurfError):
+    """The progress callback asked to stop."""
+
+
+class Options(Structure):
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("method", c_uint32),
+        ("resolution", c_uint32),
+        ("twist", c_uint32),
+        ("weights", c_uint32),
+        ("levels", c_uint32),
+        ("best_plane", c_uint32),
+        ("reserved", c_uint32),
+        ("fullness", c_double),
+        ("tile_depth", c_double),
+        ("mid_scale", c_double),
+    ]
+
+
+class Report(Structure):
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("method", c_uint32),
+        ("closed", c_uint32),
+        ("two_manifold", c_uint32),
+        ("patches", c_uint64),
+        ("vertices", c_uint64),
+        ("triangles", c_uint64),
+        ("boundary_edges", c_uint64),
+        ("duplicate_vertices", c_uint64),
+        ("zero_area_triangles", c_uint64),
+        ("resolution", c_uint64),
+        ("input_vertices", c_uint64),
+        ("input_faces", c_uint64),
+        ("warnings", c_uint64),
+        ("max_g1_deg", c_double),
+        ("mean_g1_deg", c_double),
+        ("max_boundary_gap", c_double),
+        ("seconds", c_double),
+    ]
+
+
+class _Result(Structure):
+    """Opaque handle type (only used through pointers)."""
+
+
+ProgressFn = ctypes.CFUNCTYPE(c_bool, c_float, c_void_p)
+
+_R = POINTER(_Result)
+_PD = POINTER(POINTER(c_double))
+_PU = POINTER(POINTER(c_uint32))
+_S = POINTER(c_size_t)
+
+# name: (restype, argtypes); a restype of c_uint32 means a status code.
+_SIGNATURES = {
+    "gbsurf_version": (c_char_p, []),
+    "gbsurf_abi_version": (c_uint32, []),
+    "gbsurf_last_error_message": (c_char_p, []),
+    "gbsurf_status_name": (c_char_p, [c_uint32]),
+    "gbsurf_options_init": (c_uint32, [POINTER(Options)]),
+    "gbsurf_options_validate": (c_uint32, [POINTER(Options)]),
+    "gbsurf_convert": (
+        c_uint32,
+        [
+            POINTER(c_double), c_size_t,
+            POINTER(c_uint32), c_size_t,
+            POINTER(c_uint32), c_size_t,
+            POINTER(Options), ProgressFn, c_void_p, POINTER(_R),
+        ],
+    ),
+    "gbsurf_result_free": (None, [_R]),
+    "gbsurf_mesh_vertex_count": (c_uint32, [_R, _S]),
+    "gbsurf_mesh_triangle_count": (c_uint32, [_R, _S]),
+    "gbsurf_mesh_positions": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_normals": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_triangles": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_patch_index": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_mean_curvature": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_gaussian_curvature": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_g1_deviation": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_patch_count": (c_uint32, [_R, _S]),
+    "gbsurf_patch_kind": (c_uint32, [_R, c_size_t, POINTER(c_uint32)]),
+    "gbsurf_patch_sides": (c_uint32, [_R, c_size_t, _S]),
+    "gbsurf_patch_degree": (c_uint32, [_R, c_size_t, c_size_t, _S, _S]),
+    "gbsurf_patch_ribbon_points": (c_uint32, [_R, c_size_t, c_size_t, _PD, _S]),
+    "gbsurf_patch_center": (c_uint32, [_R, c_size_t, POINTER(c_double)]),
+    "gbsurf_curve_count": (c_uint32, [_R, _S]),
+    "gbsurf_curve_points": (c_uint32, [_R, c_size_t, _PD, _S]),
+    "gbsurf_warning_count": (c_uint32, [_R, _S]),
+    "gbsurf_warning_message": (c_uint32, [_R, c_size_t, POINTER(c_char_p)]),
+    "gbsurf_result_report": (c_uint32, [_R, POINTER(Report)]),
+}
+
+_lib = None
+_lib_path = None
+
+
+def candidate_paths():
+    """The paths tried, in order (see the module doc)."""
+    env = os.environ.get("GBSURF_LIB")
+    if env:
+        return [env]
+    here = os.path.dirname(os.path.abspath(__file__))
+    return [
+        os.path.join(here, "lib", "libgbsurf.so"),
+        os.path.normpath(os.path.join(here, "..", "..", "target", "release", "libgbsurf.so")),
+    ]
+
+
+def library_path():
+    """Path of the loaded library (None before the first successful `load`)."""
+    return _lib_path
+
+
+def load():
+    """Loads (once) and returns the library; raises `LibraryMissing`."""
+    global _lib, _lib_path
+    if _lib is not None and (os.environ.get("GBSURF_LIB") in (None, "", _lib_path)):
+        return _lib
+    tried = []
+    for path in candidate_paths():
+        if not os.path.isfile(path):
+            tried.append(f"{path} (not found)")
+            continue
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError as e:
+            tried.append(f"{path} ({e})")
+            continue
+        missing = [name for name in _SIGNATURES if not hasattr(lib, name)]
+        if missing:
+            tried.append(f"{path} (lacks {', '.join(missing[:3])}{'...' if len(missing) > 3 else ''})")
+            continue
+        for name, (restype, argtypes) in _SIGNATURES.items():
+            fn = getattr(lib, name)
+            fn.restype = restype
+            fn.argtypes = argtypes
+        abi = lib.gbsurf_abi_version()
+        if abi != ABI_VERSION:
+            tried.append(f"{path} (ABI version {abi}, this add-on needs {ABI_VERSION})")
+            continue
+        _lib, _lib_path = lib, path
+        return lib
+    raise LibraryMissing("gbsurf native library missing: tried " + "; ".join(tried))
+
+
+def version():
+    return load().gbsurf_version().decode()
+
+
+def _check(lib, status):
+    if status != 0:
+        name = lib.gbsurf_status_name(status).decode()
+        message = lib.gbsurf_last_error_message().decode("utf-8", "replace")
+        cls = Cancelled if status == ERR_CANCELLED else GbsurfError
+        raise cls(status, name, message)
+
+
+def make_options(
+    method="DUAL",
+    resolution=8,
+    fullness=1.0 / 3.0,
+    tile_depth=3.0,
+    twist="INTERP",
+    mid_scale=1.0,
+    best_plane=True,
+    weights="SQUARED",
+    levels=3,
+):
+    """An initialized and validated `Options` struct from Python values (enum names as in the UI)."""
+    lib = load()
+    o = Options()
+    _check(lib, lib.gbsurf_options_init(ctypes.byref(o)))
+    if o.struct_size != ctypes.sizeof(Options):
+        raise LibraryMissing(
+            f"{_lib_path}: GbsurfOptions has {o.struct_size} bytes, this add-on expects "
+            f"{ctypes.sizeof(Options)} (library and add-on from different versions)")
+    try:
+        o.method = METHODS[method]
+        o.twist = TWISTS[twist]
+        o.weights = WEIGHTS[weights]
+    except KeyError as e:
+        raise GbsurfError(6, "GBSURF_ERR_INVALID_OPTION", f"unknown option value {e}") from None
+    o.resolution = int(resolution)
+    o.levels = int(levels)
+    o.best_plane = 1 if best_plane else 0
+    o.fullness = float(fullness)
+    o.tile_depth = float(tile_depth)
+    o.mid_scale = float(mid_scale)
+    _check(lib, lib.gbsurf_options_validate(ctypes.byref(o)))
+    return o
+
+
+class Conversion:
+    """Everything copied out of a result handle (plain numpy arrays; the handle is freed).
+
+    positions (V,3) float64, normals (V,3), triangles (T,3) uint32, patch_index (V,) uint32,
+    mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees),
+    curves: list of (k,3) arrays of Bezier control points, patches: list of dicts
+    {"kind", "center" (3,) or None, "ribbons": [(layers, degree+1, 3) arrays]}, report: dict,
+    warnings: list of str.
+    """
+
+
+def _view(lib, fn, handle, ctype, *args):
+    data = POINTER(ctype)()
+    n = c_size_t()
+    _check(lib, fn(handle, *args, ctypes.byref(data), ctypes.byref(n)))
+    dtype = np.float64 if ctype is c_double else np.uint32
+    if n.value == 0:
+        return np.zeros(0, dtype=dtype)
+    return np.ctypeslib.as_array(data, shape=(n.value,)).copy()
+
+
+def _count(lib, fn, handle, *args):
+    n = c_size_t()
+    _check(lib, fn(handle, *args, ctypes.byref(n)))
+    return n.value
+
+
+def convert(positions, face_sizes, face_indices, options=None, progress=None,
+            want_patches=False, want_curves=False):
+    """Converts a polygon mesh given as numpy arrays.
+
+    positions: (V,3) or flat float64; face_sizes: (F,) uint32; face_indices: flat uint32.
+    options: an `Options` (see `make_options`) or None for the defaults.
+    progress: callable(fraction) -> bool (False cancels) or None.
+    Raises `GbsurfError` (`Cancelled` when cancelled) with the library's message.
+    """
+    lib = load()
+    pos = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1)
+    sizes = np.ascontiguousarray(face_sizes, dtype=np.uint32).reshape(-1)
+    idx = np.ascontiguousarray(face_indices, dtype=np.uint32).reshape(-1)
+    failure = []
+
+    def trampoline(fraction, _user):
+        if progress is None:
+            return True
+        try:
+            return bool(progress(float(fraction)))
+        except BaseException as e:  # never unwind into the library
+            failure.append(e)
+            return False
+
+    cb = ProgressFn(trampoline)
+    handle = _R()
+    status = lib.gbsurf_convert(
+        pos.ctypes.data_as(POINTER(c_double)), pos.size,
+        sizes.ctypes.data_as(POINTER(c_uint32)), sizes.size,
+        idx.ctypes.data_as(POINTER(c_uint32)), idx.size,
+        ctypes.byref(options) if options is not None else None,
+        cb, None, ctypes.byref(handle),
+    )
+    if failure:
+        if handle:
+            lib.gbsurf_result_free(handle)
+        raise failure[0]
+    _check(lib, status)
+    try:
+        return _unpack(lib, handle, want_patches, want_curves)
+    finally:
+        lib.gbsurf_result_free(handle)
+
+
+def _unpack(lib, h, want_patches, want_curves):
+    c = Conversion()
+    c.positions = _view(lib, lib.gbsurf_mesh_positions, h, c_double).reshape(-1, 3)
+    c.normals = _view(lib, lib.gbsurf_mesh_normals, h, c_double).reshape(-1, 3)
+    c.triangles = _view(lib, lib.gbsurf_mesh_triangles, h, c_uint32).reshape(-1, 3)
+    c.patch_index = _view(lib, lib.gbsurf_mesh_patch_index, h, c_uint32)
+    c.mean_curvature = _view(lib, lib.gbsurf_mesh_mean_curvature, h, c_double)
+    c.gaussian_curvature = _view(lib, lib.gbsurf_mesh_gaussian_curvature, h, c_double)
+    c.g1_deviation = _view(lib, lib.gbsurf_mesh_g1_deviation, h, c_double)
+    rep = Report()
+    rep.struct_size = ctypes.sizeof(Report)
+    _check(lib, lib.gbsurf_result_report(h, ctypes.byref(rep)))
+    c.report = {name: getattr(rep, name) for name, _ in Report._fields_ if name != "struct_size"}
+    c.warnings = []
+    for i in range(_count(lib, lib.gbsurf_warning_count, h)):
+        msg = c_char_p()
+        _check(lib, lib.gbsurf_warning_message(h, i, ctypes.byref(msg)))
+        c.warnings.append(msg.value.decode("utf-8", "replace"))
+    c.curves = []
+    if want_curves:
+        for i in range(_count(lib, lib.gbsurf_curve_count, h)):
+            c.curves.append(_view(lib, lib.gbsurf_curve_points, h, c_double, i).reshape(-1, 3))
+    c.patches = []
+    if want_patches:
+        for p in range(_count(lib, lib.gbsurf_patch_count, h)):
+            kind = c_uint32()
+            _check(lib, lib.gbsurf_patch_kind(h, p, ctypes.byref(kind)))
+            center = None
+            if kind.value == PATCH_GB:
+                xyz = (c_double * 3)()
+                _check(lib, lib.gbsurf_patch_center(h, p, xyz))
+                center = np.array(xyz[:], dtype=np.float64)
+            ribbons = []
+            for s in range(_count(lib, lib.gbsurf_patch_sides, h, p)):
+                d, l = c_size_t(), c_size_t()
+                _check(lib, lib.gbsurf_patch_degree(h, p, s, ctypes.byref(d), ctypes.byref(l)))
+                pts = _view(lib, lib.gbsurf_patch_ribbon_points, h, c_double, p, s)
+                ribbons.append(pts.reshape(l.value, d.value + 1, 3))
+            c.patches.append({"kind": kind.value, "center": center, "ribbons": ribbons})
+    return c

@@ -1,0 +1,226 @@
+"""Operators: Convert (`object.gbsurf_convert`) and Update (`object.gbsurf_update`).
+
+Convert run from a script or through Adjust Last Operation (`execute`) works synchronously and
+shows progress in the window manager's progress indicator. Started from the UI (`invoke` with a
+window) it reads the source meshes, runs the library in a worker thread (the library releases the
+GIL and calls back with its progress) and polls with a timer: Esc or right-click cancels through the
+progress callback. Blender data is created only on the main thread, after every source converted:
+any error creates nothing.
+"""
+
+import threading
+
+import bpy
+
+from . import core, mesh_io
+from .props import ConvertOptionsMixin
+
+
+def _selected_sources(context):
+    objs = [o for o in context.selected_objects if o.type == 'MESH']
+    if not objs and context.active_object is not None and context.active_object.type == 'MESH':
+        objs = [context.active_object]
+    return objs
+
+
+def _select_only(context, objs):
+    for o in context.view_layer.objects:
+        if o.select_get():
+            o.select_set(False)
+    for o in objs:
+        try:
+            o.select_set(True)
+        except RuntimeError:  # not in this view layer
+            pass
+    if objs:
+        context.view_layer.objects.active = objs[-1]
+
+
+class _Progress:
+    """Progress of several conversions in a row, in the window manager's indicator."""
+
+    def __init__(self, wm, count):
+        self.wm, self.count, self.index = wm, max(count, 1), 0
+        self.cancel = False
+        self.fraction = 0.0
+
+    def __call__(self, f):
+        self.fraction = (self.index + f) / self.count
+        return not self.cancel
+
+
+class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
+    """Convert each selected mesh into a smooth surface of Generalized Bezier patches (a new object <name>.GB)"""
+
+    bl_idname = "object.gbsurf_convert"
+    bl_label = "GB Surface"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return context.mode == 'OBJECT' and bool(_selected_sources(context))
+
+    def draw(self, context):
+        self.draw_options(self.layout)
+
+    # -- synchronous path ---------------------------------------------------------------------
+    def execute(self, context):
+        sources = _selected_sources(context)
+        if not sources:
+            self.report({'ERROR'}, "No mesh object selected")
+            return {'CANCELLED'}
+        wm = context.window_manager
+        progress = _Progress(wm, len(sources))
+        wm.progress_begin(0.0, 1.0)
+        try:
+            depsgraph = context.evaluated_depsgraph_get()
+            convs = []
+            for i, src in enumerate(sources):
+                progress.index = i
+
+                def cb(f, progress=progress):
+                    ok = progress(f)
+                    wm.progress_update(progress.fraction)
+                    return ok
+
+                convs.append(core.compute(src, self.library_options(), self.output_options(), cb, depsgraph))
+            return self._build(context, sources, convs)
+        except core.ConvertError as e:
+            self.report({'ERROR'}, str(e))
+            return {'CANCELLED'}
+        finally:
+            wm.progress_end()
+
+    def _build(self, context, sources, convs):
+        made = []
+        try:
+            for src, conv in zip(sources, convs):
+                made.append(core.build_result(src, conv, self.library_options(), self.output_options()))
+        except Exception as e:  # creating data failed: remove what this run made
+            for obj in made:
+                core._remove_ids([x for x in (obj.gbsurf.curves_object, obj.gbsurf.net_object) if x])
+                data = obj.data
+                bpy.data.objects.remove(obj, do_unlink=True)
+                core._remove_orphan(data)
+            self.report({'ERROR'}, f"GB Surface: {e}")
+            return {'CANCELLED'}
+        _select_only(context, made)
+        for obj, conv in zip(made, convs):
+            for w in conv.warnings:
+                self.report({'WARNING'}, f"{obj.name}: {w}")
+        self.report({'INFO'}, "; ".join(f"{o.name}: {o.gbsurf.info}" for o in made))
+        return {'FINISHED'}
+
+    # -- interactive path: worker thread + modal timer -----------------------------------------
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        sources = _selected_sources(context)
+        if not sources:
+            self.report({'ERROR'}, "No mesh object selected")
+            return {'CANCELLED'}
+        depsgraph = context.evaluated_depsgraph_get()
+        try:
+            data = [mesh_io.read_object(s, depsgraph) for s in sources]
+        except mesh_io.SourceError as e:
+            self.report({'ERROR'}, str(e))
+            return {'CANCELLED'}
+        # The worker touches no Blender data and not the operator (RNA is not thread-safe): it
+        # shares only these plain Python objects with the main thread.
+        progress = _Progress(context.window_manager, len(sources))
+        convs, errors = [], []
+        names = [s.name for s in sources]
+        options, outputs = self.library_options(), self.output_options()
+
+        def work():
+            try:
+                for i, (name, d) in enumerate(zip(names, data)):
+                    progress.index = i
+                    convs.append(core.compute(_Named(name), options, outputs, progress, data=d))
+            except core.ConvertError as e:
+                errors.append(str(e))
+            except Exception as e:  # reported on the main thread
+                errors.append(f"GB Surface: {e}")
+
+        self._sources, self._progress, self._convs, self._errors = sources, progress, convs, errors
+        self._thread = threading.Thread(target=work, daemon=True)
+        wm = context.window_manager
+        wm.progress_begin(0.0, 1.0)
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        self._thread.start()
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        wm = context.window_manager
+        if event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
+            self._progress.cancel = True
+        if event.type != 'TIMER':
+            return {'RUNNING_MODAL'}
+        wm.progress_update(self._progress.fraction)
+        if self._thread.is_alive():
+            return {'RUNNING_MODAL'}
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        if self._errors:
+            self.report({'ERROR'} if not self._progress.cancel else {'WARNING'}, self._errors[0])
+            return {'CANCELLED'}
+        return self._build(context, self._sources, self._convs)
+
+
+class _Named:
+    """A stand-in carrying only a name (the worker thread must not touch bpy objects)."""
+
+    def __init__(self, name):
+        self.name = name
+
+
+def _results(context):
+    objs = [o for o in context.selected_objects if o.gbsurf.is_result]
+    a = context.active_object
+    if a is not None and a.gbsurf.is_result and a not in objs:
+        objs.append(a)
+    return objs
+
+
+class OBJECT_OT_gbsurf_update(bpy.types.Operator):
+    """Regenerate the selected GB surfaces from their source meshes and settings"""
+
+    bl_idname = "object.gbsurf_update"
+    bl_label = "Update GB Surface"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return bool(_results(context))
+
+    def execute(self, context):
+        depsgraph = context.evaluated_depsgraph_get()
+        wm = context.window_manager
+        wm.progress_begin(0.0, 1.0)
+        results = _results(context)
+        try:
+            convs = [core.compute_for(o, lambda f: wm.progress_update(f) or True, depsgraph)
+                     for o in results]
+            for obj, conv in zip(results, convs):
+                core.apply(obj, conv)
+        except core.ConvertError as e:
+            self.report({'ERROR'}, str(e))
+            return {'CANCELLED'}
+        finally:
+            wm.progress_end()
+        self.report({'INFO'}, f"Updated {len(results)} GB surface(s)")
+        return {'FINISHED'}
+
+
+classes = (OBJECT_OT_gbsurf_convert, OBJECT_OT_gbsurf_update)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+
+
+def unregister():
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

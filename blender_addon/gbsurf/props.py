@@ -1,0 +1,166 @@
+"""Properties: the conversion options (shared by the operator and the stored settings) and the
+settings a result object keeps (`Object.gbsurf`): its source, its options, its extra outputs and
+the live flag."""
+
+import bpy
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+
+METHOD_ITEMS = [
+    ('DUAL', "Dual", "One n-sided GB patch per mesh vertex (dual structure)"),
+    ('TOPOLOGY', "Topology", "One ribbon-only patch per mesh face (topology-preserving structure)"),
+    ('DOO_SABIN', "Doo-Sabin", "Doo-Sabin subdivision (comparison, no patches)"),
+    ('CATMULL_CLARK', "Catmull-Clark", "Catmull-Clark subdivision (comparison, no patches)"),
+]
+TWIST_ITEMS = [
+    ('NONE', "None", "First approximation: G1 only where four-sided patches meet"),
+    ('APPROX', "Approximating", "Approximating direction blend"),
+    ('INTERP', "Interpolating", "Interpolating direction blend"),
+]
+WEIGHT_ITEMS = [
+    ('SQUARED', "Squared", "Squared correction weights (keep G1)"),
+    ('LINEAR', "Linear", "Linear correction weights (comparison only)"),
+]
+DISPLAY_ITEMS = [
+    ('MEAN_CURVATURE', "Mean Curvature", "Colour by mean curvature (blue negative, red positive)"),
+    ('G1', "G1 Deviation", "Colour by the normal angle across patch boundaries"),
+    ('PATCH', "Patches", "A colour per patch"),
+]
+DISPLAY_ATTRIBUTE = {
+    'MEAN_CURVATURE': "gb_curvature_color",
+    'G1': "gb_g1_color",
+    'PATCH': "gb_patch_color",
+}
+
+# Names of the options that go to the library / decide the outputs.
+OPTION_NAMES = (
+    "method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
+    "weights", "levels",
+)
+OUTPUT_NAMES = ("want_curves", "want_control_net")
+
+
+def _settings_changed(self, context):
+    # Only the stored settings of a live result regenerate on change (the operator's own copy of
+    # these properties is re-run by Blender's redo instead).
+    if isinstance(self, GbsurfSettings) and self.live and self.is_result:
+        from . import handlers
+        handlers.request_update(self.id_data)
+
+
+class ConvertOptionsMixin:
+    """The conversion options, as operator properties or stored settings."""
+
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default='DUAL', update=_settings_changed)
+    resolution: IntProperty(
+        name="Resolution", description="Samples per patch side (subdivision methods: unused)",
+        default=8, min=1, max=1024, soft_min=2, soft_max=32, update=_settings_changed)
+    fullness: FloatProperty(
+        name="Fullness", description="Fullness of the dual curves (0 <= k < 1)",
+        default=1.0 / 3.0, min=0.0, max=0.99, update=_settings_changed)
+    tile_depth: FloatProperty(
+        name="Tile Depth", description="Tile split ratio of the topology structure (> 2)",
+        default=3.0, min=2.01, soft_max=10.0, update=_settings_changed)
+    twist: EnumProperty(name="Twist", items=TWIST_ITEMS, default='INTERP', update=_settings_changed)
+    mid_scale: FloatProperty(
+        name="Mid Scale", description="Factor on the middle constraint of the direction blends",
+        default=1.0, soft_min=0.0, soft_max=3.0, update=_settings_changed)
+    best_plane: BoolProperty(
+        name="Best Plane", description="Project onto best-fit planes", default=True,
+        update=_settings_changed)
+    weights: EnumProperty(name="Weights", items=WEIGHT_ITEMS, default='SQUARED', update=_settings_changed)
+    levels: IntProperty(
+        name="Levels", description="Subdivision levels of the comparison methods",
+        default=3, min=0, max=8, soft_max=5, update=_settings_changed)
+    want_curves: BoolProperty(
+        name="Curve Network", description="Also create the boundary curves as a Bezier curve object",
+        default=False, update=_settings_changed)
+    want_control_net: BoolProperty(
+        name="Control Nets", description="Also create the patch control nets as a mesh object",
+        default=False, update=_settings_changed)
+
+    def library_options(self):
+        """The library options as a dict."""
+        return {name: getattr(self, name) for name in OPTION_NAMES}
+
+    def output_options(self):
+        return {name: getattr(self, name) for name in OUTPUT_NAMES}
+
+    def draw_options(self, layout):
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop(self, "method")
+        patch_method = self.method in {'DUAL', 'TOPOLOGY'}
+        col = layout.column()
+        if patch_method:
+            col.prop(self, "resolution")
+            if self.method == 'DUAL':
+                col.prop(self, "fullness")
+            else:
+                col.prop(self, "tile_depth")
+            col.prop(self, "twist")
+            col.prop(self, "mid_scale")
+            col.prop(self, "best_plane")
+            col.prop(self, "weights")
+        else:
+            col.prop(self, "levels")
+        col = layout.column(heading="Outputs")
+        sub = col.column()
+        sub.active = patch_method
+        sub.prop(self, "want_curves")
+        sub.prop(self, "want_control_net")
+
+
+def _display_changed(self, context):
+    from . import core
+    if self.id_data is not None and self.id_data.type == 'MESH':
+        core.set_display(self.id_data.data, self.display)
+
+
+def _live_changed(self, context):
+    if self.live and self.is_result:
+        from . import handlers
+        handlers.request_update(self.id_data)
+
+
+def _poll_mesh(self, obj):
+    return obj.type == 'MESH' and not obj.gbsurf.is_result
+
+
+class GbsurfSettings(ConvertOptionsMixin, bpy.types.PropertyGroup):
+    """Stored on every result object: what it was made from and how."""
+
+    is_result: BoolProperty(name="GB Surface", default=False)
+    source: PointerProperty(
+        name="Source", type=bpy.types.Object, poll=_poll_mesh,
+        description="The control mesh this surface is made from", update=_settings_changed)
+    curves_object: PointerProperty(name="Curve Network", type=bpy.types.Object)
+    net_object: PointerProperty(name="Control Nets", type=bpy.types.Object)
+    live: BoolProperty(
+        name="Live", default=False, update=_live_changed,
+        description="Regenerate whenever the source mesh or these settings change")
+    display: EnumProperty(
+        name="Color", items=DISPLAY_ITEMS, default='MEAN_CURVATURE', update=_display_changed,
+        description="Which colour attribute is shown (viewport: Solid > Attribute, and renders)")
+    info: StringProperty(name="Info", default="")
+
+
+classes = (GbsurfSettings,)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+    bpy.types.Object.gbsurf = PointerProperty(type=GbsurfSettings)
+
+
+def unregister():
+    del bpy.types.Object.gbsurf
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

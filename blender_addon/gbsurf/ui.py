@@ -1,0 +1,57 @@
+"""UI: the `Object > Convert > GB Surface` menu entry and the Object properties panel of a result
+(source, settings, outputs, colours, Update, Live)."""
+
+import bpy
+
+from .operators import OBJECT_OT_gbsurf_convert, OBJECT_OT_gbsurf_update
+from .props import DISPLAY_ATTRIBUTE
+
+
+def menu_convert(self, context):
+    self.layout.operator(OBJECT_OT_gbsurf_convert.bl_idname, text="GB Surface")
+
+
+class OBJECT_PT_gbsurf(bpy.types.Panel):
+    """Settings of a GB surface: edit them, then Update (or turn on Live)."""
+
+    bl_label = "GB Surface"
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return obj is not None and obj.gbsurf.is_result
+
+    def draw(self, context):
+        s = context.object.gbsurf
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop(s, "source")
+        if s.source is None:
+            layout.label(text="The source object is gone", icon='ERROR')
+        s.draw_options(layout.column())
+        col = layout.column()
+        col.prop(s, "display")
+        if s.info:
+            col.label(text=s.info, icon='INFO')
+        row = layout.row(align=True)
+        row.operator(OBJECT_OT_gbsurf_update.bl_idname, text="Update", icon='FILE_REFRESH')
+        row.prop(s, "live", toggle=True, icon='REC' if s.live else 'PLAY')
+
+
+classes = (OBJECT_PT_gbsurf,)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+    bpy.types.VIEW3D_MT_object_convert.append(menu_convert)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_object_convert.remove(menu_convert)
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

@@ -1,0 +1,145 @@
+"""The Convert operator on the shared models and Blender's primitives, both structures, with the
+MeshLab checks on every output and the Hausdorff distance to Blender's Subdivision Surface."""
+
+import time
+
+import bpy
+import numpy as np
+import pytest
+
+import helpers
+from conftest import METRICS
+
+import meshcheck  # noqa: E402  (after bpy, see conftest)
+import pymeshlab  # noqa: E402
+
+RESOLUTION = 4
+MODEL_FILES = sorted(p.name for p in helpers.MODELS.glob("*.obj"))
+STRUCTURES = ["DUAL", "TOPOLOGY"]
+
+
+def hausdorff(a_pos, a_tri, b_pos, b_tri):
+    """Symmetric Hausdorff distance (max of both one-sided maxima) and the mean, by pymeshlab."""
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=a_pos, face_matrix=a_tri.astype(np.int32)))
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=b_pos, face_matrix=b_tri.astype(np.int32)))
+    ab = ms.get_hausdorff_distance(sampledmesh=0, targetmesh=1, samplenum=20000)
+    ba = ms.get_hausdorff_distance(sampledmesh=1, targetmesh=0, samplenum=20000)
+    return max(ab["max"], ba["max"]), 0.5 * (ab["mean"] + ba["mean"])
+
+
+def convert_and_check(src, method, label):
+    closed = not helpers.has_boundary(src.data)
+    src_before = helpers.snapshot()["objects"][src.name]
+    t0 = time.perf_counter()
+    assert bpy.ops.object.gbsurf_convert(method=method, resolution=RESOLUTION) == {'FINISHED'}
+    seconds = time.perf_counter() - t0
+    out = bpy.context.active_object
+    assert out.name == src.name + ".GB" and out is not src
+    assert helpers.snapshot()["objects"][src.name] == src_before, "the source changed"
+    s = out.gbsurf
+    assert s.is_result and s.source == src and s.method == method and s.resolution == RESOLUTION
+    mesh = out.data
+    nv = len(mesh.vertices)
+    for name in ("gb_patch", "gb_mean_curvature", "gb_g1_deviation", "gb_curvature_color",
+                 "gb_g1_color"):
+        assert name in mesh.attributes and len(mesh.attributes[name].data) == nv, name
+    assert mesh.color_attributes.active_color.name == "gb_curvature_color"
+    smooth = np.empty(len(mesh.polygons), dtype=bool)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    assert smooth.all()
+    pos, tri = helpers.mesh_arrays(mesh)
+    rep = meshcheck.check_arrays(pos, tri)
+    problems = rep.problems(expect_closed=closed)
+    assert not problems, f"{label}: {problems}"
+    if closed:
+        assert rep.closed and rep.boundary_edges == 0 and rep.volume > 0
+    # Distance to Blender's Catmull-Clark limit (level 3), relative to the bounding-box diagonal.
+    ref_pos, ref_tri = helpers.subsurf_arrays(src, 3)
+    diag = float(np.linalg.norm(ref_pos.max(0) - ref_pos.min(0)))
+    hmax, hmean = hausdorff(pos, tri, ref_pos, ref_tri)
+    METRICS.append(
+        f"{label:28s} {method:9s} {len(tri):7d} tris {seconds:6.2f} s  "
+        f"Hausdorff to Subdivision Surface: max {hmax / diag:.4f}, mean {hmean / diag:.5f} (x diag)")
+    return out
+
+
+@pytest.mark.parametrize("method", STRUCTURES)
+@pytest.mark.parametrize("model", MODEL_FILES)
+def test_shared_models(model, method):
+    src = helpers.load_model(helpers.MODELS / model)
+    convert_and_check(src, method, model)
+
+
+# Suzanne has interior vertices of valence 2 (e.g. vertex 137: its two quads share both of its
+# edges), which the construction rejects today ("patch 137 would have 2 sides" / "tile of vertex
+# 137 is degenerate"). Strict: this fails as soon as the construction handles them, so the mark
+# must then go.
+SUZANNE_VALENCE_2 = pytest.mark.xfail(
+    strict=True, raises=RuntimeError,
+    reason="construction rejects Suzanne's interior valence-2 vertices")
+
+
+def _primitive_cases():
+    for name in helpers.PRIMITIVES:
+        for method in STRUCTURES:
+            marks = [SUZANNE_VALENCE_2] if name == "suzanne" else []
+            yield pytest.param(name, method, marks=marks, id=f"{name}-{method}")
+
+
+@pytest.mark.parametrize("primitive,method", list(_primitive_cases()))
+def test_blender_primitives(primitive, method):
+    src = helpers.add_primitive(primitive)
+    src.location = (1.0, 2.0, 3.0)
+    src.rotation_euler = (0.3, 0.0, 0.5)
+    bpy.context.view_layer.update()
+    out = convert_and_check(src, method, primitive)
+    assert np.allclose(np.array(out.matrix_world), np.array(src.matrix_world))
+
+
+@pytest.mark.parametrize("method", ["DOO_SABIN", "CATMULL_CLARK"])
+def test_subdivision_methods(method):
+    src = helpers.add_primitive("cube")
+    assert bpy.ops.object.gbsurf_convert(method=method, levels=2) == {'FINISHED'}
+    out = bpy.context.active_object
+    pos, tri = helpers.mesh_arrays(out.data)
+    assert not meshcheck.check_arrays(pos, tri).problems(expect_closed=True)
+    assert out.gbsurf.method == method and out.gbsurf.levels == 2
+    assert src.gbsurf.is_result is False
+
+
+def test_curve_network_and_control_nets():
+    src = helpers.add_primitive("cube")
+    assert bpy.ops.object.gbsurf_convert(
+        method='DUAL', resolution=3, want_curves=True, want_control_net=True) == {'FINISHED'}
+    out = bpy.context.active_object
+    cu, net = out.gbsurf.curves_object, out.gbsurf.net_object
+    assert cu is not None and cu.type == 'CURVE' and cu.parent == out
+    assert len(cu.data.splines) == 12  # the dual of a cube: 12 boundary curves
+    assert all(sp.type in {'BEZIER', 'NURBS'} for sp in cu.data.splines)
+    sp = cu.data.splines[0]
+    if sp.type == 'BEZIER':
+        assert len(sp.bezier_points) == 2
+    assert net is not None and net.type == 'MESH' and len(net.data.polygons) > 0
+    assert src.name + ".GB.curves" == cu.name
+
+
+def test_several_selected_objects():
+    a = helpers.add_primitive("cube")
+    b = helpers.add_primitive("ico_sphere")
+    helpers.select_only(a, b)
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    assert {"cube.GB", "ico_sphere.GB"} <= set(bpy.data.objects.keys())
+    assert set(o.name for o in bpy.context.selected_objects) == {"cube.GB", "ico_sphere.GB"}
+
+
+def test_convert_object_function():
+    mod = helpers.mesh_module()
+    src = helpers.add_primitive("cube")
+    out = mod.core.convert_object(src, method='TOPOLOGY', resolution=3)
+    assert out.name == "cube.GB" and out.gbsurf.method == 'TOPOLOGY'
+    with pytest.raises(mod.core.ConvertError, match="unknown option"):
+        mod.core.convert_object(src, resolutoin=3)
+    with pytest.raises(mod.core.ConvertError, match="cancelled"):
+        mod.core.convert_object(src, progress=lambda f: f < 0.1)
+    assert [o.name for o in bpy.data.objects].count("cube.GB.001") == 0

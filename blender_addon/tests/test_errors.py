@@ -1,0 +1,78 @@
+"""Every bad model gives an error and leaves the scene unchanged; Blender keeps running."""
+
+import bpy
+import numpy as np
+import pytest
+
+import helpers
+
+# Bad models a Blender mesh can hold (garbage.obj does not parse, index_out_of_range.obj names a
+# missing vertex: both are covered through the batch script and the native tests).
+IN_BLENDER = [
+    "bowtie_vertex.obj", "duplicate_face.obj", "flipped_face.obj", "huge_coordinates.obj",
+    "inf.obj", "nan.obj", "nonmanifold_edge.obj", "repeated_index.obj", "zero_area.obj",
+]
+
+
+def assert_fails_unchanged(match=None):
+    before = helpers.snapshot()
+    with pytest.raises(RuntimeError, match=match) as e:
+        bpy.ops.object.gbsurf_convert(resolution=3)
+    assert helpers.snapshot() == before
+    return str(e.value)
+
+
+@pytest.mark.parametrize("model", IN_BLENDER)
+def test_bad_model_is_rejected(model):
+    src = helpers.load_model(helpers.BAD / model)
+    message = assert_fails_unchanged()
+    assert src.name in message  # names the object ...
+    assert "gbsurf_convert" in message or "no faces" in message  # ... and the library's reason
+
+
+def test_nan_message_names_the_vertex():
+    helpers.load_model(helpers.BAD / "nan.obj")
+    assert "vertex 0" in assert_fails_unchanged(match="not finite")
+
+
+def test_empty_mesh():
+    helpers.add_mesh_object("empty", np.zeros((0, 3)), [])
+    assert_fails_unchanged(match="no faces")
+
+
+def test_loose_vertices_only():
+    helpers.add_mesh_object("points", np.eye(3), [])
+    assert_fails_unchanged(match="no faces")
+
+
+def test_isolated_vertex_is_accepted_with_a_warning():
+    helpers.load_model(helpers.BAD / "isolated_vertex.obj")
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    assert "isolated_vertex.GB" in bpy.data.objects
+
+
+def test_no_mesh_selected():
+    empty = bpy.data.objects.new("empty", None)
+    bpy.context.scene.collection.objects.link(empty)
+    helpers.select_only(empty)
+    with pytest.raises(RuntimeError, match="poll"):
+        bpy.ops.object.gbsurf_convert()
+
+
+def test_one_bad_object_among_good_ones_creates_nothing():
+    good = helpers.add_primitive("cube")
+    bad = helpers.load_model(helpers.BAD / "nonmanifold_edge.obj")
+    helpers.select_only(good, bad)
+    assert_fails_unchanged(match="nonmanifold_edge")
+    assert "cube.GB" not in bpy.data.objects
+
+
+def test_invalid_option_value():
+    helpers.add_primitive("cube")
+    # Blender clamps the operator properties; the library's own check is reached through
+    # convert_object, which takes any value.
+    mod = helpers.mesh_module()
+    before = helpers.snapshot()
+    with pytest.raises(mod.core.ConvertError, match="tile"):
+        mod.core.convert_object(bpy.data.objects["cube"], method='TOPOLOGY', tile_depth=1.0)
+    assert helpers.snapshot() == before

@@ -1,0 +1,153 @@
+"""The ctypes loader: library lookup, status codes as exceptions with the library's message."""
+
+import bpy
+import numpy as np
+import pytest
+
+import helpers
+
+CUBE_POS = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], float)
+CUBE_FACES = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+
+
+def native():
+    return helpers.mesh_module().native
+
+
+def flat(faces):
+    return (np.array([len(f) for f in faces], np.uint32),
+            np.array([i for f in faces for i in f], np.uint32))
+
+
+def test_every_declared_function_has_a_signature():
+    lib = native().load()
+    for name in native()._SIGNATURES:
+        fn = getattr(lib, name)
+        assert fn.argtypes is not None
+    assert native().load().gbsurf_abi_version() == native().ABI_VERSION
+
+
+def test_library_missing(monkeypatch, tmp_path):
+    missing = tmp_path / "nowhere" / "libgbsurf.so"
+    monkeypatch.setenv("GBSURF_LIB", str(missing))
+    with pytest.raises(native().LibraryMissing) as e:
+        native().load()
+    assert str(missing) in str(e.value)
+    not_a_lib = tmp_path / "libgbsurf.so"
+    not_a_lib.write_text("not an ELF file")
+    monkeypatch.setenv("GBSURF_LIB", str(not_a_lib))
+    with pytest.raises(native().LibraryMissing):
+        native().load()
+    monkeypatch.delenv("GBSURF_LIB")
+    assert native().load() is not None  # the bundled library again
+
+
+def test_library_missing_operator_cancels(monkeypatch, tmp_path):
+    monkeypatch.setenv("GBSURF_LIB", str(tmp_path / "missing.so"))
+    helpers.add_primitive("cube")
+    before = helpers.snapshot()
+    with pytest.raises(RuntimeError, match="library missing"):
+        bpy.ops.object.gbsurf_convert()
+    assert helpers.snapshot() == before
+
+
+def test_options_are_validated():
+    n = native()
+    o = n.make_options(method="TOPOLOGY", resolution=5, twist="APPROX", weights="LINEAR")
+    assert (o.method, o.resolution, o.twist, o.weights) == (1, 5, 1, 1)
+    with pytest.raises(n.GbsurfError) as e:
+        n.make_options(resolution=0)
+    assert e.value.status == "GBSURF_ERR_INVALID_OPTION" and "resolution" in e.value.message
+    with pytest.raises(n.GbsurfError) as e:
+        n.make_options(fullness=1.5)
+    assert "fullness" in e.value.message
+    with pytest.raises(n.GbsurfError) as e:
+        n.make_options(method="BOGUS")
+    assert e.value.status == "GBSURF_ERR_INVALID_OPTION"
+
+
+def test_input_errors_name_the_element():
+    n = native()
+    sizes, idx = flat(CUBE_FACES)
+    pos = CUBE_POS.copy()
+    pos[5, 1] = np.nan
+    with pytest.raises(n.GbsurfError) as e:
+        n.convert(pos, sizes, idx)
+    assert e.value.status == "GBSURF_ERR_NAN" and "vertex 5" in e.value.message
+    bad = idx.copy()
+    bad[7] = 42
+    with pytest.raises(n.GbsurfError) as e:
+        n.convert(CUBE_POS, sizes, bad)
+    assert e.value.status == "GBSURF_ERR_INDEX" and "face 1" in e.value.message
+    with pytest.raises(n.GbsurfError) as e:
+        n.convert(CUBE_POS, sizes[:-1], idx)
+    assert e.value.status == "GBSURF_ERR_COUNT"
+    # Non-manifold: a face repeated.
+    s2, i2 = flat(CUBE_FACES + [CUBE_FACES[0]])
+    with pytest.raises(n.GbsurfError) as e:
+        n.convert(CUBE_POS, s2, i2)
+    assert e.value.status == "GBSURF_ERR_INVALID_MESH"
+
+
+def test_cancel_from_progress_and_exceptions_in_callback():
+    n = native()
+    sizes, idx = flat(CUBE_FACES)
+    with pytest.raises(n.Cancelled):
+        n.convert(CUBE_POS, sizes, idx, progress=lambda f: False)
+
+    class Boom(Exception):
+        pass
+
+    def boom(f):
+        raise Boom("from the callback")
+
+    with pytest.raises(Boom):
+        n.convert(CUBE_POS, sizes, idx, progress=boom)
+
+
+def test_convert_cube_arrays():
+    n = native()
+    sizes, idx = flat(CUBE_FACES)
+    seen = []
+    c = n.convert(CUBE_POS, sizes, idx, n.make_options(resolution=4),
+                  progress=lambda f: seen.append(f) or True, want_patches=True, want_curves=True)
+    nv = len(c.positions)
+    assert nv > 8 and c.positions.shape == (nv, 3) and c.normals.shape == (nv, 3)
+    assert c.triangles.max() < nv
+    for a in (c.patch_index, c.mean_curvature, c.gaussian_curvature, c.g1_deviation):
+        assert a.shape == (nv,)
+    assert np.allclose(np.linalg.norm(c.normals, axis=1), 1.0, atol=1e-9)
+    assert seen and seen[-1] == pytest.approx(1.0) and seen == sorted(seen)
+    assert c.report["closed"] == 1 and c.report["patches"] == len(c.patches) == 8
+    assert all(p["center"] is not None and len(p["ribbons"]) == 3 for p in c.patches)
+    assert len(c.curves) == 12 and all(cv.shape[1] == 3 for cv in c.curves)
+
+
+def test_cancel_from_another_thread_like_the_modal_operator():
+    """The interactive Convert runs the library in a worker thread and cancels through the
+    progress callback when Esc is pressed on the main thread: the same contract, without UI."""
+    import threading
+
+    n = native()
+    sizes, idx = flat(CUBE_FACES)
+    started, cancel = threading.Event(), threading.Event()
+    outcome = []
+
+    def progress(f):
+        started.set()
+        cancel.wait(timeout=30)  # the "user" decides while the library waits in the callback
+        return not cancel.is_set()
+
+    def work():
+        try:
+            n.convert(CUBE_POS, sizes, idx, n.make_options(resolution=4), progress)
+            outcome.append("finished")
+        except n.Cancelled as e:
+            outcome.append(e.status)
+
+    t = threading.Thread(target=work)
+    t.start()
+    assert started.wait(timeout=30)
+    cancel.set()  # "Esc"
+    t.join(timeout=30)
+    assert outcome == ["GBSURF_ERR_CANCELLED"]
