@@ -298,7 +298,7 @@ pub fn fold_report(surface: &Surface, level: usize, form: crate::gb::WeightForm)
                     if b < level - a {
                         nbs.push(idx(a, b + 1));
                     }
-                    if a < level && b <= level - a - 1 {
+                    if a < level && b < level - a {
                         nbs.push(idx(a + 1, b));
                     }
                     for q in nbs {
