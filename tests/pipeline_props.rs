@@ -41,14 +41,14 @@ proptest! {
 
     #[test]
     fn random_quad_dominant_tori(
-        n_major in 5usize..9,
-        n_minor in 4usize..7,
+        n_major in 3usize..9,
+        n_minor in 3usize..7,
         jitter in prop::collection::vec(point(), 64),
         splits in prop::collection::vec(any::<bool>(), 48),
     ) {
         let mut m = torus(n_major, n_minor, 3.0, 1.0).unwrap();
         for (p, j) in m.positions.iter_mut().zip(&jitter) {
-            *p += *j * 0.1;
+            *p += *j * 0.15;
         }
         // Split some quads into two triangles along a diagonal (quad-dominant, mixed valences).
         let mut faces = Vec::new();

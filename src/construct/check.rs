@@ -213,3 +213,102 @@ pub fn corner_plane_angle(
     }
     w
 }
+
+/// Fold measurements inside the patches of a surface (see [`fold_report`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FoldReport {
+    /// Max angle (degrees) between a sampled unit normal of a patch and the patch's average normal
+    /// (`side` = domain triangle, `s` = sample index in it). Above 90° the patch turns over
+    /// (e.g. a rim curling round a sharp convex edge); not by itself a fold.
+    pub normal_deviation_deg: Worst,
+    /// Max angle (degrees) between the normals of neighbouring samples: a fold (the Jacobian
+    /// changing sign) shows as a jump near 180°, a smooth patch as a few degrees.
+    pub max_neighbor_turn_deg: Worst,
+    /// Min over samples of |S_u × S_v| divided by the mean of |S_u × S_v| over the patch's samples
+    /// (stored as a [`Worst`] whose `value` is that minimum): 0 where the Jacobian vanishes.
+    pub min_rel_jacobian: Worst,
+    /// Samples taken.
+    pub samples: usize,
+    /// Samples with an undefined normal or non-finite derivatives.
+    pub degenerate: usize,
+}
+
+/// Domain points of triangle i (centre, v_{i−1}, v_i) of the regular n-gon for [`fold_report`]:
+/// the barycentric grid (a, b, c)/`level`, a + b + c = `level`, in the order a = 0..level,
+/// b = 0..=level−a; the a = 0 row (side i) is pulled 10⁻³ towards the centre, so the side and its
+/// corners are probed just inside.
+pub fn fold_sample_points(d: &crate::gb::Domain, i: usize, level: usize) -> Vec<glam::DVec2> {
+    let level = level.max(1);
+    let (v0, v1) = (d.vertex(i + d.n() - 1), d.vertex(i));
+    let mut pts = Vec::new();
+    for a in 0..=level {
+        for b in 0..=(level - a) {
+            let c = level - a - b;
+            let uv = (b as f64 * v0 + c as f64 * v1) / level as f64;
+            pts.push(if a == 0 { uv * (1.0 - 1e-3) } else { uv });
+        }
+    }
+    pts
+}
+
+/// Samples every patch on the grids of [`fold_sample_points`] and reports how far its normal
+/// strays from its average normal, how much it turns between neighbouring samples, and how small
+/// its Jacobian |S_u × S_v| gets relative to the patch's mean.
+pub fn fold_report(surface: &Surface, level: usize, form: crate::gb::WeightForm) -> FoldReport {
+    use crate::gb::Domain;
+    let level = level.max(1);
+    let mut r = FoldReport { min_rel_jacobian: Worst { value: f64::INFINITY, ..Worst::default() }, ..Default::default() };
+    // Index of (a, b) in a triangle's grid.
+    let idx = |a: usize, b: usize| (0..a).map(|q| level - q + 1).sum::<usize>() + b;
+    for (p, patch) in surface.patches.iter().enumerate() {
+        let Ok(d) = Domain::regular(ribbons(patch).len()) else {
+            r.degenerate += 1;
+            continue;
+        };
+        let tri: Vec<Vec<crate::gb::SurfaceDerivs>> = (0..d.n())
+            .map(|i| fold_sample_points(&d, i, level).iter().map(|&uv| patch_derivs(patch, uv, form)).collect())
+            .collect();
+        let mut avg = DVec3::ZERO;
+        let mut mean_jac = 0.0;
+        let mut count = 0usize;
+        for s in tri.iter().flatten() {
+            r.samples += 1;
+            match s.normal() {
+                Some(n) if s.is_finite() => {
+                    avg += n;
+                    mean_jac += s.su.cross(s.sv).length();
+                    count += 1;
+                }
+                _ => r.degenerate += 1,
+            }
+        }
+        mean_jac /= count.max(1) as f64;
+        let avg = avg.normalize_or_zero();
+        for (i, ders) in tri.iter().enumerate() {
+            for a in 0..=level {
+                for b in 0..=(level - a) {
+                    let k = idx(a, b);
+                    let Some(n) = ders[k].normal() else { continue };
+                    r.normal_deviation_deg.update(angle_deg(n, avg), p, i, k as f64);
+                    let j = ders[k].su.cross(ders[k].sv).length() / mean_jac;
+                    if j < r.min_rel_jacobian.value {
+                        r.min_rel_jacobian = Worst { value: j, patch: p, side: i, s: k as f64 };
+                    }
+                    let mut nbs = Vec::with_capacity(2);
+                    if b < level - a {
+                        nbs.push(idx(a, b + 1));
+                    }
+                    if a < level && b < level - a {
+                        nbs.push(idx(a + 1, b));
+                    }
+                    for q in nbs {
+                        if let Some(m) = ders[q].normal() {
+                            r.max_neighbor_turn_deg.update(angle_deg(n, m), p, i, k as f64);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    r
+}

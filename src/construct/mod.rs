@@ -83,6 +83,10 @@ pub enum ConstructError {
     InconsistentOrientation { curve: usize, patches: [usize; 2] },
     #[error("degenerate corner at end {end} of curve {curve}: cross-derivative parallel to the curve tangent")]
     DegenerateCorner { curve: usize, end: usize },
+    #[error("the curve network folds at node {node} (end {end} of curve {curve}): the neighbouring patches' cross-derivatives lie on the same side of the curve, so no G1 join without a flipped normal exists")]
+    FoldedCorner { curve: usize, end: usize, node: usize },
+    #[error("tile of vertex {vertex} folds: no plane orders its curve tangents around the tile centre")]
+    FoldedTile { vertex: usize },
     #[error("face {face} is degenerate (zero area or coincident vertices)")]
     DegenerateFace { face: usize },
     #[error("tile of vertex {vertex} is degenerate")]

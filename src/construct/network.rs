@@ -165,8 +165,8 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         let xb1 = 3.0 * (rows[pb][(sb + nb - 1) % nb][0][2] - cc[3]);
         let t0 = 3.0 * (cc[1] - cc[0]);
         let t1 = 3.0 * (cc[3] - cc[2]);
-        let d0 = end_direction(xa0, xb0, t0).ok_or(ConstructError::DegenerateCorner { curve: c, end: 0 })?;
-        let d1 = end_direction(xa1, xb1, t1).ok_or(ConstructError::DegenerateCorner { curve: c, end: 1 })?;
+        let d0 = end_direction(xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
+        let d1 = end_direction(xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
         let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
         let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
             decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
@@ -175,6 +175,14 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         let (aa1, ba1) = dec(xa1, d1, t1, 1)?;
         let (ab0, bb0) = dec(xb0, d0, t0, 0)?;
         let (ab1, bb1) = dec(xb1, d1, t1, 1)?;
+        // With D = (X_A − X_B)/2, α_A > 0 > α_B iff X_A and X_B lie on opposite sides of T. Equal
+        // signs mean the network folds at that node: the blend would still make the tangent planes
+        // agree, but with opposite normals (a 180° flip), so report it instead.
+        for (end, aa, ab) in [(0, aa0, ab0), (1, aa1, ab1)] {
+            if !(aa > 0.0 && ab < 0.0) {
+                return Err(ConstructError::FoldedCorner { curve: c, end, node: net.curve_nodes[c][end] });
+            }
+        }
         let qa = cross_derivative_coeffs([aa0, aa1], [ba0, ba1], &blend, &cc, xa0, xa1);
         let qb = cross_derivative_coeffs([ab0, ab1], [bb0, bb1], &blend, &cc, xb0, xb1);
         // P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23); B runs the curve backwards: its column j is A's 3−j.
@@ -229,18 +237,21 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
     })
 }
 
-/// D at a curve end (seed 000 eq. 4.7): (X_A − X_B)/2. If that is parallel to the tangent (the two
-/// patches fold onto the same side), the part of X_A normal to T is used instead; `None` when X_A
-/// itself is parallel to T (a degenerate corner).
+/// D at a curve end (seed 000 eq. 4.7): (X_A − X_B)/2; `None` when it is parallel to the tangent
+/// (both cross-derivatives on the same side of the curve by the same amount: a folded or
+/// degenerate corner).
 fn end_direction(xa: DVec3, xb: DVec3, t: DVec3) -> Option<DVec3> {
     let d = 0.5 * (xa - xb);
-    if decompose(xa, d, t).is_some() {
-        return Some(d);
+    decompose(xa, d, t).map(|_| d)
+}
+
+/// Why [`end_direction`] failed at end `end` of curve `c`: a cross-derivative parallel to the
+/// tangent (degenerate corner) or both on the same side (fold).
+fn corner_error(net: &CurveNetwork, c: usize, end: usize, xa: DVec3, xb: DVec3, t: DVec3) -> ConstructError {
+    let parallel = |x: DVec3| !(x.cross(t).length_squared() > 1e-20 * x.length_squared() * t.length_squared());
+    if parallel(xa) || parallel(xb) {
+        ConstructError::DegenerateCorner { curve: c, end }
+    } else {
+        ConstructError::FoldedCorner { curve: c, end, node: net.curve_nodes[c][end] }
     }
-    let tt = t.dot(t);
-    if tt == 0.0 {
-        return None;
-    }
-    let perp = xa - t * (xa.dot(t) / tt);
-    decompose(xa, perp, t).map(|_| perp)
 }

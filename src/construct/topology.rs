@@ -16,7 +16,10 @@
 //!
 //! Best tile plane (§3.3.2, eq. 3.1–3.6): centre p = mean of the tile points, normal
 //! n_p = Σ (q_i − p) × (q_{i+1} − p) normalized; with `best_plane` the tile points are projected:
-//! Q' = Q − ((Q − p)·n) n.
+//! Q' = Q − ((Q − p)·n) n. Where that plane would fold the network (the projected curve tangents
+//! at p out of counter-clockwise order: strongly bent tiles), the normal is tilted just enough to
+//! order them, and a tile that no plane can order is a [`ConstructError::FoldedTile`]
+//! (see `fan_normal`).
 //!
 //! Curves (§3.3.3): the curve of edge (u, v) has C0 = centre of tile u, C1 = midpoint of tile u's
 //! edge across (u, v), C2 = the same for tile v, C3 = centre of tile v. All tangents at a tile
@@ -125,7 +128,8 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Tiles, Cons
         if !(nn.length() > 1e-14 * scale) {
             return Err(ConstructError::DegenerateTile { vertex: v.idx() });
         }
-        let nn = nn.normalize();
+        let nn = fan_normal(p, &pts, !mesh.is_boundary_vertex(v), nn.normalize())
+            .ok_or(ConstructError::FoldedTile { vertex: v.idx() })?;
         if opts.best_plane {
             for &(h, is_split) in &ring {
                 let q = if is_split { &mut split[h.idx()] } else { &mut vertex[h.idx()] };
@@ -136,6 +140,107 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Tiles, Cons
         normal.push(nn);
     }
     Ok(Tiles { vertex, split, center, normal })
+}
+
+/// Margin a tile plane must keep, if it can, for the fan of curve tangents at the tile centre:
+/// min_k n · ĉ_k ≥ 0.02 (ĉ_k the unit normal of corner k, see [`fan_normal`]), i.e. every
+/// corner of the fan is a proper (non-flat) angle in the projection.
+const FAN_MARGIN: f64 = 0.02;
+
+/// Unit normals ĉ_k = (m_k − p) × (m_{k+1} − p) / |…| of the corners of the fan at a tile centre
+/// p: m_k are the midpoints of the tile edges (the curves' C1, seed 000 §3.3.3), corner k lies
+/// between tile edges k and k+1 (cyclic for an interior vertex, an open chain at a boundary).
+/// Corners whose tangents are parallel are left out (they give no direction).
+fn fan_corners(p: DVec3, ring: &[DVec3], closed: bool) -> Vec<DVec3> {
+    let m = ring.len();
+    let ne = if closed { m } else { m - 1 };
+    let mids: Vec<DVec3> = (0..ne).map(|k| 0.5 * (ring[k] + ring[(k + 1) % m]) - p).collect();
+    let nc = if closed { ne } else { ne.saturating_sub(1) };
+    (0..nc)
+        .filter_map(|k| {
+            let (a, b) = (mids[k], mids[(k + 1) % ne]);
+            let c = a.cross(b);
+            (c.length() > 1e-12 * a.length() * b.length()).then(|| c.normalize())
+        })
+        .collect()
+}
+
+/// The normal of the best tile plane (seed 000 §3.3.2), made safe against folds.
+///
+/// Projected along n, the curve tangents m_k − p at the tile centre are in counter-clockwise order,
+/// one turn, iff n · ĉ_k > 0 for every corner (projection keeps n · (a × b)) and the projected
+/// corner angles sum to 2π. The seed's plane (the tile's Newell normal `newell`) is kept when its
+/// margin min_k n · ĉ_k reaches min([`FAN_MARGIN`], m*/2), m* the best margin of any plane.
+/// Otherwise (strongly bent tiles, e.g. a valence-5 vertex on a 3×3 torus, where the Newell plane
+/// reverses one corner and the network folds) the normal is turned from the Newell normal towards
+/// the max-margin normal n* just far enough to reach margin m*/2 (bisection on the chord; the
+/// feasible set is a convex cone, so the first feasible point is found). n* = the min-norm point of conv{ĉ_k}, normalized
+/// (max_n min_k n·ĉ_k = min_{x ∈ conv ĉ} |x|), by Gilbert's algorithm.
+/// `None` when no plane orders the fan (the origin lies in conv{ĉ_k}).
+fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, newell: DVec3) -> Option<DVec3> {
+    let cs = fan_corners(p, ring, closed);
+    if cs.is_empty() {
+        return Some(newell);
+    }
+    let margin = |n: DVec3| cs.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min);
+    let one_turn = |n: DVec3| {
+        if !closed {
+            return true;
+        }
+        let ex = n.any_orthonormal_vector();
+        let ey = n.cross(ex);
+        let m = ring.len();
+        let ang: Vec<f64> = (0..m)
+            .map(|k| {
+                let d = 0.5 * (ring[k] + ring[(k + 1) % m]) - p;
+                d.dot(ey).atan2(d.dot(ex))
+            })
+            .collect();
+        let turn: f64 = (0..m)
+            .map(|k| (ang[(k + 1) % m] - ang[k]).rem_euclid(std::f64::consts::TAU))
+            .sum();
+        (turn - std::f64::consts::TAU).abs() < 1.0
+    };
+    if margin(newell) >= FAN_MARGIN && one_turn(newell) {
+        return Some(newell);
+    }
+    // Gilbert's algorithm for the min-norm point of conv{ĉ_k}.
+    let mut x = cs.iter().copied().sum::<DVec3>() / cs.len() as f64;
+    for _ in 0..2000 {
+        let xx = x.length_squared();
+        if xx < 1e-24 {
+            return None;
+        }
+        let (c, v) = cs.iter().map(|&c| (c, c.dot(x))).fold((x, f64::INFINITY), |b, a| if a.1 < b.1 { a } else { b });
+        if v >= 0.95 * xx {
+            break; // within 5% of the optimal margin
+        }
+        let d = c - x;
+        let lam = ((xx - v) / d.length_squared()).clamp(0.0, 1.0);
+        x += lam * d;
+    }
+    let best = x.normalize_or_zero();
+    let m_best = margin(best);
+    if !(m_best > 1e-9) || !one_turn(best) {
+        return None;
+    }
+    if margin(newell) >= FAN_MARGIN.min(0.5 * m_best) && one_turn(newell) {
+        return Some(newell);
+    }
+    let goal = 0.5 * m_best;
+    let at = |t: f64| ((1.0 - t) * newell + t * best).normalize_or_zero();
+    let ok = |n: DVec3| n != DVec3::ZERO && margin(n) >= goal;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if ok(at(mid)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let n = at(hi);
+    Some(if ok(n) && one_turn(n) { n } else { best })
 }
 
 /// The tile polygon of v, counter-clockwise: (h, true) = split point on the edge of outgoing h,
