@@ -1,7 +1,8 @@
 //! The `gbsurf` command line.
 //!
-//! `gbsurf convert IN -o OUT [options]`: control mesh (OBJ/OFF/PLY/STL) → welded triangle mesh of
-//! the smooth surface (OBJ/PLY/STL by the extension of OUT; PLY carries per-vertex `patch`,
+//! `gbsurf convert IN -o OUT [options]`: control mesh (OBJ/OFF/PLY/STL; with the cargo feature
+//! `openmesh` also OpenMesh's OM) → welded triangle mesh of the smooth surface (OBJ/PLY/STL, or OM
+//! through OpenMesh, by the extension of OUT; PLY carries per-vertex `patch`,
 //! `mean_curvature`, `gaussian_curvature`, `g1_deviation`). Optional outputs: `--curves` (the
 //! curve network as OBJ polylines of the Bézier control polygons), `--nets` (the control nets as
 //! OBJ), `--patches FILE.json` (exact description; `.gbp` files beside it for GB patches that have
@@ -182,7 +183,9 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
     let options = args.options();
     options.validate()?;
     // Check the output extension before doing any work.
-    api::encode_mesh(&Default::default(), &args.output)?;
+    if !openmesh_io::handles(&args.output) {
+        api::encode_mesh(&Default::default(), &args.output)?;
+    }
     let bar = (!args.quiet).then(|| {
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
@@ -198,13 +201,22 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
         }
         true
     };
-    let result = api::convert_file(&args.input, &options, Some(&mut cb));
+    let result = if openmesh_io::handles(&args.input) {
+        openmesh_io::read(&args.input).and_then(|mesh| api::convert(&mesh, &options, Some(&mut cb)))
+    } else {
+        api::convert_file(&args.input, &options, Some(&mut cb))
+    };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
     let conv = result?;
 
-    let mut files: Vec<(PathBuf, Vec<u8>)> = vec![(args.output.clone(), api::encode_mesh(&conv.mesh, &args.output)?)];
+    let surface_bytes = if openmesh_io::handles(&args.output) {
+        openmesh_io::encode(&conv.mesh, &args.output)?
+    } else {
+        api::encode_mesh(&conv.mesh, &args.output)?
+    };
+    let mut files: Vec<(PathBuf, Vec<u8>)> = vec![(args.output.clone(), surface_bytes)];
     let need_surface = |what: &str| -> Result<&gbsurf::construct::Surface, api::ConvertError> {
         conv.surface.as_ref().ok_or_else(|| api::ConvertError::InvalidOption {
             name: "method",
@@ -253,6 +265,64 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
         }
     }
     Ok(())
+}
+
+/// Files in formats the crate's own readers and writers do not handle (OpenMesh's `.om`) go
+/// through OpenMesh when the cargo feature `openmesh` is on. OBJ, OFF, PLY and STL always use the
+/// crate's own strict readers: they keep full double precision (OpenMesh reads text formats in
+/// single precision) and name the offending line, where OpenMesh silently repairs bad input.
+#[cfg(feature = "openmesh")]
+mod openmesh_io {
+    use gbsurf::api::ConvertError;
+    use gbsurf::tessellate::SurfaceMesh;
+    use gbsurf::mesh::{PolyMesh, TriMesh};
+    use std::path::Path;
+
+    const OWN: [&str; 4] = ["obj", "off", "ply", "stl"];
+
+    fn om_error(path: &Path, e: impl std::fmt::Display) -> ConvertError {
+        ConvertError::Io { path: path.display().to_string(), message: format!("OpenMesh: {e}") }
+    }
+
+    pub fn handles(path: &Path) -> bool {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        !ext.is_empty() && !OWN.contains(&ext.as_str())
+    }
+
+    pub fn read(path: &Path) -> Result<PolyMesh, ConvertError> {
+        gbsurf::openmesh::read_mesh(path).map_err(|e| om_error(path, e))
+    }
+
+    /// The file OpenMesh writes for `mesh` (positions, triangles, vertex normals), as bytes, so it
+    /// joins the all-or-nothing write of the other outputs.
+    pub fn encode(mesh: &SurfaceMesh, path: &Path) -> Result<Vec<u8>, ConvertError> {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = std::env::temp_dir().join(format!("gbsurf-{}-{name}", std::process::id()));
+        let tri = TriMesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), triangles: mesh.triangles.clone() };
+        let written = gbsurf::openmesh::write_tri_mesh(&tri, &tmp).map_err(|e| om_error(path, e));
+        let bytes = written.and_then(|()| std::fs::read(&tmp).map_err(|e| om_error(path, e)));
+        let _ = std::fs::remove_file(&tmp);
+        bytes
+    }
+}
+
+/// Without the `openmesh` feature only the crate's own formats exist.
+#[cfg(not(feature = "openmesh"))]
+mod openmesh_io {
+    use gbsurf::api::ConvertError;
+    use gbsurf::tessellate::SurfaceMesh;
+    use gbsurf::mesh::PolyMesh;
+    use std::path::Path;
+
+    pub fn handles(_: &Path) -> bool {
+        false
+    }
+    pub fn read(path: &Path) -> Result<PolyMesh, ConvertError> {
+        Err(ConvertError::Io { path: path.display().to_string(), message: "unreachable: no OpenMesh".into() })
+    }
+    pub fn encode(_: &SurfaceMesh, path: &Path) -> Result<Vec<u8>, ConvertError> {
+        Err(ConvertError::Io { path: path.display().to_string(), message: "unreachable: no OpenMesh".into() })
+    }
 }
 
 fn main() -> ExitCode {
