@@ -210,3 +210,40 @@ fn dual_and_topology_write_all_outputs() {
     // No temporary files left behind.
     assert!(files_in(&dir).iter().all(|f| !f.starts_with('.')), "{:?}", files_in(&dir));
 }
+
+#[test]
+fn isophotes_and_slices_of_the_torus() {
+    let dir = tmpdir("iso-slices");
+    let out = dir.join("t.ply");
+    let iso = dir.join("iso.ply");
+    let sl = dir.join("slices.obj");
+    let torus = format!("{MODELS}/torus.obj");
+    let (ok, err) = gbsurf(&[
+        "convert", &torus, "-o", out.to_str().unwrap(), "--quiet", "--resolution", "4",
+        "--isophotes", iso.to_str().unwrap(), "--light", "0,0,1", "--stripes", "8",
+        "--slices", sl.to_str().unwrap(), "--slice-normal", "0,0,1", "--slice-count", "3",
+    ]);
+    assert!(ok, "{err}");
+    let bytes = std::fs::read(&iso).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..bytes.windows(10).position(|w| w == b"end_header").unwrap()]).into_owned();
+    assert!(header.contains("property float isophote") && header.contains("property float stripe"), "{header}");
+    // Three horizontal planes through a torus around z: each cuts an inner and an outer loop.
+    let text = std::fs::read_to_string(&sl).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("l ")).count(), 6, "{text}");
+    assert_eq!(text.lines().filter(|l| l.starts_with("g slice_")).count(), 3);
+    // The middle plane is z = 0 (the torus is symmetric): its points lie in the plane.
+    let mut group = String::new();
+    for line in text.lines() {
+        if let Some(g) = line.strip_prefix("g ") {
+            group = g.to_string();
+        } else if let (Some(v), "slice_1") = (line.strip_prefix("v "), group.as_str()) {
+            let z: f64 = v.split_whitespace().nth(2).unwrap().parse().unwrap();
+            assert!(z.abs() < 1e-9, "{line}");
+        }
+    }
+    // A zero light direction is a usage error; nothing is written.
+    let bad_out = dir.join("bad.ply");
+    let (ok, err) = gbsurf(&["convert", &torus, "-o", bad_out.to_str().unwrap(), "--quiet", "--light", "0,0,0"]);
+    assert!(!ok && err.contains("non-zero"), "{err}");
+    assert!(!bad_out.exists());
+}

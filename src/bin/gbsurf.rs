@@ -146,6 +146,25 @@ struct ConvertArgs {
     /// Write the report (JSON).
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Write the isophote display (seed 000 §5.2): the surface as PLY with per-vertex `isophote`
+    /// (n·L) and `stripe` (zebra band coordinate; its integer part's parity is the stripe colour).
+    #[arg(long)]
+    isophotes: Option<PathBuf>,
+    /// Light direction L of the isophotes, `x,y,z`.
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,1")]
+    light: gbsurf::DVec3,
+    /// Number of isophote stripes over the angle range 0..180°.
+    #[arg(long, default_value_t = 16)]
+    stripes: u32,
+    /// Write planar slices of the surface (seed 000 §5.2) as OBJ polylines (`l` lines).
+    #[arg(long)]
+    slices: Option<PathBuf>,
+    /// Normal of the slicing planes, `x,y,z`.
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,1")]
+    slice_normal: gbsurf::DVec3,
+    /// Number of evenly spaced slicing planes across the surface.
+    #[arg(long, default_value_t = 10)]
+    slice_count: usize,
     /// No progress bar, no summary.
     #[arg(long)]
     quiet: bool,
@@ -253,6 +272,13 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
     if let Some(path) = &args.report {
         files.push((path.clone(), conv.report.to_json().into_bytes()));
     }
+    if let Some(path) = &args.isophotes {
+        files.push((path.clone(), isophote_ply(&conv.mesh, args.light, args.stripes, path)?));
+    }
+    if let Some(path) = &args.slices {
+        let cuts = gbsurf::quality::slices(&conv.mesh.positions, &conv.mesh.triangles, args.slice_normal, args.slice_count);
+        files.push((path.clone(), slices_obj(&cuts).into_bytes()));
+    }
     api::write_files_atomic(&files)?;
     if !args.quiet {
         let r = &conv.report;
@@ -265,6 +291,50 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
         }
     }
     Ok(())
+}
+
+/// Parses `x,y,z` into a non-zero vector.
+fn parse_vec3(text: &str) -> Result<gbsurf::DVec3, String> {
+    let parts: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|e| format!("'{t}': {e}")))
+        .collect::<Result<_, _>>()?;
+    match parts[..] {
+        [x, y, z] if [x, y, z].iter().all(|c| c.is_finite()) && (x, y, z) != (0.0, 0.0, 0.0) => Ok(gbsurf::DVec3::new(x, y, z)),
+        _ => Err(format!("expected a finite non-zero vector x,y,z, got '{text}'")),
+    }
+}
+
+/// The surface as binary PLY with per-vertex `isophote` = n·L and `stripe` band coordinates.
+fn isophote_ply(mesh: &gbsurf::tessellate::SurfaceMesh, light: gbsurf::DVec3, stripes: u32, path: &Path) -> Result<Vec<u8>, api::ConvertError> {
+    use gbsurf::mesh::io::{write_ply, PlyFormat, VertexScalar};
+    let iso = gbsurf::quality::isophote(&mesh.normals, light);
+    let band = gbsurf::quality::isophote_stripes(&mesh.normals, light, stripes);
+    let faces: Vec<&[u32]> = mesh.triangles.iter().map(|t| t.as_slice()).collect();
+    let scalars = [VertexScalar { name: "isophote", values: &iso }, VertexScalar { name: "stripe", values: &band }];
+    let mut buf = Vec::new();
+    write_ply(&mut buf, &mesh.positions, Some(&mesh.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
+        .map_err(|e| api::ConvertError::Io { path: path.display().to_string(), message: e.to_string() })?;
+    Ok(buf)
+}
+
+/// Slices as OBJ: a `g slice_K` group per plane, each polyline as one `l` line.
+fn slices_obj(cuts: &[(f64, Vec<gbsurf::quality::Polyline>)]) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from("# gbsurf planar slices: one group per plane (offset d along the normal)\n");
+    let mut next = 1usize;
+    for (k, (d, lines)) in cuts.iter().enumerate() {
+        let _ = writeln!(out, "g slice_{k}\n# d = {d:.17e}");
+        for line in lines {
+            for p in &line.points {
+                let _ = writeln!(out, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z);
+            }
+            let ids: Vec<String> = (next..next + line.points.len()).map(|i| i.to_string()).collect();
+            let _ = writeln!(out, "l {}", ids.join(" "));
+            next += line.points.len();
+        }
+    }
+    out
 }
 
 /// Files in formats the crate's own readers and writers do not handle (OpenMesh's `.om`) go
