@@ -60,12 +60,15 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
 
 # --- building Blender data ---------------------------------------------------------------------
 
-def surface_material():
-    """A material showing the mesh's default colour attribute (shared by all results)."""
+def surface_material(created=None):
+    """A material showing the mesh's default colour attribute (shared by all results); a new
+    one is appended to `created` (so a failed build removes it again)."""
     mat = bpy.data.materials.get(MATERIAL_NAME)
-    if mat is not None:
+    if mat is not None and mat.library is None:
         return mat
     mat = bpy.data.materials.new(MATERIAL_NAME)
+    if created is not None:
+        created.append(mat)
     if bpy.app.version < (5, 0, 0):  # always node-based from 5.0 on (use_nodes deprecated)
         mat.use_nodes = True
     nt = mat.node_tree
@@ -92,8 +95,9 @@ def set_display(mesh, display):
         mesh.color_attributes.render_color_index = list(mesh.color_attributes).index(attr)
 
 
-def fill_surface(mesh, conv, display='MEAN_CURVATURE'):
-    """The output triangle mesh with smooth shading, its attributes and colours."""
+def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=None):
+    """The output triangle mesh with smooth shading, its attributes and colours. `materials`
+    (e.g. those of the mesh being replaced) are kept; by default the colour material."""
     mesh_io.write_triangles(mesh, conv.positions, conv.triangles)
     mesh_io.shade_smooth(mesh)
     mesh_io.set_point_attribute(mesh, "gb_patch", 'INT', conv.patch_index.astype(np.int32))
@@ -107,7 +111,8 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE'):
     mesh_io.set_point_attribute(
         mesh, "gb_patch_color", 'FLOAT_COLOR', mesh_io.index_colors(conv.patch_index))
     set_display(mesh, display)
-    mesh.materials.append(surface_material())
+    for mat in (materials if materials else [surface_material(created)]):
+        mesh.materials.append(mat)
     return mesh
 
 
@@ -191,12 +196,56 @@ def fill_control_net(mesh, patches):
     return mesh
 
 
+def _editable(collection):
+    return collection.library is None
+
+
 def _link_like(new, src, collection=None):
-    cols = [collection] if collection is not None else list(src.users_collection)
+    """Links `new` into `collection`, else into the source's collections that can take it (not
+    linked from a library), else into the active collection or the scene's."""
+    if collection is not None:
+        cols = [collection]
+    else:
+        cols = [c for c in src.users_collection if _editable(c)]
     if not cols:
-        cols = [bpy.context.scene.collection]
+        active = getattr(bpy.context, "collection", None)
+        cols = [active if active is not None and _editable(active) else bpy.context.scene.collection]
     for c in cols:
         c.objects.link(new)
+
+
+def _place_like(new, src):
+    """Gives `new` the parent relation and local transform of `src` (so it stays on the source
+    when the parent moves); without a parent, the source's world matrix."""
+    if src.parent is not None:
+        new.parent = src.parent
+        new.parent_type = src.parent_type
+        if src.parent_type == 'BONE':
+            new.parent_bone = src.parent_bone
+        elif src.parent_type in {'VERTEX', 'VERTEX_3'}:
+            new.parent_vertices = src.parent_vertices[:]
+        new.matrix_parent_inverse = src.matrix_parent_inverse.copy()
+        new.matrix_basis = src.matrix_basis.copy()
+    else:
+        new.matrix_world = src.matrix_world.copy()
+
+
+def live_source(result):
+    """The source object of a result if it still exists in some collection (deleting an object in
+    the UI only unlinks it while our pointer holds a user), else None."""
+    src = result.gbsurf.source
+    if src is None or not src.users_collection:
+        return None
+    return src
+
+
+def is_result_part(obj):
+    """True for GB results and for their curve-network / control-net objects."""
+    if obj.gbsurf.is_result:
+        return True
+    p = obj.parent
+    return p is not None and p.gbsurf.is_result and obj in (
+        p.gbsurf.curves_object, p.gbsurf.net_object)
 
 
 def _remove_ids(ids):
@@ -208,6 +257,8 @@ def _remove_ids(ids):
                 bpy.data.meshes.remove(idb, do_unlink=True)
             elif isinstance(idb, bpy.types.Curve):
                 bpy.data.curves.remove(idb, do_unlink=True)
+            elif isinstance(idb, bpy.types.Material):
+                bpy.data.materials.remove(idb, do_unlink=True)
         except ReferenceError:
             pass
 
@@ -229,6 +280,10 @@ def _make_extras(result, conv, outputs, created):
         ("want_control_net", "net_object", ".net", 'MESH'),
     ):
         old = getattr(s, attr)
+        if old is not None and old.parent != result:
+            # Not ours (e.g. the pointer was copied with a duplicated result): leave it alone.
+            setattr(s, attr, None)
+            old = None
         data = None
         if outputs.get(flag) and (conv.curves if kind == 'CURVE' else conv.patches):
             if kind == 'CURVE':
@@ -273,11 +328,11 @@ def build_result(src, conv, lib_options, outputs, collection=None):
         name = src.name + ".GB"
         mesh = bpy.data.meshes.new(name)
         created.append(mesh)
-        fill_surface(mesh, conv)
+        fill_surface(mesh, conv, created=created)
         obj = bpy.data.objects.new(name, mesh)
         created.append(obj)
         _link_like(obj, src, collection)
-        obj.matrix_world = src.matrix_world
+        _place_like(obj, src)
         s = obj.gbsurf
         s.is_result = True
         # Assign without triggering the live update callbacks (live is still off).
@@ -309,7 +364,7 @@ def compute_for(result, progress=None, depsgraph=None):
     s = result.gbsurf
     if not s.is_result:
         raise ConvertError(f"{result.name}: not a GB surface")
-    if s.source is None:
+    if live_source(result) is None:
         raise ConvertError(f"{result.name}: its source object is gone")
     return compute(s.source, s.library_options(), s.output_options(), progress, depsgraph)
 
@@ -319,12 +374,13 @@ def apply(result, conv):
     s = result.gbsurf
     created = []
     try:
-        mesh = bpy.data.meshes.new(result.data.name)
-        created.append(mesh)
-        fill_surface(mesh, conv, s.display)
         old = result.data
+        mesh = bpy.data.meshes.new(old.name)
+        created.append(mesh)
+        # The user's materials on the old mesh stay (slots linked to the object stay anyway).
+        fill_surface(mesh, conv, s.display, created, [m for m in old.materials if m is not None])
         result.data = mesh
-        created.remove(mesh)
+        created.clear()  # the new mesh (and a new colour material) are in use now
         _remove_orphan(old)
         mesh.name = result.name
         if s.source is not None and result.matrix_world != s.source.matrix_world:

@@ -62,8 +62,8 @@ def on_depsgraph_update(scene, depsgraph):
                             and o.data.name == idb.original.name)
     todo, follow = [], []
     for obj in live:
-        src = obj.gbsurf.source
-        if src is None:
+        src = core.live_source(obj)
+        if src is None:  # gone (or deleted in the UI, only held by our pointer)
             continue
         if obj.name in _pending or src.name in geometry:
             todo.append(obj)
@@ -74,7 +74,7 @@ def on_depsgraph_update(scene, depsgraph):
     _busy = True
     try:
         for obj in follow:
-            obj.matrix_world = obj.gbsurf.source.matrix_world
+            obj.matrix_world = obj.gbsurf.source.matrix_world.copy()
         for obj in todo:
             _pending.discard(obj.name)
             _regenerate(obj, depsgraph)

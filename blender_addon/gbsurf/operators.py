@@ -16,9 +16,15 @@ from . import core, mesh_io
 from .props import ConvertOptionsMixin
 
 
+def _is_source(obj):
+    # GB results and their curve / control-net objects are outputs, not control meshes: a
+    # "select all, convert" must not convert them again (control nets would even fail).
+    return obj is not None and obj.type == 'MESH' and not core.is_result_part(obj)
+
+
 def _selected_sources(context):
-    objs = [o for o in context.selected_objects if o.type == 'MESH']
-    if not objs and context.active_object is not None and context.active_object.type == 'MESH':
+    objs = [o for o in context.selected_objects if _is_source(o)]
+    if not objs and _is_source(context.active_object):
         objs = [context.active_object]
     return objs
 

@@ -3,6 +3,7 @@
 
 import bpy
 
+from .core import live_source
 from .operators import OBJECT_OT_gbsurf_convert, OBJECT_OT_gbsurf_update
 from .props import DISPLAY_ATTRIBUTE
 
@@ -30,7 +31,7 @@ class OBJECT_PT_gbsurf(bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         layout.prop(s, "source")
-        if s.source is None:
+        if live_source(context.object) is None:
             layout.label(text="The source object is gone", icon='ERROR')
         s.draw_options(layout.column())
         col = layout.column()

@@ -116,6 +116,11 @@ def snapshot():
         "objects": objs,
         "meshes": sorted(m.name for m in bpy.data.meshes),
         "curves": sorted(c.name for c in bpy.data.curves),
+        # Orphan data-blocks count too: every ID collection a conversion could add to.
+        "materials": sorted(m.name for m in bpy.data.materials),
+        "collections": sorted(c.name for c in bpy.data.collections),
+        "counts": {k: len(getattr(bpy.data, k)) for k in (
+            "objects", "meshes", "curves", "materials", "collections", "node_groups", "images")},
     }
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import helpers
-from conftest import METRICS
+from conftest import METRICS, ensure_enabled
 
 import meshcheck  # noqa: E402  (after bpy, see conftest)
 import pymeshlab  # noqa: E402
@@ -143,3 +143,51 @@ def test_convert_object_function():
     with pytest.raises(mod.core.ConvertError, match="cancelled"):
         mod.core.convert_object(src, progress=lambda f: f < 0.1)
     assert [o.name for o in bpy.data.objects].count("cube.GB.001") == 0
+
+
+def test_select_all_converts_only_control_meshes():
+    # After a conversion with extras, "select all, convert" (with a non-mesh object among them)
+    # converts the control mesh again, never the results or their control nets.
+    helpers.add_primitive("cube")
+    assert bpy.ops.object.gbsurf_convert(
+        resolution=2, want_curves=True, want_control_net=True) == {'FINISHED'}
+    bpy.ops.object.text_add()
+    bpy.ops.object.select_all(action='SELECT')
+    assert bpy.ops.object.gbsurf_convert(resolution=2) == {'FINISHED'}
+    names = set(bpy.data.objects.keys())
+    assert "cube.GB.001" in names
+    assert not any(n.endswith(".GB.GB") or ".net.GB" in n for n in names), names
+    # Only results selected: nothing to convert.
+    helpers.select_only(bpy.data.objects["cube.GB"], bpy.data.objects["cube.GB.net"])
+    with pytest.raises(RuntimeError, match="poll"):
+        bpy.ops.object.gbsurf_convert()
+
+
+def _linked_collection(tmp_path):
+    """A collection linked from another .blend (read-only here) holding a cube, in the scene."""
+    src = helpers.add_primitive("cube")
+    col = bpy.data.collections.new("LibCol")
+    bpy.context.scene.collection.children.link(col)
+    for c in list(src.users_collection):
+        c.objects.unlink(src)
+    col.objects.link(src)
+    lib = tmp_path / "lib.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(lib), copy=True)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    ensure_enabled()  # reading factory settings disables the extension
+    with bpy.data.libraries.load(str(lib), link=True) as (_src, dst):
+        dst.collections = ["LibCol"]
+    bpy.context.scene.collection.children.link(dst.collections[0])
+    bpy.context.view_layer.update()
+    return dst.collections[0]
+
+
+def test_source_in_a_linked_collection(tmp_path):
+    col = _linked_collection(tmp_path)
+    src = bpy.data.objects["cube"]
+    assert src.library is not None
+    helpers.select_only(src)
+    assert bpy.ops.object.gbsurf_convert(resolution=2) == {'FINISHED'}
+    out = bpy.data.objects["cube.GB"]
+    assert out.library is None and out.gbsurf.source == src
+    assert out.name in bpy.context.scene.collection.objects and out.name not in col.objects

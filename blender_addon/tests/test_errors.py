@@ -76,3 +76,25 @@ def test_invalid_option_value():
     with pytest.raises(mod.core.ConvertError, match="tile"):
         mod.core.convert_object(bpy.data.objects["cube"], method='TOPOLOGY', tile_depth=1.0)
     assert helpers.snapshot() == before
+
+
+def test_failed_build_leaves_no_orphan_material(tmp_path):
+    # The colour material is created with the first result; a build that fails after that (here:
+    # the target collection is linked from a library, so the object cannot go there) must remove it.
+    from test_convert import _linked_collection
+
+    col = _linked_collection(tmp_path)
+    mod = helpers.mesh_module()
+    own = helpers.add_primitive("cube")
+    own.name = "own"
+    assert mod.core.MATERIAL_NAME not in bpy.data.materials
+    before = helpers.snapshot()
+    with pytest.raises(RuntimeError, match="collection 'LibCol' is linked"):
+        mod.core.convert_object(own, resolution=2, want_curves=True, collection=col)
+    assert helpers.snapshot() == before
+
+
+def test_library_missing_is_reported(monkeypatch, tmp_path):
+    helpers.add_primitive("cube")
+    monkeypatch.setenv("GBSURF_LIB", str(tmp_path / "libgbsurf.so"))
+    assert_fails_unchanged(match="library missing")

@@ -166,3 +166,115 @@ def test_display_switches_the_active_colour():
     assert out.data.color_attributes.active_color.name == "gb_patch_color"
     mat = out.data.materials[0]
     assert any(n.type == 'VERTEX_COLOR' for n in mat.node_tree.nodes)
+
+
+# --- review findings (issue 5) ------------------------------------------------------------------
+
+def test_result_keeps_the_source_parent():
+    # A parented source: the result gets the same parent relation, so it stays on the source when
+    # the parent moves, also with live mode off.
+    bpy.ops.object.empty_add(location=(5.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.7))
+    parent = bpy.context.active_object
+    src = helpers.add_primitive("cube")
+    src.parent = parent
+    src.location = (0.0, 1.0, 0.0)
+    bpy.context.view_layer.update()
+    helpers.select_only(src)
+    assert bpy.ops.object.gbsurf_convert(resolution=2) == {'FINISHED'}
+    out = bpy.data.objects["cube.GB"]
+    bpy.context.view_layer.update()
+    assert out.parent == parent
+    assert np.allclose(np.array(out.matrix_world), np.array(src.matrix_world))
+    parent.location = (0.0, 7.0, 1.0)
+    bpy.context.view_layer.update()
+    assert np.allclose(np.array(out.matrix_world), np.array(src.matrix_world))
+    assert tuple(out.matrix_world.translation) != pytest.approx((5.0, 0.0, 0.0), abs=0.5)
+
+
+def test_source_deleted_in_the_ui_counts_as_gone():
+    # object.delete only unlinks an object that our pointer still uses: it must not be used as a
+    # source afterwards (Update errors, live mode skips it, the panel says so).
+    src, out = converted_cube()
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    helpers.select_only(src)
+    assert bpy.ops.object.delete() == {'FINISHED'}
+    assert helpers.mesh_module().core.live_source(out) is None
+    mesh = out.data.name
+    bpy.context.view_layer.update()
+    assert out.data.name == mesh
+    helpers.select_only(out)
+    with pytest.raises(RuntimeError, match="source object is gone"):
+        bpy.ops.object.gbsurf_update()
+
+
+def test_update_keeps_the_users_material():
+    src, out = converted_cube()
+    mine = bpy.data.materials.new("Mine")
+    out.data.materials.clear()
+    out.data.materials.append(mine)
+    helpers.select_only(out)
+    assert bpy.ops.object.gbsurf_update() == {'FINISHED'}
+    assert [m.name for m in out.data.materials] == ["Mine"]
+    out.gbsurf.live = True
+    scale_source(src, 2.0)
+    bpy.context.view_layer.update()
+    assert [m.name for m in out.data.materials] == ["Mine"]
+
+
+def test_duplicated_result_leaves_the_originals_extras_alone():
+    src, out = converted_cube(want_curves=True)
+    curves = out.gbsurf.curves_object
+    assert curves is not None
+    helpers.select_only(out)
+    assert bpy.ops.object.duplicate() == {'FINISHED'}
+    copy = bpy.context.active_object
+    assert copy != out and copy.gbsurf.curves_object == curves  # the pointer was copied
+    copy.gbsurf.want_curves = False
+    helpers.select_only(copy)
+    assert bpy.ops.object.gbsurf_update() == {'FINISHED'}
+    assert "cube.GB.curves" in bpy.data.objects and out.gbsurf.curves_object == curves
+    assert curves.parent == out and len(curves.data.splines) == 12
+
+
+def test_live_mode_after_reloading_the_file(tmp_path):
+    src, out = converted_cube()
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    extent = np.ptp(coords(out.data), axis=0)
+    path = tmp_path / "live.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    out = bpy.data.objects["cube.GB"]
+    scale_source(bpy.data.objects["cube"], 2.0)
+    bpy.context.view_layer.update()
+    assert np.allclose(np.ptp(coords(out.data), axis=0), 2 * extent, rtol=1e-5)
+
+
+def test_mirror_modifier_of_the_source_is_applied():
+    src = helpers.add_primitive("cube")
+    scale = coords(src.data) + np.array([3.0, 0.0, 0.0], np.float32)
+    src.data.vertices.foreach_set("co", scale.reshape(-1))
+    src.data.update()
+    src.modifiers.new("mirror", 'MIRROR')
+    assert bpy.ops.object.gbsurf_convert(resolution=2) == {'FINISHED'}
+    co = coords(bpy.data.objects["cube.GB"].data)
+    assert co[:, 0].min() < -3.5 and co[:, 0].max() > 3.5
+    assert len(src.data.vertices) == 8  # the source keeps its modifier, unapplied
+
+
+def test_no_handler_left_after_disabling():
+    import addon_utils
+
+    names = ("depsgraph_update_post", "undo_pre", "undo_post", "redo_pre", "redo_post", "load_post")
+
+    def ours():
+        return sum(1 for n in names for f in getattr(bpy.app.handlers, n)
+                   if getattr(f, "__module__", "").endswith("gbsurf.handlers"))
+
+    assert ours() == len(names)
+    mod = helpers.mesh_module().__name__
+    addon_utils.disable(mod, default_set=True)
+    assert ours() == 0
+    addon_utils.enable(mod, default_set=True)
+    assert ours() == len(names)
