@@ -366,6 +366,8 @@ def compute_for(result, progress=None, depsgraph=None):
         raise ConvertError(f"{result.name}: not a GB surface")
     if live_source(result) is None:
         raise ConvertError(f"{result.name}: its source object is gone")
+    if is_result_part(s.source):  # Python assignments bypass the pointer's poll
+        raise ConvertError(f"{result.name}: its source {s.source.name} is a GB Surface output")
     return compute(s.source, s.library_options(), s.output_options(), progress, depsgraph)
 
 

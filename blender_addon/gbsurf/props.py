@@ -130,7 +130,8 @@ def _live_changed(self, context):
 
 
 def _poll_mesh(self, obj):
-    return obj.type == 'MESH' and not obj.gbsurf.is_result
+    from . import core
+    return obj.type == 'MESH' and not core.is_result_part(obj)
 
 
 class GbsurfSettings(ConvertOptionsMixin, bpy.types.PropertyGroup):

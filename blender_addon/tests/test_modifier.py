@@ -278,3 +278,31 @@ def test_no_handler_left_after_disabling():
     assert ours() == 0
     addon_utils.enable(mod, default_set=True)
     assert ours() == len(names)
+
+
+def test_a_gb_output_is_no_source():
+    src, out = converted_cube(want_control_net=True)
+    net = out.gbsurf.net_object
+    props = helpers.mesh_module().props
+    assert props._poll_mesh(out.gbsurf, src)
+    assert not props._poll_mesh(out.gbsurf, net) and not props._poll_mesh(out.gbsurf, out)
+    out.gbsurf.source = net  # Python skips the poll: Update refuses instead
+    before = helpers.snapshot()
+    helpers.select_only(out)
+    with pytest.raises(RuntimeError, match="is a GB Surface output"):
+        bpy.ops.object.gbsurf_update()
+    assert helpers.snapshot() == before
+
+
+def test_redo_replaces_the_previous_result():
+    # Adjust Last Operation = undo to the step before the operator, then execute with the new
+    # options: the previous result must go with the undo (no piling up of .GB.001 objects).
+    helpers.add_primitive("cube")
+    bpy.ops.ed.undo_push(message="cube added")
+    assert bpy.ops.object.gbsurf_convert(resolution=2, want_curves=True) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="GB Surface")
+    bpy.ops.ed.undo()
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    gb = sorted(o.name for o in bpy.data.objects if o.name.startswith("cube.GB"))
+    assert gb == ["cube.GB"] and bpy.data.objects["cube.GB"].gbsurf.resolution == 3
+    assert "cube.GB.curves" not in bpy.data.curves
