@@ -109,7 +109,9 @@ def _open(path):
             bpy.ops.wm.ply_import(filepath=path, forward_axis='Y', up_axis='Z')
         else:
             raise RuntimeError(f"{path}: unknown file type {ext!r} (expected .blend, .obj, .ply)")
-    return [o for o in bpy.context.scene.objects if o.type == 'MESH' and not o.gbsurf.is_result]
+    # Earlier GB results and their control-net meshes are outputs, not sources.
+    core = addon().core
+    return [o for o in bpy.context.scene.objects if o.type == 'MESH' and not core.is_result_part(o)]
 
 
 def _check_obj_import(path):

@@ -96,3 +96,16 @@ def test_convert_object_from_the_batch_module():
     assert out.name == "torus.GB" and out.gbsurf.source == src
     # It is the installed add-on, not a second copy from the source tree.
     assert batch_convert.addon().__name__ == "bl_ext.user_default.gbsurf"
+
+
+def test_batch_skips_earlier_results_in_a_blend(addon, tmp_path):
+    # A .blend saved after a conversion with control nets: only the control mesh is converted
+    # again (a control net is not closed and would fail the whole file).
+    helpers.add_primitive("cube")
+    assert bpy.ops.object.gbsurf_convert(resolution=2, want_control_net=True) == {'FINISHED'}
+    blend = tmp_path / "done.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    out = tmp_path / "out"
+    r = run_batch([blend, "-o", out, "--resolution", "2", "--no-blend"], addon)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert sorted(p.name for p in (out / "done").iterdir()) == ["cube.GB.001.obj"]
