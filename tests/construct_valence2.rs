@@ -117,6 +117,27 @@ fn cube_edge_midpoint_is_dissolved() {
     }
 }
 
+/// Suzanne's case: two triangles sharing an edge get a bent vertex on it, so both become quads
+/// whose middle corner is interior of valence 2 (Suzanne's vertex 137 between its quads 142, 143);
+/// dissolving gives the octahedron back.
+#[test]
+fn octahedron_quads_sharing_two_edges() {
+    let oct = read_mesh(format!("{MODELS}/octahedron.obj")).unwrap();
+    let mut pm = oct.to_polymesh();
+    insert_on_edge(&mut pm, 0, 2, &[DVec3::new(0.45, 0.6, 0.1)]);
+    assert_eq!(pm.faces.iter().filter(|f| f.len() == 4).count(), 2);
+    let m = he(&pm);
+    for structure in ["dual", "topology"] {
+        for mode in [TwistMode::Approx, TwistMode::Interp] {
+            let what = format!("{structure} {mode:?}");
+            let s = build(structure, &m, mode).unwrap();
+            assert!(s.warnings.len() == 1 && s.warnings[0].contains("vertex 6 "), "{what}");
+            assert_g1(&s, true, &what);
+            assert_same_surface(&s, &build(structure, &oct, mode).unwrap(), |v| v, &what);
+        }
+    }
+}
+
 /// A 4×4 torus with valence-2 vertices on two edges (one edge gets a chain of two: the faces share
 /// three consecutive edges), renumbered so that the new vertices come first: the surface equals
 /// the torus's, and the dual sources name the input vertices.

@@ -61,6 +61,10 @@ impl Prepared<'_> {
     }
 }
 
+/// A mesh with its interior valence-2 vertices dissolved, the map new vertex → old vertex, and one
+/// warning per dissolved vertex.
+pub type Dissolved<'a> = (Cow<'a, HalfEdgeMesh>, Vec<usize>, Vec<String>);
+
 /// Interior vertices of valence 2 of `mesh`, ascending.
 pub fn interior_valence2(mesh: &HalfEdgeMesh) -> Vec<usize> {
     mesh.vertices().filter(|&v| !mesh.is_boundary_vertex(v) && mesh.valence(v) == 2).map(|v| v.idx()).collect()
@@ -71,7 +75,7 @@ pub fn interior_valence2(mesh: &HalfEdgeMesh) -> Vec<usize> {
 /// vertex. Face indices are unchanged.
 pub fn dissolve_valence2(
     mesh: &HalfEdgeMesh,
-) -> Result<(Cow<'_, HalfEdgeMesh>, Vec<usize>, Vec<String>), ConstructError> {
+) -> Result<Dissolved<'_>, ConstructError> {
     let mut cur: Cow<'_, HalfEdgeMesh> = Cow::Borrowed(mesh);
     let mut origin: Vec<usize> = (0..mesh.n_vertices()).collect();
     let mut warnings = Vec::new();
