@@ -273,6 +273,7 @@ fn convert_valid(
     tick(0.0)?;
     let (out, surface) = if options.method.is_patch_method() {
         let surface = build_surface(he, options)?;
+        warnings.extend(surface.warnings.iter().cloned());
         tick(0.2)?;
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
         let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;

@@ -207,3 +207,36 @@ fn concave_faces_are_split_deterministically() {
     assert!(matches!(cm, std::borrow::Cow::Borrowed(_)));
     assert_eq!(origin, (0..6).collect::<Vec<_>>());
 }
+
+/// Blender's cone (n triangles around an apex of valence n, an n-gon cap), seed 000 §3.3.1 as
+/// prescribed: in a triangle (p0, p1, p2) both division lines at p0 lie at barycentric height 1/w,
+/// so the tile vertex of p0 is (1 − 2/w) p0 + (p1 + p2)/w (for w = 3 all three coincide at the
+/// centroid), and the apex tile's centre, the highest node, is at z = 1 − 4/w for apex z = 1 and
+/// base z = −1: −1/3 for the default w = 3 (Blender's Catmull–Clark limit reaches 0.748).
+#[test]
+fn cone_apex_tile_depth() {
+    let n = 32;
+    let mut positions = vec![DVec3::Z];
+    positions.extend((0..n).map(|i| {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        DVec3::new(a.cos(), a.sin(), -1.0)
+    }));
+    let mut faces: Vec<Vec<u32>> = (0..n as u32).map(|i| vec![0, 1 + i, 1 + (i + 1) % n as u32]).collect();
+    faces.push((1..=n as u32).rev().collect());
+    let m = HalfEdgeMesh::from_polymesh(&PolyMesh { positions, faces }).unwrap();
+    for w in [2.5, 3.0, 4.0, 7.0] {
+        let o = ConstructOptions { tile_depth: w, ..Default::default() };
+        let t = tiles(&m, &o).unwrap();
+        for h in m.halfedges().filter(|&h| m.face(h).is_some_and(|f| m.face_size(f) == 3)) {
+            let (p0, p1, p2) =
+                (m.position(m.origin(h)), m.position(m.target(h)), m.position(m.origin(m.prev(h))));
+            assert_near!(t.vertex[h.idx()], (1.0 - 2.0 / w) * p0 + (p1 + p2) / w);
+        }
+        assert_near!(t.center[0], DVec3::new(0.0, 0.0, 1.0 - 4.0 / w));
+        // The highest curve point: the apex node, or (w < 4) the base vertices' tile vertices in
+        // the triangles, at z = −(1 − 2/w).
+        let s = build_topology(&m, &o).unwrap();
+        let top = s.curves.iter().flatten().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max);
+        assert_near!(top, (1.0 - 4.0 / w).max(2.0 / w - 1.0));
+    }
+}

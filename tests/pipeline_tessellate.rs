@@ -47,6 +47,7 @@ fn pillow(n: usize) -> Surface {
         neighbors: vec![na, nb],
         sources: vec![PatchSource::Vertex(0), PatchSource::Vertex(1)],
         curves: Vec::new(),
+        warnings: Vec::new(),
     }
 }
 
@@ -91,6 +92,7 @@ fn single_patch_stays_open() {
             neighbors: vec![vec![None; n]],
             sources: vec![PatchSource::Vertex(0)],
             curves: Vec::new(),
+            warnings: Vec::new(),
         };
         let r = 4;
         let (m, stats) = tessellate_surface(&one, r, WeightForm::Squared, None).unwrap();

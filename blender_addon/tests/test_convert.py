@@ -71,19 +71,21 @@ def test_shared_models(model, method):
     convert_and_check(src, method, model)
 
 
-# Suzanne has interior vertices of valence 2 (e.g. vertex 137: its two quads share both of its
-# edges), which the construction rejects today ("patch 137 would have 2 sides" / "tile of vertex
-# 137 is degenerate"). Strict: this fails as soon as the construction handles them, so the mark
-# must then go.
-SUZANNE_VALENCE_2 = pytest.mark.xfail(
-    strict=True, raises=RuntimeError,
-    reason="construction rejects Suzanne's interior valence-2 vertices")
+# Suzanne's interior valence-2 vertex 137 is dissolved by the construction (with a warning); the
+# output is two-manifold (open, like the input), G1, and within 0.009 x diag of Blender's
+# Subdivision Surface. The one MeshLab problem left is inherited from the input: the eyes
+# (separate shells) intersect the head already in Blender's Suzanne (100 self-intersecting input
+# faces; Blender's own Subdivision Surface has 364); no shell intersects itself. Strict: the mark
+# must go once the mesh check tells intersections between shells from those within one shell.
+SUZANNE_EYES = pytest.mark.xfail(
+    strict=True, raises=AssertionError,
+    reason="Suzanne's eyes intersect its head in the input (self-intersecting faces across shells)")
 
 
 def _primitive_cases():
     for name in helpers.PRIMITIVES:
         for method in STRUCTURES:
-            marks = [SUZANNE_VALENCE_2] if name == "suzanne" else []
+            marks = [SUZANNE_EYES] if name == "suzanne" else []
             yield pytest.param(name, method, marks=marks, id=f"{name}-{method}")
 
 

@@ -208,10 +208,16 @@ fn vertex_patch(
     Ok(PatchLayout { sides, corner_twists: twists, center: Some(vp), source: PatchSource::Vertex(v.idx()) })
 }
 
-/// Dual construction (seed 000 §2, §4): concave faces split by [`super::convex_mesh`], then
-/// [`dual_network`] and [`assemble`]. Patch p stands for vertex p of `mesh`.
+/// Dual construction (seed 000 §2, §4): interior valence-2 vertices dissolved and concave faces
+/// split by [`super::prepare`], then [`dual_network`] and [`assemble`]. Patch p stands for the
+/// vertex `sources[p]` of `mesh` (= p unless vertices were dissolved; those have no patch and a
+/// warning in `warnings`). Errors name elements of `mesh`.
 pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
-    let (m, _) = super::convex_mesh(mesh)?;
-    let net = dual_network(&m, opts)?;
-    assemble(&net, opts)
+    let prep = super::prepare(mesh)?;
+    let mut s = dual_network(&prep.mesh, opts).and_then(|net| assemble(&net, opts)).map_err(|e| prep.error(e, true))?;
+    for src in &mut s.sources {
+        *src = prep.source(*src);
+    }
+    s.warnings = prep.warnings;
+    Ok(s)
 }

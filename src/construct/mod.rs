@@ -3,17 +3,20 @@
 //! - [`network`]: the structure-agnostic [`CurveNetwork`] and [`assemble`] (corner blocks, twists).
 //! - [`blend`]: direction blends for G1 twists (seed 000 §4.3–4.4).
 //! - [`check`]: G1 / gap measurements along shared sides.
+//! - [`prepare`]: interior valence-2 vertices dissolved, concave faces split (both structures).
 
 pub mod blend;
 pub mod check;
 pub mod dual;
 pub mod network;
+pub mod prepare;
 pub mod surface;
 pub mod topology;
 
 pub use blend::{BlendKind, DirectionBlend};
 pub use dual::{build_dual, dual_network};
 pub use network::{assemble, CurveNetwork, PatchLayout, SideUse};
+pub use prepare::{dissolve_valence2, prepare, Prepared};
 pub use surface::{Patch, PatchSource, SideRef, Surface};
 pub use topology::{build_topology, tiles, topology_network, Tiles};
 
@@ -89,6 +92,8 @@ pub enum ConstructError {
     FoldedTile { vertex: usize },
     #[error("face {face} is degenerate (zero area or coincident vertices)")]
     DegenerateFace { face: usize },
+    #[error("interior vertex {vertex} of valence 2 cannot be dissolved from face {face}: {reason}")]
+    Valence2 { vertex: usize, face: usize, reason: String },
     #[error("tile of vertex {vertex} is degenerate")]
     DegenerateTile { vertex: usize },
     #[error("non-finite control point in patch {patch}, side {side}")]

@@ -234,6 +234,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         neighbors,
         sources,
         curves: net.curves.iter().map(|c| c.to_vec()).collect(),
+        warnings: Vec::new(),
     })
 }
 

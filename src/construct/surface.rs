@@ -46,4 +46,8 @@ pub struct Surface {
     pub sources: Vec<PatchSource>,
     /// The curve network: every boundary curve once, as cubic (or degree-d) Bézier control points.
     pub curves: Vec<Vec<DVec3>>,
+    /// What the construction changed in the input (e.g. dissolved interior valence-2 vertices,
+    /// see [`super::prepare`]), human-readable.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }

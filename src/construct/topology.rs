@@ -306,17 +306,18 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<
     Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
 }
 
-/// Topology-preserving construction (seed 000 §3, §4): concave faces split by
-/// [`super::convex_mesh`], then [`topology_network`] and [`assemble`]. One patch per face of the
-/// split mesh; its source is the input face it came from (a split face gives several patches).
+/// Topology-preserving construction (seed 000 §3, §4): interior valence-2 vertices dissolved and
+/// concave faces split by [`super::prepare`], then [`topology_network`] and [`assemble`]. One
+/// patch per face of the split mesh; its source is the input face it came from (a split face
+/// gives several patches; a face that lost a dissolved vertex has one side fewer). Dissolved
+/// vertices are listed in `warnings`. Errors name elements of `mesh`.
 pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
-    let (m, origin) = super::convex_mesh(mesh)?;
-    let net = topology_network(&m, opts)?;
-    let mut s = assemble(&net, opts)?;
+    let prep = super::prepare(mesh)?;
+    let mut s =
+        topology_network(&prep.mesh, opts).and_then(|net| assemble(&net, opts)).map_err(|e| prep.error(e, false))?;
     for src in &mut s.sources {
-        if let PatchSource::Face(f) = src {
-            *f = origin[*f];
-        }
+        *src = prep.source(*src);
     }
+    s.warnings = prep.warnings;
     Ok(s)
 }

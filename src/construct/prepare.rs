@@ -1,0 +1,160 @@
+//! Mesh preparation shared by both structures: dissolving interior valence-2 vertices, then
+//! splitting concave faces ([`super::convex_mesh`]).
+//!
+//! Interior vertices of valence 2 (not in the seed; defined here). A manifold mesh may have an
+//! interior vertex V with exactly two edges A–V and V–B; its two faces f and g then share both
+//! edges (artist meshes have them, e.g. Blender's Suzanne). Neither structure can use V as it is:
+//! its dual patch would have 2 sides and its tile degenerates to a segment (two tile vertices).
+//! Rule: V is *dissolved* (like Blender's "Dissolve Vertices"): it is removed from the loops of f
+//! and g, which then share the single edge A–B; V contributes no patch and its position no
+//! longer influences the surface. A warning names every dissolved vertex. This never lowers the
+//! valence of A or B (their edge to V becomes their edge to the other), so one pass removes all
+//! of them (the pass is still repeated until none remain, bounded by the vertex count). A face
+//! left with fewer than 3 corners, or an edge A–B that already exists elsewhere (the result would
+//! not be manifold), is a [`ConstructError::Valence2`] naming the vertex and the face.
+//! Splitting concave faces afterwards only adds edges, so it creates no new valence-2 vertices.
+//! Boundary vertices of valence 2 (the corner of an open grid: one face) need nothing: their dual
+//! patch has 3 sides and their tile 3 points (see [`super::dual`], [`super::topology`]).
+
+use super::surface::PatchSource;
+use super::ConstructError;
+use crate::mesh::HalfEdgeMesh;
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+/// The mesh the constructions work on and how it maps back to the input.
+#[derive(Clone, Debug)]
+pub struct Prepared<'a> {
+    /// Interior valence-2 vertices dissolved, concave faces split.
+    pub mesh: Cow<'a, HalfEdgeMesh>,
+    /// `vertex_origin[v]`: the input vertex that vertex v of `mesh` is.
+    pub vertex_origin: Vec<usize>,
+    /// `face_origin[f]`: the input face that face f of `mesh` is (a part of).
+    pub face_origin: Vec<usize>,
+    /// One warning per dissolved vertex (input numbering).
+    pub warnings: Vec<String>,
+}
+
+impl Prepared<'_> {
+    /// A patch source of the prepared mesh in the input numbering.
+    pub fn source(&self, s: PatchSource) -> PatchSource {
+        match s {
+            PatchSource::Vertex(v) => PatchSource::Vertex(self.vertex_origin[v]),
+            PatchSource::Face(f) => PatchSource::Face(self.face_origin[f]),
+        }
+    }
+
+    /// An error of the construction on the prepared mesh in the input numbering (vertex and face
+    /// indices; patch indices when `patch_is_vertex`, as in the dual structure).
+    pub fn error(&self, e: ConstructError, patch_is_vertex: bool) -> ConstructError {
+        let v = |i: usize| self.vertex_origin.get(i).copied().unwrap_or(i);
+        let f = |i: usize| self.face_origin.get(i).copied().unwrap_or(i);
+        match e {
+            ConstructError::FoldedTile { vertex } => ConstructError::FoldedTile { vertex: v(vertex) },
+            ConstructError::DegenerateTile { vertex } => ConstructError::DegenerateTile { vertex: v(vertex) },
+            ConstructError::DegenerateFace { face } => ConstructError::DegenerateFace { face: f(face) },
+            ConstructError::TooFewSides { patch, sides } if patch_is_vertex => {
+                ConstructError::TooFewSides { patch: v(patch), sides }
+            }
+            e => e,
+        }
+    }
+}
+
+/// A mesh with its interior valence-2 vertices dissolved, the map new vertex → old vertex, and one
+/// warning per dissolved vertex.
+pub type Dissolved<'a> = (Cow<'a, HalfEdgeMesh>, Vec<usize>, Vec<String>);
+
+/// Interior vertices of valence 2 of `mesh`, ascending.
+pub fn interior_valence2(mesh: &HalfEdgeMesh) -> Vec<usize> {
+    mesh.vertices().filter(|&v| !mesh.is_boundary_vertex(v) && mesh.valence(v) == 2).map(|v| v.idx()).collect()
+}
+
+/// Dissolves every interior valence-2 vertex (see the module doc). Returns the new mesh (borrowed
+/// when there is none), the map new vertex → vertex of `mesh`, and one warning per dissolved
+/// vertex. Face indices are unchanged.
+pub fn dissolve_valence2(
+    mesh: &HalfEdgeMesh,
+) -> Result<Dissolved<'_>, ConstructError> {
+    let mut cur: Cow<'_, HalfEdgeMesh> = Cow::Borrowed(mesh);
+    let mut origin: Vec<usize> = (0..mesh.n_vertices()).collect();
+    let mut warnings = Vec::new();
+    for _ in 0..=mesh.n_vertices() {
+        let doomed = interior_valence2(&cur);
+        if doomed.is_empty() {
+            return Ok((cur, origin, warnings));
+        }
+        let mut gone = vec![false; cur.n_vertices()];
+        for &v in &doomed {
+            gone[v] = true;
+        }
+        let mut pm = cur.to_polymesh();
+        let mut by_face: HashMap<usize, usize> = HashMap::new(); // face → a dissolved vertex of it
+        for (fi, face) in pm.faces.iter_mut().enumerate() {
+            if let Some(&v) = face.iter().find(|&&v| gone[v as usize]) {
+                by_face.insert(fi, v as usize);
+                face.retain(|&v| !gone[v as usize]);
+                if face.len() < 3 {
+                    return Err(ConstructError::Valence2 {
+                        vertex: origin[v as usize],
+                        face: fi,
+                        reason: format!("the face would keep {} corners", face.len()),
+                    });
+                }
+            }
+        }
+        // An edge A–B created by the dissolution must not exist elsewhere (the result would have
+        // an edge with more than two faces or a face used twice in one direction).
+        let mut uses: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        for (fi, face) in pm.faces.iter().enumerate() {
+            for i in 0..face.len() {
+                let (a, b) = (face[i], face[(i + 1) % face.len()]);
+                uses.entry((a.min(b), a.max(b))).or_default().push(fi);
+            }
+        }
+        let mut bad: Option<(usize, usize)> = None;
+        for fs in uses.values() {
+            if fs.len() > 2 || (fs.len() == 2 && fs[0] == fs[1]) {
+                if let Some(&fi) = fs.iter().find(|f| by_face.contains_key(f)) {
+                    let cand = (fi, by_face[&fi]);
+                    bad = Some(bad.map_or(cand, |b: (usize, usize)| b.min(cand)));
+                }
+            }
+        }
+        if let Some((fi, v)) = bad {
+            return Err(ConstructError::Valence2 {
+                vertex: origin[v],
+                face: fi,
+                reason: "the edge joining the vertex's two neighbours already exists".into(),
+            });
+        }
+        let next = HalfEdgeMesh::from_polymesh(&pm).map_err(|e| ConstructError::Valence2 {
+            vertex: origin[doomed[0]],
+            face: by_face.keys().copied().min().unwrap_or(0),
+            reason: e.to_string(),
+        })?;
+        for &v in &doomed {
+            warnings.push(format!(
+                "interior vertex {} has valence 2: dissolved (its two faces share the edge between its neighbours)",
+                origin[v]
+            ));
+        }
+        origin = next.original_vertices().iter().map(|&o| origin[o as usize]).collect();
+        cur = Cow::Owned(next);
+    }
+    Err(ConstructError::Internal("dissolving valence-2 vertices did not terminate".into()))
+}
+
+/// Dissolves interior valence-2 vertices ([`dissolve_valence2`]), then splits concave faces
+/// ([`super::convex_mesh`]).
+pub fn prepare(mesh: &HalfEdgeMesh) -> Result<Prepared<'_>, ConstructError> {
+    let (dissolved, vertex_origin, warnings) = dissolve_valence2(mesh)?;
+    let (mesh, face_origin) = match dissolved {
+        Cow::Borrowed(m) => super::convex_mesh(m)?,
+        Cow::Owned(m) => {
+            let (c, o) = super::convex_mesh(&m)?;
+            (Cow::Owned(c.into_owned()), o)
+        }
+    };
+    Ok(Prepared { mesh, vertex_origin, face_origin, warnings })
+}
