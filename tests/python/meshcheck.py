@@ -14,7 +14,10 @@ imports bpy first whenever it is installed, so importing meshcheck early is alwa
 What comes from where (pymeshlab 2025.7.post1, whose filters return None and report counts only
 through the mesh they change, hence the copies below):
 - manifoldness, boundary edges, components, genus: `MeshSet.get_topological_measures()`;
-- self-intersecting faces: `compute_selection_by_self_intersections_per_face` + selected count;
+- self-intersecting faces: `compute_selection_by_self_intersections_per_face` + selected count,
+  over the whole mesh and within each connected component (shell) separately, after
+  `generate_splitting_by_connected_components` (separate shells that pass through each other,
+  like Suzanne's eyes and head, intersect without any shell intersecting itself);
 - duplicate vertices: vertex count drop of `meshing_remove_duplicate_vertices` on a copy
   (exactly equal positions);
 - volume: `get_geometric_measures()['mesh_volume']` (signed: positive for outward normals),
@@ -57,6 +60,8 @@ class MeshReport:
     #: Two-manifold without boundary.
     closed: bool
     self_intersecting_faces: int
+    #: Self-intersecting faces counted within each connected component (shell) on its own.
+    self_intersecting_faces_within_shells: int
     zero_area_faces: int
     #: Vertices that have the exact position of an earlier vertex.
     duplicate_vertices: int
@@ -65,10 +70,12 @@ class MeshReport:
     #: Signed enclosed volume (positive for outward orientation); None unless closed.
     volume: float | None
 
-    def problems(self, expect_closed: bool) -> list[str]:
+    def problems(self, expect_closed: bool, shells_may_intersect: bool = False) -> list[str]:
         """Human-readable list of everything wrong; empty for a clean mesh.
 
-        `expect_closed`: a boundary counts as a problem (and the volume must be positive)."""
+        `expect_closed`: a boundary counts as a problem (and the volume must be positive).
+        `shells_may_intersect`: only intersections within one shell count (for inputs whose
+        separate shells already pass through each other)."""
         out = []
         if not self.two_manifold:
             out.append(
@@ -77,7 +84,12 @@ class MeshReport:
             )
         if expect_closed and self.boundary_edges:
             out.append(f"{self.boundary_edges} boundary edges")
-        if self.self_intersecting_faces:
+        if shells_may_intersect:
+            if self.self_intersecting_faces_within_shells:
+                out.append(
+                    f"{self.self_intersecting_faces_within_shells} faces intersect their own shell"
+                )
+        elif self.self_intersecting_faces:
             out.append(f"{self.self_intersecting_faces} self-intersecting faces")
         if self.zero_area_faces:
             out.append(f"{self.zero_area_faces} zero-area faces")
@@ -124,6 +136,9 @@ def _check(ms: pymeshlab.MeshSet) -> MeshReport:
     ms.compute_selection_by_self_intersections_per_face()
     self_intersecting = mesh.selected_face_number()
     ms.set_selection_none()
+    within_shells = self_intersecting
+    if self_intersecting and topo["connected_components_number"] > 1:
+        within_shells = _self_intersections_within_shells(ms, original)
 
     ms.generate_copy_of_current_mesh()
     ms.meshing_remove_duplicate_vertices()
@@ -142,11 +157,39 @@ def _check(ms: pymeshlab.MeshSet) -> MeshReport:
         boundary_edges=int(topo["boundary_edges"]),
         closed=closed,
         self_intersecting_faces=int(self_intersecting),
+        self_intersecting_faces_within_shells=int(within_shells),
         zero_area_faces=_zero_area_faces(positions, triangles),
         duplicate_vertices=int(duplicates),
         coherently_oriented=_coherently_oriented(triangles),
         volume=volume,
     )
+
+
+def _self_intersections_within_shells(ms: pymeshlab.MeshSet, original: int) -> int:
+    """Self-intersecting faces of each connected component checked alone, summed."""
+    before = set(_mesh_ids(ms))
+    ms.generate_splitting_by_connected_components(delete_source_mesh=False)
+    parts = [i for i in _mesh_ids(ms) if i not in before]
+    total = 0
+    for i in parts:
+        ms.set_current_mesh(i)
+        ms.compute_selection_by_self_intersections_per_face()
+        total += ms.current_mesh().selected_face_number()
+    for i in parts:
+        ms.set_current_mesh(i)
+        ms.delete_current_mesh()
+    ms.set_current_mesh(original)
+    return total
+
+
+def _mesh_ids(ms: pymeshlab.MeshSet) -> list[int]:
+    ids = []
+    i = 0
+    while len(ids) < ms.mesh_number():
+        if ms.mesh_id_exists(i):
+            ids.append(i)
+        i += 1
+    return ids
 
 
 def _zero_area_faces(positions: np.ndarray, triangles: np.ndarray) -> int:

@@ -121,6 +121,25 @@ def test_crossing_triangles_are_self_intersecting():
     assert meshcheck.check_arrays(apart, [(0, 1, 2), (3, 4, 5)]).self_intersecting_faces == 0
 
 
+def test_intersections_between_shells_are_told_from_those_within_one():
+    # Two closed cubes passing through each other: separate shells, each clean on its own.
+    tris = cube_triangles()
+    shifted = [(x + 0.5, y + 0.3, z + 0.2) for x, y, z in CUBE_V]
+    both_v = list(CUBE_V) + shifted
+    both_f = tris + [(a + 8, b + 8, c + 8) for a, b, c in tris]
+    r = meshcheck.check_arrays(both_v, both_f)
+    assert r.connected_components == 2
+    assert r.self_intersecting_faces > 0
+    assert r.self_intersecting_faces_within_shells == 0
+    assert r.problems(expect_closed=True) and not r.problems(expect_closed=True, shells_may_intersect=True)
+    # One shell whose own faces cross (a triangle pair glued to a crossing pair) still counts.
+    v = [(0, 0, 0), (2, 0, 0), (1, 2, 0), (1, 1, -1), (1, 1, 1), (1, -3, 0)]
+    cross = meshcheck.check_arrays(v, [(0, 1, 2), (3, 4, 5), (1, 0, 5), (5, 4, 1)])
+    assert cross.connected_components == 1
+    assert cross.self_intersecting_faces_within_shells == cross.self_intersecting_faces > 0
+    assert cross.problems(expect_closed=False, shells_may_intersect=True)
+
+
 def test_zero_area_faces_are_counted():
     v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (2, 0, 0), (1, 1e-20, 0)]
     r = meshcheck.check_arrays(v, [(0, 1, 2), (0, 1, 3), (0, 3, 4)])
