@@ -267,8 +267,10 @@ struct progress_state {
     const progress_fn* fn;
     std::exception_ptr thrown;
 };
-// Never lets an exception unwind into the library: stores it and cancels.
-extern "C" inline bool progress_trampoline(float fraction, void* user) {
+// Never lets an exception unwind into the library: stores it and cancels. C language linkage
+// (the library calls it through a C function pointer) puts the name in the global C namespace,
+// hence the gbsurf_ prefix: a user's own `progress_trampoline` must not collide with it.
+extern "C" inline bool gbsurf_hpp_progress_trampoline(float fraction, void* user) {
     auto* st = static_cast<progress_state*>(user);
     try {
         return (*st->fn)(fraction);
@@ -282,7 +284,7 @@ result run(const progress_fn& progress, Call call) {
     check_abi();
     progress_state st{&progress, nullptr};
     GbsurfResult* out = nullptr;
-    uint32_t status = progress ? call(&progress_trampoline, &st, &out) : call(nullptr, nullptr, &out);
+    uint32_t status = progress ? call(&gbsurf_hpp_progress_trampoline, &st, &out) : call(nullptr, nullptr, &out);
     if (st.thrown) {
         gbsurf_result_free(out);
         std::rethrow_exception(st.thrown);

@@ -44,6 +44,13 @@ static_assert(!has_positions<const gbsurf::result>::value, "no views of a tempor
 static_assert(has_curve_points<gbsurf::result&>::value && !has_curve_points<gbsurf::result>::value, "curve views");
 static_assert(has_ribbon_points<gbsurf::result&>::value && !has_ribbon_points<gbsurf::result>::value, "ribbon views");
 
+// A user function with C linkage and a plain name the wrapper might have used for its own
+// callback trampoline: must not clash with anything in gbsurf.hpp.
+extern "C" bool progress_trampoline(float fraction, void* user) {
+    (void)user;
+    return fraction >= 0.0f;
+}
+
 static const std::vector<double> P = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
 static const std::vector<uint32_t> S = {4, 4, 4, 4, 4, 4};
 static const std::vector<uint32_t> F = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
@@ -92,6 +99,7 @@ int main() {
     CHECK(calls > 1);
     CHECK(foreign == 0);
     CHECK(monotone && last == 1.0f);
+    CHECK(progress_trampoline(0.5f, nullptr));
 
     if (failures) {
         std::cerr << failures << " failures\n";

@@ -123,10 +123,13 @@ pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
             e.code
         }
         Err(payload) => {
-            set_last_error(&format!(
-                "{name}: internal error (panic): {}",
-                panic_message(payload.as_ref())
-            ));
+            let message = panic_message(payload.as_ref());
+            // A payload whose destructor panics again must not unwind out of the boundary
+            // (rust-lang/rust#86027): drop it inside catch_unwind, leak a second payload.
+            if let Err(again) = catch_unwind(AssertUnwindSafe(move || drop(payload))) {
+                std::mem::forget(again);
+            }
+            set_last_error(&format!("{name}: internal error (panic): {message}"));
             GBSURF_ERR_PANIC
         }
     }
@@ -301,6 +304,19 @@ mod tests {
         assert_eq!(gbsurf_last_error_length(), "g: face 4".len());
         assert_eq!(boundary("h", || Ok(())), GBSURF_OK);
         assert_eq!(last(), "");
+    }
+
+    #[test]
+    fn a_panic_payload_that_panics_when_dropped_stays_inside() {
+        struct Bomb;
+        impl Drop for Bomb {
+            fn drop(&mut self) {
+                panic!("payload destructor");
+            }
+        }
+        let code = boundary("bomb", || std::panic::resume_unwind(Box::new(Bomb)));
+        assert_eq!(code, GBSURF_ERR_PANIC);
+        assert!(last().contains("bomb: internal error"), "{}", last());
     }
 
     #[test]
