@@ -436,3 +436,117 @@ fn progress_reaches_one_and_cancels_mid_run() {
         }
     }
 }
+
+#[test]
+fn misaligned_pointers_are_rejected_not_dereferenced() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // One byte past an f64: inside the allocation, but misaligned for f64/u32/structs. Only the
+    // first 21 doubles' worth of bytes is claimed, so the memory is in bounds either way.
+    let bytes = p.as_ptr() as *const u8;
+    // SAFETY: offset 1 and 2 stay inside the vector's allocation.
+    let (p1, f1) = unsafe { (bytes.add(1) as *const f64, (f.as_ptr() as *const u8).add(2) as *const u32) };
+    // SAFETY: misaligned pointers must be reported, never read.
+    unsafe {
+        assert_eq!(
+            gbsurf_convert(p1, 21, s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("positions") && last().contains("aligned"), "{}", last());
+        assert_eq!(
+            gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f1, 20, null(), None, null_mut(), &mut out),
+            GBSURF_ERR_NULL
+        );
+        assert!(last().contains("face_indices"), "{}", last());
+        // A misaligned options struct (f64 fields) and a misaligned output pointer.
+        let mut store = [0u64; 16];
+        let o1 = (store.as_mut_ptr() as *mut u8).add(4) as *mut GbsurfOptions;
+        assert_eq!(gbsurf_options_init(o1), GBSURF_ERR_NULL);
+        assert!(last().contains("options"), "{}", last());
+        assert_eq!(convert(&p, &s, &f, o1, &mut out), GBSURF_ERR_NULL);
+        assert!(last().contains("options"), "{}", last());
+        let out1 = (store.as_mut_ptr() as *mut u8).add(3) as *mut *mut GbsurfResult;
+        assert_eq!(convert(&p, &s, &f, null(), out1), GBSURF_ERR_NULL);
+        assert!(last().contains("out"), "{}", last());
+        assert!(out.is_null());
+        // A misaligned handle or accessor output.
+        let r = cube_result(GBSURF_METHOD_DUAL);
+        let mut n = 0usize;
+        let bad_r = (r as *const u8).add(1) as *const GbsurfResult;
+        assert_eq!(gbsurf_mesh_vertex_count(bad_r, &mut n), GBSURF_ERR_NULL);
+        assert!(last().contains("result"), "{}", last());
+        let n1 = (store.as_mut_ptr() as *mut u8).add(1) as *mut usize;
+        assert_eq!(gbsurf_mesh_vertex_count(r, n1), GBSURF_ERR_NULL);
+        let mut buf = [0f64; 64];
+        let b1 = (buf.as_mut_ptr() as *mut u8).add(1) as *mut f64;
+        let mut w = 0usize;
+        assert_eq!(gbsurf_patch_center(r, 0, b1), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_curve_copy_points(r, 0, b1, 60, &mut w), GBSURF_ERR_NULL);
+        assert!(w <= 60, "{w}");
+        gbsurf_result_free(r);
+    }
+}
+
+#[test]
+fn lengths_beyond_any_array_are_count_errors() {
+    let (p, s, f) = cube();
+    let mut out = null_mut();
+    // Lengths whose byte size overflows usize, or exceeds isize::MAX: `from_raw_parts` must not
+    // see them (undefined behaviour even if nothing is read).
+    for huge in [usize::MAX, usize::MAX / 2, (isize::MAX as usize) / 4 + 1] {
+        // SAFETY: the huge lengths must be rejected before any pointer is read.
+        unsafe {
+            let huge3 = huge - huge % 3;
+            assert_eq!(
+                gbsurf_convert(p.as_ptr(), huge3, s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+                GBSURF_ERR_COUNT,
+                "{huge}"
+            );
+            assert!(last().contains("positions"), "{}", last());
+            assert_eq!(
+                gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), huge, f.as_ptr(), f.len(), null(), None, null_mut(), &mut out),
+                GBSURF_ERR_COUNT
+            );
+            assert!(last().contains("face_sizes"), "{}", last());
+            assert_eq!(
+                gbsurf_convert(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), huge, null(), None, null_mut(), &mut out),
+                GBSURF_ERR_COUNT
+            );
+            assert!(last().contains("face_indices"), "{}", last());
+            assert!(out.is_null());
+        }
+    }
+}
+
+#[test]
+fn calls_from_a_thread_local_destructor_do_not_abort() {
+    use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering::SeqCst};
+    static CODE: AtomicU32 = AtomicU32::new(u32::MAX);
+    static LEN: AtomicUsize = AtomicUsize::new(usize::MAX);
+    // A C/C++ thread-local destructor (or atexit handler of a thread) calling the library after
+    // the library's own thread-local message is gone: the call must still return its code
+    // (a panic in an `extern "C"` function would abort the whole process).
+    struct Late;
+    impl Drop for Late {
+        fn drop(&mut self) {
+            // SAFETY: NULL is a reported error.
+            let code = unsafe { gbsurf_options_init(null_mut()) };
+            CODE.store(code, SeqCst);
+            // SAFETY: never NULL, NUL-terminated.
+            let m = unsafe { CStr::from_ptr(gbsurf_last_error_message()) };
+            LEN.store(m.to_bytes().len().min(gbsurf_last_error_length()), SeqCst);
+        }
+    }
+    thread_local!(static LATE: Late = const { Late });
+    std::thread::spawn(|| {
+        // Registered first, destroyed last (thread-local destructors run in reverse order of
+        // registration), i.e. after the library's message, which the next call creates.
+        LATE.with(|_| ());
+        // SAFETY: NULL is a reported error.
+        assert_eq!(unsafe { gbsurf_options_init(null_mut()) }, GBSURF_ERR_NULL);
+    })
+    .join()
+    .unwrap();
+    assert_eq!(CODE.load(SeqCst), GBSURF_ERR_NULL);
+    assert_ne!(LEN.load(SeqCst), usize::MAX);
+}

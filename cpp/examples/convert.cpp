@@ -24,8 +24,8 @@ int main(int argc, char** argv) {
     if (argc < 3) return usage();
     const std::string input = argv[1], output = argv[2];
     std::string nets;
-    gbsurf::options opt;
     try {
+        gbsurf::options opt;  // throws GBSURF_ERR_VERSION if header and library disagree
         for (int i = 3; i < argc; ++i) {
             const std::string a = argv[i];
             if (i + 1 >= argc) return usage();

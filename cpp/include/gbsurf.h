@@ -5,8 +5,13 @@
  * Regenerate: GBSURF_BLESS=1 cargo test --test ffi_header
  *
  * Conventions: every fallible function returns a status code (GBSURF_OK = 0 or GBSURF_ERR_*)
- * and leaves a thread-local message (gbsurf_last_error_message). Handles are freed with their
- * *_free function, which accepts NULL. Link: libgbsurf.a plus -lpthread -ldl -lm.
+ * and leaves a thread-local message (gbsurf_last_error_message; valid until the next gbsurf_*
+ * call on the same thread, so copy it before calling again). Handles are freed with their
+ * *_free function, which accepts NULL. Pointer arguments must be aligned for their type
+ * (GBSURF_ERR_NULL otherwise). The progress callback is called only on the thread that called
+ * gbsurf_convert*, never concurrently. Needs C99 (stdbool.h, stdint.h) or C++.
+ * Link: libgbsurf.a plus -lpthread -ldl -lm -lrt -lutil (or pkg-config gbsurf, or CMake
+ * find_package(gbsurf CONFIG) with target gbsurf::gbsurf).
  */
 
 #ifndef GBSURF_H
@@ -19,7 +24,7 @@
 // Success.
 #define GBSURF_OK 0
 
-// A required pointer argument was NULL.
+// A required pointer argument was NULL, or not aligned for its type (the message says which).
 #define GBSURF_ERR_NULL 1
 
 // A count does not match its array (e.g. positions not a multiple of 3, face sizes not summing
@@ -55,6 +60,11 @@
 
 // Surface construction failed for a valid mesh (message explains).
 #define GBSURF_ERR_CONSTRUCTION 12
+
+// The header a caller was compiled against and the library linked disagree on
+// `GBSURF_ABI_VERSION` (reported by wrappers that compare it with `gbsurf_abi_version()`, such
+// as gbsurf.hpp; the library itself never returns it).
+#define GBSURF_ERR_VERSION 13
 
 // ABI version: incremented on every incompatible change of this header.
 #define GBSURF_ABI_VERSION 1

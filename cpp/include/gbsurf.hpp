@@ -6,7 +6,10 @@
 //   auto pos = r.positions();                  // gbsurf::span<const double>, 3 per vertex
 //
 // Handles are freed automatically; every failing call throws gbsurf::error, which carries the
-// status code (GBSURF_ERR_*) and the library's message.
+// status code (GBSURF_ERR_*) and the library's message. Views (gbsurf::span) point into the
+// result they came from and are valid while it lives; calling a view accessor on a temporary
+// result does not compile. Constructing options and every conversion check that the library
+// linked implements this header's ABI (GBSURF_ERR_VERSION otherwise).
 #ifndef GBSURF_HPP
 #define GBSURF_HPP
 
@@ -46,6 +49,16 @@ inline void check(uint32_t status) {
 
 /// The library version string, e.g. "0.1.0".
 inline std::string version() { return gbsurf_version(); }
+
+/// Throws gbsurf::error(GBSURF_ERR_VERSION) unless `library` (the ABI version of the library
+/// linked, gbsurf_abi_version()) equals `header` (GBSURF_ABI_VERSION of the gbsurf.h compiled in).
+inline void check_abi(uint32_t library = gbsurf_abi_version(), uint32_t header = GBSURF_ABI_VERSION) {
+    if (library != header) {
+        throw error(GBSURF_ERR_VERSION, "the gbsurf library implements ABI version " + std::to_string(library) +
+                                            " but gbsurf.h declares version " + std::to_string(header) +
+                                            " (headers and library from different releases)");
+    }
+}
 
 /// A read-only view of a contiguous array owned by a result.
 template <class T>
@@ -103,7 +116,10 @@ inline method parse_method(const std::string& s) {
 /// Conversion options (defaults from gbsurf_options_init); fluent setters.
 class options {
 public:
-    options() { check(gbsurf_options_init(&raw_)); }
+    options() {
+        check_abi();
+        check(gbsurf_options_init(&raw_));
+    }
     options& method(gbsurf::method m) { raw_.method = static_cast<uint32_t>(m); return *this; }
     options& resolution(uint32_t r) { raw_.resolution = r; return *this; }
     options& twist(gbsurf::twist t) { raw_.twist = static_cast<uint32_t>(t); return *this; }
@@ -123,7 +139,9 @@ private:
 };
 
 /// Progress callback: fraction done in [0, 1]; return false to cancel (gbsurf::error with
-/// GBSURF_ERR_CANCELLED). An exception thrown by it cancels the run and is rethrown.
+/// GBSURF_ERR_CANCELLED). An exception thrown by it cancels the run and is rethrown (it never
+/// crosses the C boundary). It is called only on the thread that called convert, never
+/// concurrently, so it needs no locking of its own.
 using progress_fn = std::function<bool(float)>;
 
 /// Degree and layer count of one ribbon.
@@ -132,7 +150,9 @@ struct ribbon_shape {
     std::size_t layers;
 };
 
-/// The result of a conversion (owns a GbsurfResult handle; move-only).
+/// The result of a conversion (owns a GbsurfResult handle; move-only, noexcept moves; a
+/// moved-from result throws GBSURF_ERR_NULL from every accessor). The spans returned point into
+/// the handle: valid while this result lives (view accessors are deleted on temporaries).
 class result {
 public:
     explicit result(GbsurfResult* h) : h_(h) {}
@@ -141,17 +161,24 @@ public:
     std::size_t vertex_count() const { return count(gbsurf_mesh_vertex_count); }
     std::size_t triangle_count() const { return count(gbsurf_mesh_triangle_count); }
     /// x y z per vertex.
-    span<double> positions() const { return view(gbsurf_mesh_positions); }
+    span<double> positions() const& { return view(gbsurf_mesh_positions); }
+    span<double> positions() const&& = delete;
     /// Unit normal x y z per vertex.
-    span<double> normals() const { return view(gbsurf_mesh_normals); }
+    span<double> normals() const& { return view(gbsurf_mesh_normals); }
+    span<double> normals() const&& = delete;
     /// Three vertex indices per triangle, counter-clockwise.
-    span<uint32_t> triangles() const { return view(gbsurf_mesh_triangles); }
+    span<uint32_t> triangles() const& { return view(gbsurf_mesh_triangles); }
+    span<uint32_t> triangles() const&& = delete;
     /// Patch (or, for subdivision, input face) index per vertex.
-    span<uint32_t> patch_index() const { return view(gbsurf_mesh_patch_index); }
-    span<double> mean_curvature() const { return view(gbsurf_mesh_mean_curvature); }
-    span<double> gaussian_curvature() const { return view(gbsurf_mesh_gaussian_curvature); }
+    span<uint32_t> patch_index() const& { return view(gbsurf_mesh_patch_index); }
+    span<uint32_t> patch_index() const&& = delete;
+    span<double> mean_curvature() const& { return view(gbsurf_mesh_mean_curvature); }
+    span<double> mean_curvature() const&& = delete;
+    span<double> gaussian_curvature() const& { return view(gbsurf_mesh_gaussian_curvature); }
+    span<double> gaussian_curvature() const&& = delete;
     /// G1 deviation in degrees per vertex.
-    span<double> g1_deviation() const { return view(gbsurf_mesh_g1_deviation); }
+    span<double> g1_deviation() const& { return view(gbsurf_mesh_g1_deviation); }
+    span<double> g1_deviation() const&& = delete;
 
     std::size_t patch_count() const { return count(gbsurf_patch_count); }
     patch_kind kind(std::size_t patch) const {
@@ -170,7 +197,8 @@ public:
         return s;
     }
     /// Control points of a ribbon: 3 * (k * (degree + 1) + j) + c is coordinate c of P_{j,k}.
-    span<double> ribbon_points(std::size_t patch, std::size_t side) const {
+    span<double> ribbon_points(std::size_t patch, std::size_t side) const&& = delete;
+    span<double> ribbon_points(std::size_t patch, std::size_t side) const& {
         const double* d = nullptr;
         std::size_t n = 0;
         check(gbsurf_patch_ribbon_points(get(), patch, side, &d, &n));
@@ -185,7 +213,8 @@ public:
 
     std::size_t curve_count() const { return count(gbsurf_curve_count); }
     /// Bézier control points of a curve of the network, x y z each.
-    span<double> curve_points(std::size_t curve) const {
+    span<double> curve_points(std::size_t curve) const&& = delete;
+    span<double> curve_points(std::size_t curve) const& {
         const double* d = nullptr;
         std::size_t n = 0;
         check(gbsurf_curve_points(get(), curve, &d, &n));
@@ -238,8 +267,10 @@ struct progress_state {
     const progress_fn* fn;
     std::exception_ptr thrown;
 };
-// Never lets an exception unwind into the library: stores it and cancels.
-extern "C" inline bool progress_trampoline(float fraction, void* user) {
+// Never lets an exception unwind into the library: stores it and cancels. C language linkage
+// (the library calls it through a C function pointer) puts the name in the global C namespace,
+// hence the gbsurf_ prefix: a user's own `progress_trampoline` must not collide with it.
+extern "C" inline bool gbsurf_hpp_progress_trampoline(float fraction, void* user) {
     auto* st = static_cast<progress_state*>(user);
     try {
         return (*st->fn)(fraction);
@@ -250,9 +281,10 @@ extern "C" inline bool progress_trampoline(float fraction, void* user) {
 }
 template <class Call>
 result run(const progress_fn& progress, Call call) {
+    check_abi();
     progress_state st{&progress, nullptr};
     GbsurfResult* out = nullptr;
-    uint32_t status = progress ? call(&progress_trampoline, &st, &out) : call(nullptr, nullptr, &out);
+    uint32_t status = progress ? call(&gbsurf_hpp_progress_trampoline, &st, &out) : call(nullptr, nullptr, &out);
     if (st.thrown) {
         gbsurf_result_free(out);
         std::rethrow_exception(st.thrown);

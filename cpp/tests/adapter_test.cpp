@@ -138,6 +138,71 @@ static void good_model(const std::string& dir) {
     }
 }
 
+// Any traits with points: double points, a TriMesh input, and deleted elements (status
+// attributes, no garbage collection) all give the same result as the flat arrays.
+struct DoubleTraits : public OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3d Point;
+};
+
+static void custom_traits_and_deleted_elements(const std::string& dir) {
+    const std::vector<double> p = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    const std::vector<uint32_t> s = {4, 4, 4, 4, 4, 4};
+    const std::vector<uint32_t> f = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+    const auto opt = gbsurf::options().resolution(3);
+    gbsurf::result ref = gbsurf::convert(p, s, f, opt);
+
+    typedef OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits> Mesh;
+    Mesh in;
+    in.request_vertex_status();
+    in.request_edge_status();
+    in.request_face_status();
+    // A junk triangle first (so the cube's vertices do not start at index 0), deleted below.
+    std::vector<Mesh::VertexHandle> junk;
+    for (int i = 0; i < 3; ++i) junk.push_back(in.add_vertex(Mesh::Point(10 + i, 20 * i, 5)));
+    auto junk_face = in.add_face(junk);
+    std::vector<Mesh::VertexHandle> v;
+    for (std::size_t i = 0; i < 8; ++i) v.push_back(in.add_vertex(Mesh::Point(p[3 * i], p[3 * i + 1], p[3 * i + 2])));
+    for (std::size_t k = 0; k < 6; ++k) {
+        CHECK(in.add_face(v[f[4 * k]], v[f[4 * k + 1]], v[f[4 * k + 2]], v[f[4 * k + 3]]).is_valid());
+    }
+    in.delete_face(junk_face, true);  // also deletes its now isolated vertices
+    CHECK(in.n_vertices() == 11 && in.has_vertex_status());
+    std::string msg;
+    uint32_t code = code_of([&] {
+        gbsurf::result got = gbsurf::openmesh::convert_to_result(in, opt);
+        CHECK(got.warnings().empty());  // no isolated (deleted) vertex reached the library
+        CHECK(got.vertex_count() == ref.vertex_count() && got.triangle_count() == ref.triangle_count());
+        auto a = got.positions(), b = ref.positions();
+        bool same = a.size() == b.size();
+        for (std::size_t i = 0; same && i < a.size(); ++i) same = a[i] == b[i];
+        CHECK(same);
+        // Garbage collection afterwards changes nothing either.
+        in.garbage_collection();
+        CHECK(in.n_vertices() == 8);
+        gbsurf::result gc = gbsurf::openmesh::convert_to_result(in, opt);
+        CHECK(gc.vertex_count() == ref.vertex_count());
+    }, &msg);
+    if (code != GBSURF_OK) {
+        std::cerr << "custom traits: " << msg << "\n";
+        ++failures;
+    }
+
+    // A triangle mesh input (default float traits) and a double-point TriMesh.
+    OpenMesh::TriMesh_ArrayKernelT<> tri;
+    OpenMesh::TriMesh_ArrayKernelT<DoubleTraits> trid;
+    CHECK(OpenMesh::IO::read_mesh(tri, dir + "/octahedron.obj"));
+    CHECK(OpenMesh::IO::read_mesh(trid, dir + "/octahedron.obj"));
+    code = code_of([&] {
+        auto out = gbsurf::openmesh::convert(tri, opt);
+        auto outd = gbsurf::openmesh::convert(trid, opt);
+        CHECK(out.n_faces() > 0 && out.n_faces() == outd.n_faces());
+    }, &msg);
+    if (code != GBSURF_OK) {
+        std::cerr << "trimesh input: " << msg << "\n";
+        ++failures;
+    }
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::cerr << "usage: adapter_test MODELS_DIR\n";
@@ -146,6 +211,7 @@ int main(int argc, char** argv) {
     bad_models(argv[1]);
     wrapper_errors();
     good_model(argv[1]);
+    custom_traits_and_deleted_elements(argv[1]);
     if (failures) {
         std::cerr << failures << " failures\n";
         return 1;

@@ -31,7 +31,7 @@ pub use result::*;
 
 /// Success.
 pub const GBSURF_OK: u32 = 0;
-/// A required pointer argument was NULL.
+/// A required pointer argument was NULL, or not aligned for its type (the message says which).
 pub const GBSURF_ERR_NULL: u32 = 1;
 /// A count does not match its array (e.g. positions not a multiple of 3, face sizes not summing
 /// to the number of face indices).
@@ -56,6 +56,10 @@ pub const GBSURF_ERR_CAPACITY: u32 = 10;
 pub const GBSURF_ERR_KIND: u32 = 11;
 /// Surface construction failed for a valid mesh (message explains).
 pub const GBSURF_ERR_CONSTRUCTION: u32 = 12;
+/// The header a caller was compiled against and the library linked disagree on
+/// `GBSURF_ABI_VERSION` (reported by wrappers that compare it with `gbsurf_abi_version()`, such
+/// as gbsurf.hpp; the library itself never returns it).
+pub const GBSURF_ERR_VERSION: u32 = 13;
 
 /// ABI version: incremented on every incompatible change of this header.
 pub const GBSURF_ABI_VERSION: u32 = 1;
@@ -89,7 +93,10 @@ thread_local! {
 fn set_last_error(message: &str) {
     // Interior NULs cannot appear in a C string: replace them.
     let c = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
-    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+    // `try_with`: during thread exit (a C thread-local destructor calling the library) the
+    // thread-local may already be gone; the message is then dropped instead of panicking in an
+    // `extern "C"` function (which would abort the process).
+    let _ = LAST_ERROR.try_with(|e| *e.borrow_mut() = c);
 }
 
 fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
@@ -116,46 +123,67 @@ pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
             e.code
         }
         Err(payload) => {
-            set_last_error(&format!(
-                "{name}: internal error (panic): {}",
-                panic_message(payload.as_ref())
-            ));
+            let message = panic_message(payload.as_ref());
+            // A payload whose destructor panics again must not unwind out of the boundary
+            // (rust-lang/rust#86027): drop it inside catch_unwind, leak a second payload.
+            if let Err(again) = catch_unwind(AssertUnwindSafe(move || drop(payload))) {
+                std::mem::forget(again);
+            }
+            set_last_error(&format!("{name}: internal error (panic): {message}"));
             GBSURF_ERR_PANIC
         }
     }
 }
 
-/// A NULL check naming the argument.
+/// NULL and alignment check of a pointer argument (dereferencing or slicing a misaligned
+/// pointer is undefined behaviour even where the hardware tolerates it).
+fn check_ptr<T>(p: *const T, what: &str, arg: &str) -> FfiResult {
+    if p.is_null() {
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!("{what} `{arg}` is NULL"),
+        ))
+    } else if !p.is_aligned() {
+        Err(FfiError::new(
+            GBSURF_ERR_NULL,
+            format!(
+                "{what} `{arg}` = {p:p} is not aligned to {} bytes",
+                std::mem::align_of::<T>()
+            ),
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// A NULL (and alignment) check naming the argument.
 pub(crate) fn non_null<T>(p: *const T, arg: &str) -> FfiResult<*const T> {
-    if p.is_null() {
-        Err(FfiError::new(
-            GBSURF_ERR_NULL,
-            format!("argument `{arg}` is NULL"),
-        ))
-    } else {
-        Ok(p)
-    }
+    check_ptr(p, "argument", arg).map(|()| p)
 }
 
-/// A NULL check for an output pointer.
+/// A NULL (and alignment) check for an output pointer.
 pub(crate) fn non_null_mut<T>(p: *mut T, arg: &str) -> FfiResult<*mut T> {
-    if p.is_null() {
-        Err(FfiError::new(
-            GBSURF_ERR_NULL,
-            format!("output argument `{arg}` is NULL"),
-        ))
-    } else {
-        Ok(p)
-    }
+    check_ptr(p as *const T, "output argument", arg).map(|()| p)
 }
 
-/// Builds a slice from a C pointer and length; a NULL pointer is accepted only when `len == 0`.
+/// Builds a slice from a C pointer and length; a NULL pointer is accepted only when `len == 0`
+/// (and is never passed to `from_raw_parts`). A length whose byte size exceeds `isize::MAX`
+/// (no real array is that large: `from_raw_parts` forbids it) is a count error.
 ///
 /// # Safety
 /// `p` must point to `len` readable values of `T` when non-null.
 pub(crate) unsafe fn slice_arg<'a, T>(p: *const T, len: usize, arg: &str) -> FfiResult<&'a [T]> {
     if len == 0 {
         return Ok(&[]);
+    }
+    let fits = len
+        .checked_mul(std::mem::size_of::<T>())
+        .is_some_and(|bytes| bytes <= isize::MAX as usize);
+    if !fits {
+        return Err(FfiError::new(
+            GBSURF_ERR_COUNT,
+            format!("{arg}: length {len} is larger than any array can be"),
+        ));
     }
     let p = non_null(p, arg)?;
     // SAFETY: the caller guarantees `len` readable elements at `p` (documented in the header).
@@ -189,13 +217,17 @@ pub extern "C" fn gbsurf_abi_version() -> u32 {
 /// NUL-terminated UTF-8 string. Valid until the next `gbsurf_*` call on this thread. Never NULL.
 #[no_mangle]
 pub extern "C" fn gbsurf_last_error_message() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    LAST_ERROR
+        .try_with(|e| e.borrow().as_ptr())
+        .unwrap_or(c"".as_ptr())
 }
 
 /// The length in bytes (without the terminating NUL) of [`gbsurf_last_error_message`].
 #[no_mangle]
 pub extern "C" fn gbsurf_last_error_length() -> usize {
-    LAST_ERROR.with(|e| e.borrow().as_bytes().len())
+    LAST_ERROR
+        .try_with(|e| e.borrow().as_bytes().len())
+        .unwrap_or(0)
 }
 
 /// Copies the last error message into `buf` (NUL-terminated, truncated to `capacity - 1` bytes).
@@ -207,7 +239,7 @@ pub extern "C" fn gbsurf_last_error_length() -> usize {
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_last_error_copy(buf: *mut c_char, capacity: usize) -> usize {
     let r = catch_unwind(|| {
-        LAST_ERROR.with(|e| {
+        LAST_ERROR.try_with(|e| {
             let e = e.borrow();
             let bytes = e.as_bytes();
             if capacity > 0 && !buf.is_null() {
@@ -221,7 +253,7 @@ pub unsafe extern "C" fn gbsurf_last_error_copy(buf: *mut c_char, capacity: usiz
             bytes.len()
         })
     });
-    r.unwrap_or(0)
+    r.ok().and_then(|r| r.ok()).unwrap_or(0)
 }
 
 /// A static name for a status code, e.g. "GBSURF_ERR_NULL" ("GBSURF_ERR_UNKNOWN" for codes this
@@ -242,6 +274,7 @@ pub extern "C" fn gbsurf_status_name(status: u32) -> *const c_char {
         GBSURF_ERR_CAPACITY => b"GBSURF_ERR_CAPACITY\0",
         GBSURF_ERR_KIND => b"GBSURF_ERR_KIND\0",
         GBSURF_ERR_CONSTRUCTION => b"GBSURF_ERR_CONSTRUCTION\0",
+        GBSURF_ERR_VERSION => b"GBSURF_ERR_VERSION\0",
         _ => b"GBSURF_ERR_UNKNOWN\0",
     };
     s.as_ptr() as *const c_char
@@ -274,6 +307,19 @@ mod tests {
     }
 
     #[test]
+    fn a_panic_payload_that_panics_when_dropped_stays_inside() {
+        struct Bomb;
+        impl Drop for Bomb {
+            fn drop(&mut self) {
+                panic!("payload destructor");
+            }
+        }
+        let code = boundary("bomb", || std::panic::resume_unwind(Box::new(Bomb)));
+        assert_eq!(code, GBSURF_ERR_PANIC);
+        assert!(last().contains("bomb: internal error"), "{}", last());
+    }
+
+    #[test]
     fn error_copy_truncates_and_reports_full_length() {
         boundary("copy", || {
             Err(FfiError::new(GBSURF_ERR_COUNT, "0123456789"))
@@ -298,7 +344,7 @@ mod tests {
 
     #[test]
     fn status_names_are_distinct() {
-        let names: Vec<String> = (0..=13)
+        let names: Vec<String> = (0..=14)
             // SAFETY: static NUL-terminated strings.
             .map(|c| {
                 unsafe { CStr::from_ptr(gbsurf_status_name(c)) }
@@ -307,10 +353,11 @@ mod tests {
             })
             .collect();
         assert_eq!(names[0], "GBSURF_OK");
-        assert_eq!(names[13], "GBSURF_ERR_UNKNOWN");
-        let mut uniq = names[..13].to_vec();
+        assert_eq!(names[13], "GBSURF_ERR_VERSION");
+        assert_eq!(names[14], "GBSURF_ERR_UNKNOWN");
+        let mut uniq = names[..14].to_vec();
         uniq.sort();
         uniq.dedup();
-        assert_eq!(uniq.len(), 13);
+        assert_eq!(uniq.len(), 14);
     }
 }

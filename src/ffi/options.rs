@@ -172,6 +172,8 @@ pub(crate) fn read_options(options: *const GbsurfOptions) -> FfiResult<ConvertOp
     if options.is_null() {
         return Ok(ConvertOptions::default());
     }
+    // Aligned for the whole struct (f64 fields): reading a misaligned struct is UB.
+    non_null(options, "options")?;
     // Read the size first: an older/newer caller's struct may be smaller than ours.
     // SAFETY: a non-null options pointer points to at least its `struct_size` field (contract).
     let size = unsafe { std::ptr::read_unaligned(options as *const u32) };

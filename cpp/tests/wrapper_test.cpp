@@ -1,0 +1,110 @@
+// The C++ wrapper without OpenMesh: handle ownership (move-only, noexcept moves), spans that
+// cannot outlive their result, the ABI check, and the progress callback's thread.
+#include <gbsurf.hpp>
+
+#include <iostream>
+#include <thread>
+#include <type_traits>
+#include <utility>
+
+static int failures = 0;
+#define CHECK(cond)                                                                      \
+    do {                                                                                 \
+        if (!(cond)) {                                                                   \
+            std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";   \
+            ++failures;                                                                  \
+        }                                                                                \
+    } while (0)
+
+// Rule of five of the handle: move-only, moves never throw.
+static_assert(!std::is_copy_constructible<gbsurf::result>::value, "result must not be copyable");
+static_assert(!std::is_copy_assignable<gbsurf::result>::value, "result must not be copy-assignable");
+static_assert(std::is_nothrow_move_constructible<gbsurf::result>::value, "noexcept move");
+static_assert(std::is_nothrow_move_assignable<gbsurf::result>::value, "noexcept move assignment");
+static_assert(std::is_nothrow_destructible<gbsurf::result>::value, "noexcept destructor");
+
+// Views of a temporary result would dangle at the end of the full expression: they must not
+// compile (`gbsurf::convert(...).positions()`), views of a named result must.
+template <class R, class = void>
+struct has_positions : std::false_type {};
+template <class R>
+struct has_positions<R, std::void_t<decltype(std::declval<R>().positions())>> : std::true_type {};
+template <class R, class = void>
+struct has_curve_points : std::false_type {};
+template <class R>
+struct has_curve_points<R, std::void_t<decltype(std::declval<R>().curve_points(0))>> : std::true_type {};
+template <class R, class = void>
+struct has_ribbon_points : std::false_type {};
+template <class R>
+struct has_ribbon_points<R, std::void_t<decltype(std::declval<R>().ribbon_points(0, 0))>> : std::true_type {};
+static_assert(has_positions<const gbsurf::result&>::value, "views of a named result");
+static_assert(has_positions<gbsurf::result&>::value, "views of a named result");
+static_assert(!has_positions<gbsurf::result>::value, "no views of a temporary");
+static_assert(!has_positions<const gbsurf::result>::value, "no views of a temporary");
+static_assert(has_curve_points<gbsurf::result&>::value && !has_curve_points<gbsurf::result>::value, "curve views");
+static_assert(has_ribbon_points<gbsurf::result&>::value && !has_ribbon_points<gbsurf::result>::value, "ribbon views");
+
+// A user function with C linkage and a plain name the wrapper might have used for its own
+// callback trampoline: must not clash with anything in gbsurf.hpp.
+extern "C" bool progress_trampoline(float fraction, void* user) {
+    (void)user;
+    return fraction >= 0.0f;
+}
+
+static const std::vector<double> P = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+static const std::vector<uint32_t> S = {4, 4, 4, 4, 4, 4};
+static const std::vector<uint32_t> F = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+
+template <class Fn>
+uint32_t code_of(Fn f) {
+    try {
+        f();
+    } catch (const gbsurf::error& e) {
+        return e.code();
+    }
+    return GBSURF_OK;
+}
+
+int main() {
+    // The ABI check: this header and the library linked agree; a mismatch is GBSURF_ERR_VERSION.
+    CHECK(gbsurf_abi_version() == GBSURF_ABI_VERSION);
+    CHECK(code_of([] { gbsurf::check_abi(); }) == GBSURF_OK);
+    CHECK(code_of([] { gbsurf::check_abi(GBSURF_ABI_VERSION + 1); }) == GBSURF_ERR_VERSION);
+    CHECK(code_of([] { gbsurf::check_abi(GBSURF_ABI_VERSION, GBSURF_ABI_VERSION + 1); }) == GBSURF_ERR_VERSION);
+    CHECK(std::string(gbsurf_status_name(GBSURF_ERR_VERSION)) == "GBSURF_ERR_VERSION");
+
+    // Moves transfer the handle; the moved-from result reports GBSURF_ERR_NULL, never crashes.
+    gbsurf::result a = gbsurf::convert(P, S, F, gbsurf::options().resolution(3));
+    const std::size_t nv = a.vertex_count();
+    CHECK(nv > 0 && a.positions().size() == 3 * nv);
+    gbsurf::result b = std::move(a);
+    CHECK(b.vertex_count() == nv);
+    CHECK(code_of([&] { (void)a.vertex_count(); }) == GBSURF_ERR_NULL);
+    a = std::move(b);
+    CHECK(a.vertex_count() == nv);
+
+    // The progress callback runs on the calling thread only (the library's workers never call
+    // it), so a std::function with unsynchronized state is safe.
+    const auto caller = std::this_thread::get_id();
+    int calls = 0, foreign = 0;
+    float last = -1.0f;
+    bool monotone = true;
+    gbsurf::result r = gbsurf::convert(P, S, F, gbsurf::options().resolution(16), [&](float f) {
+        ++calls;
+        if (std::this_thread::get_id() != caller) ++foreign;
+        if (f < last) monotone = false;
+        last = f;
+        return true;
+    });
+    CHECK(calls > 1);
+    CHECK(foreign == 0);
+    CHECK(monotone && last == 1.0f);
+    CHECK(progress_trampoline(0.5f, nullptr));
+
+    if (failures) {
+        std::cerr << failures << " failures\n";
+        return 1;
+    }
+    std::cout << "wrapper_test: all checks passed\n";
+    return 0;
+}
