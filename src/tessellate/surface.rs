@@ -23,10 +23,13 @@
 
 use super::patch::{LayoutError, SampleLayout};
 use crate::construct::{Patch, Surface};
+use crate::gb::table::{CgbTable, ControlSoa, GbTable, TableError, TILE};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::io::Write;
+use std::sync::Arc;
 
 /// One evaluated sample: position, unit normal (zero when undefined, e.g. at a degenerate corner;
 /// the welded mesh then falls back to the average of the other patches' normals or, failing that,
@@ -500,57 +503,47 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     Ok((mesh, stats))
 }
 
-/// Weight tables of one patch kind at one resolution: for every sample of the layout, the
-/// nonzero basis weights with their first and second derivatives (compressed rows). Every patch
-/// kind is linear in its control points for a fixed domain point (the CGB normalization depends
-/// only on the domain point), so a patch is evaluated as Σ w·P over the table.
-struct WeightTable {
-    /// `start[s]..start[s + 1]`: the entries of sample s.
-    start: Vec<u32>,
-    entries: Vec<(u32, crate::gb::Jet2)>,
-}
-
-impl WeightTable {
-    fn build(samples: &[DVec2], len: usize, mut weights: impl FnMut(DVec2, &mut [crate::gb::Jet2])) -> Self {
-        let mut buf = vec![crate::gb::Jet2::ZERO; len];
-        let mut start = Vec::with_capacity(samples.len() + 1);
-        let mut entries = Vec::new();
-        start.push(0);
-        for &uv in samples {
-            buf.fill(crate::gb::Jet2::ZERO);
-            weights(uv, &mut buf);
-            for (i, w) in buf.iter().enumerate() {
-                if *w != crate::gb::Jet2::ZERO {
-                    entries.push((i as u32, *w));
-                }
-            }
-            start.push(entries.len() as u32);
-        }
-        WeightTable { start, entries }
-    }
-}
-
 /// Which table a patch uses: GB (n, d) or CGB (per-side degree and layer count).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-enum TableKey {
+enum Kind {
     Gb(usize, usize),
     Cgb(Vec<(usize, usize)>),
 }
 
-fn table_key(p: &Patch) -> TableKey {
+fn kind_of(p: &Patch) -> Kind {
     match p {
-        Patch::Gb(g) => TableKey::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
-        Patch::Cgb(c) => TableKey::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
+        Patch::Gb(g) => Kind::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
+        Patch::Cgb(c) => Kind::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
     }
 }
 
-/// The evaluator of GB and CGB patches used by the conversion: per-(kind, n, degree, r) weight
-/// tables built once (in parallel), then one sparse weighted sum per sample (seed 000 eq. 2.24
-/// for GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
+/// Tables up to this size are kept in the process-wide caches of [`crate::gb::table`] (the
+/// usual resolutions); larger ones are built for one conversion only.
+const CACHE_BYTES: u128 = 32 << 20;
+/// Above this size no table is built: the weights are evaluated directly at every sample.
+const TABLE_BYTES: u128 = 256 << 20;
+
+/// How the patches of one kind are evaluated.
+enum Evaluation {
+    /// [`GbTable`] with second derivatives.
+    Gb(Arc<GbTable>),
+    /// [`CgbTable`].
+    Cgb(Arc<CgbTable>),
+    /// No table (it would be too large): the basis is evaluated at every sample.
+    Direct,
+}
+
+/// The evaluator of GB and CGB patches used by the conversion: the weight tables of
+/// [`crate::gb::table`] ([`GbTable`] with second derivatives for GB patches, [`CgbTable`] for
+/// CGB patches), one per (kind, n, degrees, r, weight form), shared through their caches; every
+/// patch is then a tile-wise SIMD weighted sum over its control points (seed 000 eq. 2.24 for
+/// GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
 /// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
 pub struct GbSurfaceEvaluator {
-    tables: HashMap<TableKey, WeightTable>,
-    keys: Vec<TableKey>,
+    evaluations: Vec<Evaluation>,
+    /// Per patch: its entry of `evaluations`.
+    which: Vec<u32>,
+    form: crate::gb::WeightForm,
 }
 
 fn gb_domain(n: usize) -> Vec<DVec2> {
@@ -560,56 +553,101 @@ fn gb_domain(n: usize) -> Vec<DVec2> {
     }
 }
 
+fn table_error(patch: usize, e: TableError) -> TessellateError {
+    match e {
+        TableError::Layout(source) => TessellateError::Layout { patch, source },
+        TableError::Patch(source) => TessellateError::InvalidPatch { patch, source },
+        _ => TessellateError::Evaluation { patch, sample: 0 },
+    }
+}
+
+/// The sample record of the surface derivatives: unit normal (zero where undefined) and mean
+/// and Gaussian curvature from the fundamental forms (0 where undefined; the formulas and
+/// conditions of [`crate::gb::SurfaceDerivs::curvature`], the normal computed once).
+#[inline]
+fn surface_point(d: &crate::gb::SurfaceDerivs) -> SurfacePoint {
+    let Some(n) = d.normal() else {
+        return SurfacePoint { position: d.p, ..Default::default() };
+    };
+    let (e, f, g) = d.first_fundamental_form();
+    let (l, m, nn) = (d.suu.dot(n), d.suv.dot(n), d.svv.dot(n));
+    let det = e * g - f * f;
+    let (mut h, mut k) = (0.0, 0.0);
+    if det > 0.0 {
+        let mean = (l * g - 2.0 * m * f + nn * e) / (2.0 * det);
+        let gaussian = (l * nn - m * m) / det;
+        if mean.is_finite() && gaussian.is_finite() {
+            (h, k) = (mean, gaussian);
+        }
+    }
+    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k }
+}
+
+thread_local! {
+    /// Per worker thread: the control vector of the patch being evaluated.
+    static CONTROLS: RefCell<ControlSoa> = RefCell::new(ControlSoa::default());
+}
+
 impl GbSurfaceEvaluator {
-    /// Validates every patch and builds the weight tables for resolution `r`.
+    /// Validates every patch and builds (or fetches) the weight tables for resolution `r`.
     pub fn new(surface: &Surface, r: usize, form: crate::gb::WeightForm) -> Result<Self, TessellateError> {
-        let mut keys = Vec::with_capacity(surface.patches.len());
-        let mut distinct: HashMap<TableKey, usize> = HashMap::new();
+        let mut which = Vec::with_capacity(surface.patches.len());
+        let mut distinct: HashMap<Kind, u32> = HashMap::new();
+        let mut firsts: Vec<(Kind, usize)> = Vec::new();
         for (i, p) in surface.patches.iter().enumerate() {
             let v = match p {
                 Patch::Gb(g) => g.validate(),
                 Patch::Cgb(c) => c.validate(),
             };
             v.map_err(|source| TessellateError::InvalidPatch { patch: i, source })?;
-            let k = table_key(p);
-            distinct.entry(k.clone()).or_insert(i);
-            keys.push(k);
+            let k = kind_of(p);
+            let id = *distinct.entry(k.clone()).or_insert_with(|| {
+                firsts.push((k, i));
+                (firsts.len() - 1) as u32
+            });
+            which.push(id);
         }
-        let list: Vec<(TableKey, usize)> = distinct.into_iter().collect();
-        let built: Result<Vec<(TableKey, WeightTable)>, TessellateError> = list
+        let evaluations: Result<Vec<Evaluation>, TessellateError> = firsts
             .into_par_iter()
-            .map(|(key, first)| {
-                let patch = &surface.patches[first];
-                let n = patch_sides(patch);
-                let layout = SampleLayout::new(&gb_domain(n), r).map_err(|source| TessellateError::Layout { patch: first, source })?;
-                let table = match patch {
-                    Patch::Gb(g) => {
-                        let mut ev = g.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
-                        let len = ev.len();
-                        WeightTable::build(&layout.uv, len, |uv, out| {
-                            let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| out[idx] = w);
-                            out[0] = b0;
-                        })
-                    }
-                    Patch::Cgb(c) => {
-                        let mut ev = c.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
-                        let len = ev.len();
-                        let mut err = None;
-                        let t = WeightTable::build(&layout.uv, len, |uv, out| {
-                            if let Err(e) = ev.eval_into(uv, form, out) {
-                                err = Some(e);
-                            }
-                        });
-                        if let Some(source) = err {
-                            return Err(TessellateError::InvalidPatch { patch: first, source });
+            .map(|(kind, first)| {
+                SampleLayout::new(&gb_domain(patch_sides(&surface.patches[first])), r)
+                    .map_err(|source| TessellateError::Layout { patch: first, source })?;
+                Ok(match kind {
+                    Kind::Gb(n, d) => {
+                        let bytes = GbTable::bytes_needed(n, d, r, true);
+                        if bytes > TABLE_BYTES {
+                            Evaluation::Direct
+                        } else if bytes > CACHE_BYTES {
+                            Evaluation::Gb(Arc::new(GbTable::with_second_derivatives(n, d, r, form).map_err(|e| table_error(first, e))?))
+                        } else {
+                            Evaluation::Gb(GbTable::cached_with_second_derivatives(n, d, r, form).map_err(|e| table_error(first, e))?)
                         }
-                        t
                     }
-                };
-                Ok((key, table))
+                    Kind::Cgb(sides) => {
+                        let bytes = CgbTable::bytes_needed(&sides, r);
+                        if bytes > TABLE_BYTES {
+                            Evaluation::Direct
+                        } else if bytes > CACHE_BYTES {
+                            Evaluation::Cgb(Arc::new(CgbTable::new(&sides, r, form).map_err(|e| table_error(first, e))?))
+                        } else {
+                            Evaluation::Cgb(CgbTable::cached(&sides, r, form).map_err(|e| table_error(first, e))?)
+                        }
+                    }
+                })
             })
             .collect();
-        Ok(GbSurfaceEvaluator { tables: built?.into_iter().collect(), keys })
+        Ok(GbSurfaceEvaluator { evaluations: evaluations?, which, form })
+    }
+}
+
+/// Pushes the samples of a table, tile by tile, onto `out`; `tile(t)` evaluates tile t.
+#[inline]
+fn push_tiles(samples: usize, tiles: usize, out: &mut Vec<SurfacePoint>, tile: impl Fn(usize) -> [crate::gb::SurfaceDerivs; TILE]) {
+    for t in 0..tiles {
+        let frames = tile(t);
+        for d in frames.iter().take(samples - t * TILE) {
+            out.push(surface_point(d));
+        }
     }
 }
 
@@ -620,32 +658,38 @@ impl PatchEvaluator for GbSurfaceEvaluator {
 
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {
         out.clear();
-        let (Some(key), Some(patch)) = (self.keys.get(index), surface.patches.get(index)) else { return };
-        let Some(table) = self.tables.get(key) else { return };
-        let points = match patch {
-            Patch::Gb(g) => g.control_points_flat(),
-            Patch::Cgb(c) => c.control_points_flat(),
-        };
-        let samples = table.start.len() - 1;
-        if samples != layout.uv.len() {
-            return;
-        }
+        let (Some(&id), Some(patch)) = (self.which.get(index), surface.patches.get(index)) else { return };
+        let Some(evaluation) = self.evaluations.get(id as usize) else { return };
+        let samples = layout.uv.len();
         out.reserve(samples);
-        for s in 0..samples {
-            let mut d = crate::gb::SurfaceDerivs::default();
-            for (i, w) in &table.entries[table.start[s] as usize..table.start[s + 1] as usize] {
-                match points.get(*i as usize) {
-                    Some(p) => d.add_weighted(w, *p),
-                    None => {
-                        out.clear();
+        CONTROLS.with(|cell| {
+            let mut ctrl = cell.borrow_mut();
+            match (evaluation, patch) {
+                (Evaluation::Gb(t), Patch::Gb(g)) => {
+                    ctrl.fill_gb(g);
+                    if ctrl.len() != t.control_count() || t.sample_count() != samples {
                         return;
                     }
+                    push_tiles(samples, t.tile_count(), out, |k| t.eval_tile_derivs(k, &ctrl));
                 }
+                (Evaluation::Cgb(t), Patch::Cgb(c)) => {
+                    ctrl.fill_cgb(c);
+                    if ctrl.len() != t.control_count() || t.sample_count() != samples {
+                        return;
+                    }
+                    push_tiles(samples, t.tile_count(), out, |k| t.eval_tile_derivs(k, &ctrl));
+                }
+                (Evaluation::Direct, Patch::Gb(g)) => {
+                    let Ok(mut ev) = g.evaluator() else { return };
+                    out.extend(layout.uv.iter().map(|&uv| surface_point(&g.eval_derivs_with_form(&mut ev, uv, self.form))));
+                }
+                (Evaluation::Direct, Patch::Cgb(c)) => {
+                    let Ok(mut ev) = c.evaluator() else { return };
+                    out.extend(layout.uv.iter().map(|&uv| surface_point(&c.eval_derivs_with(&mut ev, uv, self.form))));
+                }
+                _ => {}
             }
-            let normal = d.normal().unwrap_or(DVec3::ZERO);
-            let (h, k) = d.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
-            out.push(SurfacePoint { position: d.p, normal, mean_curvature: h, gaussian_curvature: k });
-        }
+        });
     }
 }
 
