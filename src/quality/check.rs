@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 /// Result of [`check_mesh`].
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -52,13 +53,12 @@ pub const ZERO_AREA_REL: f64 = 1e-14;
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     let nv = positions.len();
     let mut c = MeshCheck { vertices: nv, triangles: triangles.len(), ..Default::default() };
-    let good: Vec<bool> = triangles.iter().map(|t| t.iter().all(|&i| (i as usize) < nv)).collect();
-    c.bad_indices = good.iter().filter(|&&g| !g).count();
+    let good = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
+    c.bad_indices = triangles.par_iter().filter(|t| !good(t)).count();
     c.zero_area_triangles = triangles
         .par_iter()
-        .zip(&good)
-        .filter(|(t, &g)| {
-            if !g {
+        .filter(|t| {
+            if !good(t) {
                 return false;
             }
             let [a, b, cc] = t.map(|i| positions[i as usize]);
@@ -68,30 +68,31 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
         })
         .count();
     // Corners per vertex: corner (v; a, b) for triangle (v, a, b) in CCW order. Its outgoing
-    // directed edge is v → a and its link edge a → b.
-    let mut start = vec![0u32; nv + 1];
-    for (t, &g) in triangles.iter().zip(&good) {
-        if g {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
+    // directed edge is v → a and its link edge a → b. Bucketed in parallel (atomic counters;
+    // the order within a bucket does not matter below).
+    let count: Vec<AtomicU32> = (0..nv + 1).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+    triangles.par_iter().with_min_len(4096).filter(|t| good(t)).for_each(|t| {
+        for &v in t {
+            count[v as usize + 1].fetch_add(1, Ordering::Relaxed);
         }
-    }
+    });
+    let mut start: Vec<u32> = count.into_iter().map(AtomicU32::into_inner).collect();
     for v in 0..nv {
         start[v + 1] += start[v];
     }
-    let mut fill = start.clone();
-    let mut links = vec![(0u32, 0u32); start[nv] as usize];
-    for (t, &g) in triangles.iter().zip(&good) {
-        if g {
-            for k in 0..3 {
-                let v = t[k] as usize;
-                links[fill[v] as usize] = (t[(k + 1) % 3], t[(k + 2) % 3]);
-                fill[v] += 1;
-            }
+    let fill: Vec<AtomicU32> = start[..nv].par_iter().map(|&s| AtomicU32::new(s)).collect();
+    let links: Vec<AtomicU64> = (0..start[nv]).into_par_iter().map(|_| AtomicU64::new(0)).collect();
+    triangles.par_iter().with_min_len(4096).filter(|t| good(t)).for_each(|t| {
+        for k in 0..3 {
+            let at = fill[t[k] as usize].fetch_add(1, Ordering::Relaxed);
+            links[at as usize].store((t[(k + 1) % 3] as u64) << 32 | t[(k + 2) % 3] as u64, Ordering::Relaxed);
         }
-    }
-    let corners = |v: usize| &links[start[v] as usize..start[v + 1] as usize];
+    });
+    drop(fill);
+    let unpack = |x: &AtomicU64| {
+        let x = x.load(Ordering::Relaxed);
+        ((x >> 32) as u32, x as u32)
+    };
     // Per vertex (in parallel): its edges and its fan, from its own corner list only. A corner
     // (u; a, b) of triangle (u, a, b) carries the directed edges u → a and b → u, and every
     // directed edge x → y of a triangle appears exactly once as an outgoing edge (at x's corner)
@@ -103,68 +104,82 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
         .with_min_len(1024)
         .map(|u| {
             let mut t = [0usize; 6];
-            let list = corners(u);
+            let packed = &links[start[u] as usize..start[u + 1] as usize];
+            let (mut stack, heap): ([(u32, u32); 16], Vec<(u32, u32)>);
+            let list: &[(u32, u32)] = if packed.len() <= 16 {
+                stack = [(0, 0); 16];
+                for (x, p) in stack.iter_mut().zip(packed) {
+                    *x = unpack(p);
+                }
+                &stack[..packed.len()]
+            } else {
+                heap = packed.iter().map(unpack).collect();
+                &heap
+            };
             let m = list.len();
             let uu = u as u32;
-            for (idx, &(a, b)) in list.iter().enumerate() {
-                // Neighbour a (first seen here unless an earlier corner named it).
-                if !list[..idx].iter().any(|&(x, y)| x == a || y == a) {
-                    let forward = list.iter().filter(|&&(x, _)| x == a).count();
-                    let backward = list.iter().filter(|&&(_, y)| y == a).count();
-                    if forward > 1 {
-                        t[0] += 1;
-                    }
-                    if uu < a {
-                        t[1] += 1;
-                        match forward + backward {
-                            1 => t[2] += 1,
-                            2 => {}
-                            _ => t[3] += 1,
-                        }
-                    }
-                }
-                // Neighbour b.
-                if b != a && !list[..idx].iter().any(|&(x, y)| x == b || y == b) {
-                    let forward = list.iter().filter(|&&(x, _)| x == b).count();
-                    let backward = list.iter().filter(|&&(_, y)| y == b).count();
-                    if forward > 1 {
-                        t[0] += 1;
-                    }
-                    if uu < b {
-                        t[1] += 1;
-                        match forward + backward {
-                            1 => t[2] += 1,
-                            2 => {}
-                            _ => t[3] += 1,
-                        }
-                    }
-                }
-            }
-            // The link edges a → b around u must form one path or one cycle.
             if m == 0 {
                 t[4] += 1; // unused vertex
                 return t;
             }
             t[5] += 1;
+            // The link edges a → b around u must form one path or one cycle.
             let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
             let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
-            if !(unique_from && unique_to) {
-                t[4] += 1;
-                return t;
-            }
-            // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
-            let first = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0)).unwrap_or(0);
-            let mut cur = first;
-            let mut steps = 1;
-            while let Some(next) = list.iter().position(|x| x.0 == list[cur].1) {
-                if next == first || steps > m {
-                    break;
+            if unique_from && unique_to {
+                // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
+                let open = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0));
+                let first = open.unwrap_or(0);
+                let mut cur = first;
+                let mut steps = 1;
+                while let Some(next) = list.iter().position(|x| x.0 == list[cur].1) {
+                    if next == first || steps > m {
+                        break;
+                    }
+                    cur = next;
+                    steps += 1;
                 }
-                cur = next;
-                steps += 1;
+                if steps == m {
+                    // One fan through all corners. The a's are distinct (every edge u → w at
+                    // most once), as are the b's (w → u at most once). A closed fan has the
+                    // same a's and b's: every edge is used in both directions. An open fan
+                    // a_first, …, b_last adds the boundary edges u–a_first (out only) and
+                    // u–b_last (in only). Each undirected edge is counted at its smaller end.
+                    t[1] += list.iter().filter(|&&(a, _)| uu < a).count();
+                    if let Some(f) = open {
+                        let (a_first, b_last) = (list[f].0, list[cur].1);
+                        if uu < a_first {
+                            t[2] += 1;
+                        }
+                        if uu < b_last {
+                            t[1] += 1;
+                            t[2] += 1;
+                        }
+                    }
+                    return t;
+                }
             }
-            if steps != m {
-                t[4] += 1;
+            t[4] += 1;
+            // A non-manifold vertex: count its edges one neighbour at a time.
+            for (idx, &(a, b)) in list.iter().enumerate() {
+                for (w, seen) in [(a, list[..idx].iter().any(|&(x, y)| x == a || y == a)), (b, b == a || list[..idx].iter().any(|&(x, y)| x == b || y == b))] {
+                    if seen {
+                        continue;
+                    }
+                    let forward = list.iter().filter(|&&(x, _)| x == w).count();
+                    let backward = list.iter().filter(|&&(_, y)| y == w).count();
+                    if forward > 1 {
+                        t[0] += 1;
+                    }
+                    if uu < w {
+                        t[1] += 1;
+                        match forward + backward {
+                            1 => t[2] += 1,
+                            2 => {}
+                            _ => t[3] += 1,
+                        }
+                    }
+                }
             }
             t
         })
@@ -281,5 +296,24 @@ mod tests {
             let distinct: HashSet<[u64; 3]> = positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
             prop_assert_eq!(c.duplicate_vertices, nv - distinct.len());
         }
-    }
+    
+        #[test]
+        fn damaged_torus_matches_the_hash_reference(drop in proptest::collection::vec(0usize..96, 0..6), flip in proptest::collection::vec(0usize..96, 0..3)) {
+            let quads = crate::mesh::generate::torus(8, 6, 3.0, 1.0).unwrap();
+            let mut tris: Vec<[u32; 3]> = quads.faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).collect();
+            for &k in &flip {
+                tris[k].swap(1, 2);
+            }
+            let kept: Vec<[u32; 3]> = tris.iter().enumerate().filter(|(k, _)| !drop.contains(k)).map(|(_, t)| *t).collect();
+            let c = check_mesh(&quads.positions, &kept);
+            let (inconsistent, undirected, boundary, nm) = reference_edges(quads.positions.len(), &kept);
+            prop_assert_eq!((c.inconsistent_edges, c.boundary_edges, c.non_manifold_edges), (inconsistent, boundary, nm));
+            let used: HashSet<u32> = kept.iter().flat_map(|t| t.iter().copied()).collect();
+            prop_assert_eq!(c.euler_characteristic, used.len() as i64 - undirected as i64 + kept.len() as i64);
+            if drop.is_empty() && flip.is_empty() {
+                prop_assert!(c.is_clean_closed());
+                prop_assert_eq!(c.euler_characteristic, 0);
+            }
+        }
+}
 }

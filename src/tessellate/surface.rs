@@ -274,6 +274,12 @@ fn angle_deg(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
+/// `len` default values, written in parallel: the first touch of a large fresh allocation (page
+/// faults, zeroing) then happens on all threads rather than serially.
+fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
+    (0..len).into_par_iter().with_min_len(1 << 14).map(|_| T::default()).collect()
+}
+
 /// Patches evaluated per progress step.
 const CHUNK: usize = 2048;
 
@@ -303,8 +309,8 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     // and the evaluation runs in parallel without locks.
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
-        positions: vec![DVec3::ZERO; nv],
-        normals: vec![DVec3::ZERO; nv],
+        positions: zeroed(nv),
+        normals: zeroed(nv),
         triangles: Vec::new(),
         patch: vec![0; nv],
         triangle_patch: Vec::new(),
@@ -327,7 +333,7 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     mesh.triangles = vec![[0; 3]; nt];
     mesh.triangle_patch = vec![0; nt];
     // Boundary samples of every patch (ring order), kept for welding and measurements.
-    let mut boundary = vec![SurfacePoint::default(); nb];
+    let mut boundary: Vec<SurfacePoint> = zeroed(nb);
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
 
