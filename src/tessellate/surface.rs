@@ -274,6 +274,18 @@ fn angle_deg(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
+/// `v` cut into the pieces `starts[p]..starts[p + 1]` (`starts` ascending, ending at most at
+/// `v.len()`).
+fn split_by<'a, T>(mut v: &'a mut [T], starts: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (a, b) = std::mem::take(&mut v).split_at_mut(w[1] - w[0]);
+        out.push(a);
+        v = b;
+    }
+    out
+}
+
 /// `len` default values, written in parallel: the first touch of a large fresh allocation (page
 /// faults, zeroing) then happens on all threads rather than serially.
 fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
@@ -427,23 +439,95 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     }
     drop(outs);
 
-    // Boundary samples of non-owners: add their normals and curvatures to the welded vertex.
+    // Welding of the non-owner samples (their normals and curvatures are added to the welded
+    // vertex) and the gap / G1 measurements along shared sides, each side pair once, from its
+    // smaller (patch, side), which also created the pair's inner vertices. So the inner samples
+    // run in parallel per patch, writing only that patch's vertices; the corners (nodes shared
+    // by any number of patches) follow serially in patch order.
+    let valid = |sp: &SurfacePoint| sp.normal != DVec3::ZERO && sp.normal.is_finite();
+    let add = |sp: &SurfacePoint, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16| {
+        *n += sp.normal;
+        if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
+            *h += sp.mean_curvature;
+            *k += sp.gaussian_curvature;
+        }
+        *w = w.saturating_add(1);
+    };
+    // The larger gap, NaN as soon as one gap is NaN.
+    let max_gap = |a: f64, b: f64| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) };
+    // Per side count n: the first boundary sample of its layout.
+    let mut first_boundary = vec![0usize; layouts.keys().max().map_or(0, |&n| n + 1)];
+    for (&n, l) in &layouts {
+        first_boundary[n] = l.ring_index(r, 0, 0);
+    }
+    let sample = |p: usize, s: usize| &boundary[bnd_start[p] + s - first_boundary[sides_of(p)]];
+    let mut shared = vec![false; nv];
+    let mut stats = WeldStats::default();
+    {
+        let vstart = &map.vstart;
+        let parts = split_by(&mut mesh.normals, vstart)
+            .into_iter()
+            .zip(split_by(&mut mesh.mean_curvature, vstart))
+            .zip(split_by(&mut mesh.gaussian_curvature, vstart))
+            .zip(split_by(&mut mesh.g1_deviation_deg, vstart))
+            .zip(split_by(&mut shared, vstart))
+            .zip(split_by(&mut weight, vstart))
+            .enumerate()
+            .collect::<Vec<_>>();
+        stats.max_boundary_gap = parts
+            .into_par_iter()
+            .with_min_len(64)
+            .map(|(p, (((((nrm, h), k), g1), sh), w))| {
+                let lp = &layouts[&sides_of(p)];
+                let mut gap_max = 0.0;
+                for (i, nb) in surface.neighbors[p].iter().enumerate() {
+                    let Some(nb) = nb else { continue };
+                    if (nb.patch, nb.side) < (p, i) {
+                        continue;
+                    }
+                    let lq = &layouts[&sides_of(nb.patch)];
+                    for t in 1..r {
+                        let sa = lp.boundary_index(i, t);
+                        let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                        let v = map.ids[map.offsets[p] + sa] as usize - vstart[p];
+                        if valid(b) {
+                            add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                        }
+                        gap_max = max_gap(gap_max, a.position.distance(b.position));
+                        g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
+                        sh[v] = true;
+                    }
+                }
+                gap_max
+            })
+            .reduce(|| 0.0, max_gap);
+    }
     for p in 0..np {
         let n = sides_of(p);
-        let layout = &layouts[&n];
-        let first_boundary = layout.ring_index(r, 0, 0);
-        for (q, sp) in boundary[bnd_start[p]..bnd_start[p + 1]].iter().enumerate() {
-            let kk = map.offsets[p] + first_boundary + q;
-            if map.owner[kk] || !(sp.normal != DVec3::ZERO && sp.normal.is_finite()) {
+        let lp = &layouts[&n];
+        for i in 0..n {
+            let s = lp.boundary_index(i, 0);
+            let kk = map.offsets[p] + s;
+            let sp = sample(p, s);
+            if !map.owner[kk] && valid(sp) {
+                let v = map.ids[kk] as usize;
+                add(sp, &mut mesh.normals[v], &mut mesh.mean_curvature[v], &mut mesh.gaussian_curvature[v], &mut weight[v]);
+            }
+        }
+        for (i, nb) in surface.neighbors[p].iter().enumerate() {
+            let Some(nb) = nb else { continue };
+            if (nb.patch, nb.side) < (p, i) {
                 continue;
             }
-            let v = map.ids[kk] as usize;
-            mesh.normals[v] += sp.normal;
-            if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
-                mesh.mean_curvature[v] += sp.mean_curvature;
-                mesh.gaussian_curvature[v] += sp.gaussian_curvature;
+            let lq = &layouts[&sides_of(nb.patch)];
+            for t in [0, r] {
+                let sa = lp.boundary_index(i, t);
+                let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.position.distance(b.position));
+                let v = map.ids[map.offsets[p] + sa] as usize;
+                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.normal, b.normal));
+                shared[v] = true;
             }
-            weight[v] = weight[v].saturating_add(1);
         }
     }
     mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
@@ -452,53 +536,21 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
             *k /= w as f64;
         }
     });
-
-    // Gap and G1 along shared sides (each pair once, from its smaller side).
-    let mut stats = WeldStats::default();
-    let mut shared = vec![false; nv];
-    for p in 0..np {
-        let lp = &layouts[&sides_of(p)];
-        let fp = lp.ring_index(r, 0, 0);
-        for (i, nb) in surface.neighbors[p].iter().enumerate() {
-            let Some(nb) = nb else { continue };
-            if (nb.patch, nb.side) < (p, i) {
-                continue;
-            }
-            let lq = &layouts[&sides_of(nb.patch)];
-            let fq = lq.ring_index(r, 0, 0);
-            for t in 0..=r {
-                let sa = lp.boundary_index(i, t);
-                let sb = lq.boundary_index(nb.side, r - t);
-                let a = &boundary[bnd_start[p] + sa - fp];
-                let b = &boundary[bnd_start[nb.patch] + sb - fq];
-                let gap = a.position.distance(b.position);
-                if gap > stats.max_boundary_gap || gap.is_nan() {
-                    stats.max_boundary_gap = gap;
-                }
-                let ang = angle_deg(a.normal, b.normal);
-                let v = map.ids[map.offsets[p] + sa] as usize;
-                shared[v] = true;
-                if ang > mesh.g1_deviation_deg[v] {
-                    mesh.g1_deviation_deg[v] = ang;
-                }
-            }
-        }
-    }
-    let mut sum = 0.0;
-    for v in 0..nv {
-        if shared[v] {
-            stats.shared_vertices += 1;
-            sum += mesh.g1_deviation_deg[v];
-            stats.max_g1_deg = stats.max_g1_deg.max(mesh.g1_deviation_deg[v]);
-        }
-    }
-    if stats.shared_vertices > 0 {
-        stats.mean_g1_deg = sum / stats.shared_vertices as f64;
+    let (count, sum, max) = shared
+        .par_iter()
+        .zip(mesh.g1_deviation_deg.par_iter())
+        .filter(|(&s, _)| s)
+        .map(|(_, &g)| (1usize, g, g))
+        .reduce(|| (0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+    stats.shared_vertices = count;
+    stats.max_g1_deg = max;
+    if count > 0 {
+        stats.mean_g1_deg = sum / count as f64;
     }
 
     // Normalize normals; vertices without any analytic normal take the area-weighted normal of
     // their triangles.
-    let missing: Vec<usize> = (0..nv).filter(|&v| weight[v] == 0).collect();
+    let missing: Vec<usize> = (0..nv).into_par_iter().filter(|&v| weight[v] == 0).collect();
     if !missing.is_empty() {
         let fallback = crate::quality::vertex_normals(&mesh.positions, &mesh.triangles);
         for v in missing {
