@@ -1,7 +1,8 @@
 //! End-to-end conversion of quad tori of 1k, 10k and 40k faces at resolution 4 (4·4² = 64
 //! triangles per four-sided patch), both structures. Prints output vertices per second and the
 //! ratio time(40k)/time(10k) (linear growth: ≤ 4.4). A plain `harness = false` main, so it runs
-//! with `cargo bench --bench convert`; `-- --quick` runs each size once.
+//! with `cargo bench --bench convert`; `-- --quick` runs each size once, `-- --resolution R`
+//! changes the resolution.
 //! Besides wall time it prints the process CPU time of the best run (user + system, from
 //! /proc/self/stat on Linux) and the load average, since the machine may be shared.
 
@@ -35,12 +36,15 @@ fn load_average() -> String {
 fn main() {
     println!("load average at start: {}", load_average());
     let quick = std::env::args().any(|a| a == "--quick");
+    // `--resolution R` (default 4; the Blender benchmark uses 2).
+    let args: Vec<String> = std::env::args().collect();
+    let resolution = args.iter().position(|a| a == "--resolution").and_then(|i| args.get(i + 1)?.parse().ok()).unwrap_or(4);
     let sizes = [(40usize, 25usize), (125, 80), (250, 160)];
     for method in [Method::Dual, Method::Topology] {
         let mut times = Vec::new();
         for &(a, b) in &sizes {
             let mesh = torus(a, b, 10.0, 3.0).expect("torus");
-            let opts = ConvertOptions { method, resolution: 4, ..Default::default() };
+            let opts = ConvertOptions { method, resolution, ..Default::default() };
             // Warm-up (also checks the result), then the best of a few runs.
             let c = convert(&mesh, &opts, None).expect("conversion");
             assert!(c.report.closed, "{method}: not closed");

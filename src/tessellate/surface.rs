@@ -652,17 +652,32 @@ impl GbSurfaceEvaluator {
         let mut which = Vec::with_capacity(surface.patches.len());
         let mut distinct: HashMap<Kind, u32> = HashMap::new();
         let mut firsts: Vec<(Kind, usize)> = Vec::new();
-        for (i, p) in surface.patches.iter().enumerate() {
+        // Validation in parallel; the first invalid patch (smallest index) is reported.
+        let invalid = surface.patches.par_iter().enumerate().find_first(|(_, p)| {
+            match p {
+                Patch::Gb(g) => g.validate(),
+                Patch::Cgb(c) => c.validate(),
+            }
+            .is_err()
+        });
+        if let Some((i, p)) = invalid {
             let v = match p {
                 Patch::Gb(g) => g.validate(),
                 Patch::Cgb(c) => c.validate(),
             };
             v.map_err(|source| TessellateError::InvalidPatch { patch: i, source })?;
-            let k = kind_of(p);
-            let id = *distinct.entry(k.clone()).or_insert_with(|| {
-                firsts.push((k, i));
-                (firsts.len() - 1) as u32
-            });
+        }
+        let kinds: Vec<Kind> = surface.patches.par_iter().map(kind_of).collect();
+        for (i, k) in kinds.into_iter().enumerate() {
+            let id = match distinct.get(&k) {
+                Some(&id) => id,
+                None => {
+                    let id = firsts.len() as u32;
+                    distinct.insert(k.clone(), id);
+                    firsts.push((k, i));
+                    id
+                }
+            };
             which.push(id);
         }
         let evaluations: Result<Vec<Evaluation>, TessellateError> = firsts
