@@ -2,7 +2,9 @@
 //! ([`GbTable::eval_all`], one patch; [`GbTable::eval_batch`], 16 patches sharing a table) versus
 //! direct evaluation ([`GbPatch::eval_derivs_with_form`] with a reused evaluator), for
 //! n = 3..8, d = 3 and 5, r = 16 and 64. Criterion measures each case briefly; a summary table
-//! with the table/direct ratio is printed at the end.
+//! with the table/direct ratio is printed at the end. The summary also gives the cost of the
+//! conversion's path: a table with second derivatives ([`GbTable::eval_tile_derivs`]) giving
+//! position, normal, mean and Gaussian curvature per point.
 
 use criterion::{black_box, BenchmarkId, Criterion, Throughput};
 use gbsurf::gb::table::{ControlSoa, GbTable};
@@ -145,7 +147,19 @@ fn main() {
                     direct_all(&patches[0], &mut ev, &table, &mut direct_out)
                 });
                 let mib = table.memory_bytes() as f64 / (1 << 20) as f64;
-                summary.push((n, d, r, samples, mib, t, tb, dt));
+                let t2 = GbTable::with_second_derivatives(n, d, r, FORM).unwrap();
+                let mut curv = Vec::with_capacity(samples);
+                let d2 = ns_per_point(samples, || {
+                    curv.clear();
+                    for k in 0..t2.tile_count() {
+                        for f in t2.eval_tile_derivs(k, &ctrls[0]).iter().take(samples - k * gbsurf::gb::table::TILE) {
+                            let c = f.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
+                            curv.push((f.p, f.normal().unwrap_or(DVec3::ZERO), c));
+                        }
+                    }
+                    black_box(&curv);
+                });
+                summary.push((n, d, r, samples, mib, t, tb, dt, d2));
             }
         }
     }
@@ -153,11 +167,11 @@ fn main() {
         "\nGB evaluation, ns per point (position + unit normal), 1 thread, median of 5 x 60 ms;"
     );
     println!("cpu = thread CPU time (per-core cost on a shared machine), wall = elapsed time");
-    println!("  n  d   r samples  MiB  table cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)");
-    for (n, d, r, s, mib, t, tb, dt) in summary {
+    println!("  n  d   r samples  MiB  table cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)  +curvature cpu/wall");
+    for (n, d, r, s, mib, t, tb, dt, d2) in summary {
         println!(
-            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}",
-            t.1, t.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1
+            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}  {:7.1}/{:<7.1}",
+            t.1, t.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1, d2.1, d2.0
         );
     }
     c.final_summary();

@@ -6,6 +6,8 @@ use crate::construct::{Patch, Surface};
 use crate::mesh::{MeshError, PolyMesh};
 use glam::DVec3;
 use std::ffi::{c_void, CStr};
+use std::sync::OnceLock;
+use crate::tessellate::SurfaceMesh;
 
 /// Patch kind: an n-sided Generalized Bézier patch (ribbons plus a central control point).
 pub const GBSURF_PATCH_GB: u32 = 0;
@@ -34,26 +36,59 @@ struct FlatPatch {
 /// The opaque result of a conversion: the output triangle mesh with its per-vertex data, the
 /// patches (none for the subdivision methods), the curve network, the report and the warnings.
 /// Free it with `gbsurf_result_free`.
+// The mesh arrays are handed out as views of the conversion's own vectors (no copy); the
+// flattened patches and curves are built on first access (most callers never ask for them).
 pub struct GbsurfResult {
-    positions: Vec<f64>,
-    normals: Vec<f64>,
-    triangles: Vec<u32>,
-    patch_index: Vec<u32>,
-    mean_curvature: Vec<f64>,
-    gaussian_curvature: Vec<f64>,
-    g1_deviation_deg: Vec<f64>,
-    patches: Vec<FlatPatch>,
-    curves: Vec<Vec<f64>>,
+    mesh: SurfaceMesh,
+    surface: Option<Surface>,
+    flat: OnceLock<FlatSurface>,
     report: GbsurfReport,
     sides_histogram: Vec<(u64, u64)>,
     warnings: Vec<CString>,
 }
 
+/// The patches and curves of a surface as flat arrays.
+#[derive(Default)]
+struct FlatSurface {
+    patches: Vec<FlatPatch>,
+    curves: Vec<Vec<f64>>,
+}
+
+/// The coordinates of `v` as one flat `[x0, y0, z0, x1, …]` slice, without copying.
+fn coords(v: &[DVec3]) -> &[f64] {
+    // SAFETY: `DVec3` is `#[repr(C)]` with exactly three `f64` fields (glam), so a slice of n
+    // of them is a valid, aligned slice of 3n `f64` with the same lifetime.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<f64>(), v.len() * 3) }
+}
+
+impl GbsurfResult {
+    fn positions(&self) -> &[f64] {
+        coords(&self.mesh.positions)
+    }
+    fn normals(&self) -> &[f64] {
+        coords(&self.mesh.normals)
+    }
+    fn triangles(&self) -> &[u32] {
+        self.mesh.triangles.as_flattened()
+    }
+    fn flat(&self) -> &FlatSurface {
+        self.flat.get_or_init(|| self.surface.as_ref().map(flatten_surface).unwrap_or_default())
+    }
+    fn patch_count(&self) -> usize {
+        self.surface.as_ref().map_or(0, |s| s.patches.len())
+    }
+    fn curve_count(&self) -> usize {
+        self.surface.as_ref().map_or(0, |s| s.curves.len())
+    }
+}
+
+const _: () = assert!(std::mem::size_of::<DVec3>() == 3 * std::mem::size_of::<f64>());
+
 fn flatten(v: &[DVec3]) -> Vec<f64> {
     v.iter().flat_map(|p| p.to_array()).collect()
 }
 
-fn flatten_surface(s: &Surface) -> (Vec<FlatPatch>, Vec<Vec<f64>>) {
+fn flatten_surface(s: &Surface) -> FlatSurface {
     let flat_ribbon = |r: &crate::gb::Ribbon| FlatRibbon {
         degree: r.degree,
         layers: r.rows.len(),
@@ -76,7 +111,7 @@ fn flatten_surface(s: &Surface) -> (Vec<FlatPatch>, Vec<Vec<f64>>) {
         })
         .collect();
     let curves = s.curves.iter().map(|c| flatten(c)).collect();
-    (patches, curves)
+    FlatSurface { patches, curves }
 }
 
 /// The status code of a mesh error.
@@ -167,22 +202,7 @@ fn run(
 }
 
 fn pack(conv: crate::api::Conversion, method: u32) -> GbsurfResult {
-    let m = &conv.mesh;
-    let (patches, curves) = conv
-        .surface
-        .as_ref()
-        .map(flatten_surface)
-        .unwrap_or_default();
     GbsurfResult {
-        positions: flatten(&m.positions),
-        normals: flatten(&m.normals),
-        triangles: m.triangles.iter().flatten().copied().collect(),
-        patch_index: m.patch.clone(),
-        mean_curvature: m.mean_curvature.clone(),
-        gaussian_curvature: m.gaussian_curvature.clone(),
-        g1_deviation_deg: m.g1_deviation_deg.clone(),
-        patches,
-        curves,
         report: GbsurfReport::from_report(&conv.report, method),
         sides_histogram: conv
             .report
@@ -195,6 +215,9 @@ fn pack(conv: crate::api::Conversion, method: u32) -> GbsurfResult {
             .iter()
             .map(|w| CString::new(w.replace('\0', "\\0")).unwrap_or_default())
             .collect(),
+        mesh: conv.mesh,
+        surface: conv.surface,
+        flat: OnceLock::new(),
     }
 }
 
@@ -364,7 +387,7 @@ pub unsafe extern "C" fn gbsurf_mesh_positions(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_positions", || {
-        view(&handle(result)?.positions, data, len)
+        view(handle(result)?.positions(), data, len)
     })
 }
 
@@ -381,7 +404,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_positions(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_positions", || {
-        copy_out(&handle(result)?.positions, buf, capacity, written)
+        copy_out(handle(result)?.positions(), buf, capacity, written)
     })
 }
 
@@ -397,7 +420,7 @@ pub unsafe extern "C" fn gbsurf_mesh_normals(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_normals", || {
-        view(&handle(result)?.normals, data, len)
+        view(handle(result)?.normals(), data, len)
     })
 }
 
@@ -414,7 +437,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_normals(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_normals", || {
-        copy_out(&handle(result)?.normals, buf, capacity, written)
+        copy_out(handle(result)?.normals(), buf, capacity, written)
     })
 }
 
@@ -430,7 +453,7 @@ pub unsafe extern "C" fn gbsurf_mesh_triangles(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_triangles", || {
-        view(&handle(result)?.triangles, data, len)
+        view(handle(result)?.triangles(), data, len)
     })
 }
 
@@ -447,7 +470,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_triangles(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_triangles", || {
-        copy_out(&handle(result)?.triangles, buf, capacity, written)
+        copy_out(handle(result)?.triangles(), buf, capacity, written)
     })
 }
 
@@ -463,7 +486,7 @@ pub unsafe extern "C" fn gbsurf_mesh_patch_index(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_patch_index", || {
-        view(&handle(result)?.patch_index, data, len)
+        view(&handle(result)?.mesh.patch, data, len)
     })
 }
 
@@ -480,7 +503,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_patch_index(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_patch_index", || {
-        copy_out(&handle(result)?.patch_index, buf, capacity, written)
+        copy_out(&handle(result)?.mesh.patch, buf, capacity, written)
     })
 }
 
@@ -496,7 +519,7 @@ pub unsafe extern "C" fn gbsurf_mesh_mean_curvature(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_mean_curvature", || {
-        view(&handle(result)?.mean_curvature, data, len)
+        view(&handle(result)?.mesh.mean_curvature, data, len)
     })
 }
 
@@ -513,7 +536,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_mean_curvature(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_mean_curvature", || {
-        copy_out(&handle(result)?.mean_curvature, buf, capacity, written)
+        copy_out(&handle(result)?.mesh.mean_curvature, buf, capacity, written)
     })
 }
 
@@ -529,7 +552,7 @@ pub unsafe extern "C" fn gbsurf_mesh_gaussian_curvature(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_gaussian_curvature", || {
-        view(&handle(result)?.gaussian_curvature, data, len)
+        view(&handle(result)?.mesh.gaussian_curvature, data, len)
     })
 }
 
@@ -546,7 +569,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_gaussian_curvature(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_gaussian_curvature", || {
-        copy_out(&handle(result)?.gaussian_curvature, buf, capacity, written)
+        copy_out(&handle(result)?.mesh.gaussian_curvature, buf, capacity, written)
     })
 }
 
@@ -562,7 +585,7 @@ pub unsafe extern "C" fn gbsurf_mesh_g1_deviation(
     len: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_g1_deviation", || {
-        view(&handle(result)?.g1_deviation_deg, data, len)
+        view(&handle(result)?.mesh.g1_deviation_deg, data, len)
     })
 }
 
@@ -579,7 +602,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
     written: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_copy_g1_deviation", || {
-        copy_out(&handle(result)?.g1_deviation_deg, buf, capacity, written)
+        copy_out(&handle(result)?.mesh.g1_deviation_deg, buf, capacity, written)
     })
 }
 
@@ -593,7 +616,7 @@ pub unsafe extern "C" fn gbsurf_mesh_vertex_count(
     count: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_vertex_count", || {
-        put(count, "count", handle(result)?.positions.len() / 3)
+        put(count, "count", handle(result)?.positions().len() / 3)
     })
 }
 
@@ -607,15 +630,15 @@ pub unsafe extern "C" fn gbsurf_mesh_triangle_count(
     count: *mut usize,
 ) -> u32 {
     boundary("gbsurf_mesh_triangle_count", || {
-        put(count, "count", handle(result)?.triangles.len() / 3)
+        put(count, "count", handle(result)?.triangles().len() / 3)
     })
 }
 
 fn patch_at(r: &GbsurfResult, patch: usize) -> FfiResult<&FlatPatch> {
-    r.patches.get(patch).ok_or_else(|| {
+    r.flat().patches.get(patch).ok_or_else(|| {
         FfiError::new(
             GBSURF_ERR_INDEX,
-            format!("patch index {patch} out of range (0..{})", r.patches.len()),
+            format!("patch index {patch} out of range (0..{})", r.patch_count()),
         )
     })
 }
@@ -640,7 +663,7 @@ fn ribbon_at(r: &GbsurfResult, patch: usize, side: usize) -> FfiResult<&FlatRibb
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_patch_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
     boundary("gbsurf_patch_count", || {
-        put(count, "count", handle(result)?.patches.len())
+        put(count, "count", handle(result)?.patch_count())
     })
 }
 
@@ -774,15 +797,15 @@ pub unsafe extern "C" fn gbsurf_patch_center(
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_curve_count(result: *const GbsurfResult, count: *mut usize) -> u32 {
     boundary("gbsurf_curve_count", || {
-        put(count, "count", handle(result)?.curves.len())
+        put(count, "count", handle(result)?.curve_count())
     })
 }
 
 fn curve_at(r: &GbsurfResult, curve: usize) -> FfiResult<&[f64]> {
-    r.curves.get(curve).map(|c| c.as_slice()).ok_or_else(|| {
+    r.flat().curves.get(curve).map(|c| c.as_slice()).ok_or_else(|| {
         FfiError::new(
             GBSURF_ERR_INDEX,
-            format!("curve index {curve} out of range (0..{})", r.curves.len()),
+            format!("curve index {curve} out of range (0..{})", r.curve_count()),
         )
     })
 }

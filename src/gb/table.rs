@@ -13,11 +13,18 @@
 //! coordinate and updating 9 accumulators that each hold the TILE samples as SIMD lanes: no
 //! horizontal sums, no shuffles, no allocation.
 //! Tables are shared between patches through [`GbTable::cached`].
+//!
+//! Optionally a table also holds the second derivatives ∂_uu w, ∂_uv w, ∂_vv w (same layout, a
+//! second array), for curvature: [`GbTable::with_second_derivatives`]. [`CgbTable`] is the same
+//! for ribbon-only (CGB) patches: for a fixed domain point and a fixed list of per-side (d_i,
+//! l_i), the normalized CGB weights w / B_sum (seed 000 eq. 3.8) are constants, so a CGB patch
+//! is linear in its control points exactly like a GB patch.
 
 use super::connected::layers;
 use super::derivs::SurfaceDerivs;
 use super::error::GbError;
-use super::patch::{GbPatch, WeightForm};
+use super::cgb::CgbBasisEvaluator;
+use super::patch::{CgbPatch, GbPatch, WeightForm};
 use super::weights::GbBasisEvaluator;
 use super::Jet2;
 use crate::mesh::{MeshSink, TriMesh};
@@ -63,6 +70,12 @@ pub enum TableError {
         table_n: usize,
         table_d: usize,
     },
+    /// The CGB patch's per-side (degree, layers) differ from the table's.
+    #[error("patch has sides (degree, layers) {found:?}; the table is for {table:?}")]
+    CgbMismatch {
+        found: Vec<(usize, usize)>,
+        table: Vec<(usize, usize)>,
+    },
     /// The table would need more than [`MAX_TABLE_BYTES`] of memory.
     #[error("a weight table for n = {n}, d = {d}, r = {r} would need {bytes} bytes")]
     TooLarge {
@@ -91,10 +104,12 @@ pub struct TableKey {
     pub degree: usize,
     pub resolution: usize,
     pub form: WeightForm,
+    /// Whether the table holds second derivatives.
+    pub second_derivatives: bool,
 }
 
 /// The control points of one patch as padded SoA coordinate arrays, in flat basis order.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ControlSoa {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
@@ -102,6 +117,39 @@ pub struct ControlSoa {
 }
 
 impl ControlSoa {
+    /// Replaces the contents with flat-ordered points (no allocation once the capacity suffices).
+    pub fn fill(&mut self, points: impl IntoIterator<Item = DVec3>) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+        for p in points {
+            self.x.push(p.x);
+            self.y.push(p.y);
+            self.z.push(p.z);
+        }
+    }
+
+    /// The flat-ordered control points of a GB patch: centre, then side i, row k, column j.
+    pub fn fill_gb(&mut self, patch: &GbPatch) {
+        let ribbons = patch.ribbons.iter().flat_map(|r| r.rows.iter().flatten().copied());
+        self.fill(std::iter::once(patch.center).chain(ribbons));
+    }
+
+    /// The flat-ordered control points of a CGB patch: side i, row k, column j.
+    pub fn fill_cgb(&mut self, patch: &CgbPatch) {
+        self.fill(patch.ribbons.iter().flat_map(|r| r.rows.iter().flatten().copied()));
+    }
+
+    /// Number of control points.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// True without control points.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
     /// From flat-ordered points.
     pub fn from_points(points: &[DVec3]) -> Self {
         ControlSoa {
@@ -135,6 +183,176 @@ impl SampleFrame {
     }
 }
 
+/// Tiled weight rows of a basis that is linear in its control points (see the module doc).
+#[derive(Clone, Debug)]
+struct Rows {
+    /// Number of control points N.
+    controls: usize,
+    /// Tiles of [`TILE`] samples (the last one padded with zero weights).
+    tiles: usize,
+    /// `first[((tile·N + c)·3 + q)·TILE + lane]`, q = 0, 1, 2 for w, ∂_u w, ∂_v w.
+    first: Vec<f64>,
+    /// Same layout, q = 0, 1, 2 for ∂_uu w, ∂_uv w, ∂_vv w (when built).
+    second: Option<Vec<f64>>,
+}
+
+/// Bytes of the rows of `samples` samples and `controls` control points.
+fn rows_bytes(samples: u128, controls: u128, second: bool) -> u128 {
+    samples.div_ceil(TILE as u128) * TILE as u128 * 3 * controls * 8 * if second { 2 } else { 1 }
+}
+
+impl Rows {
+    /// Rows from `basis(uv, w, w_u, w_v, second)` filling the weights of every control point;
+    /// `second` is `Some((w_uu, w_uv, w_vv))` when the second derivatives are wanted.
+    fn build(
+        layout: &SampleLayout,
+        controls: usize,
+        want_second: bool,
+        mut basis: impl FnMut(DVec2, [&mut [f64]; 6]),
+    ) -> Result<Self, TableError> {
+        let samples = layout.uv.len();
+        let tiles = samples.div_ceil(TILE);
+        let len = tiles * TILE * 3 * controls;
+        let mut first = vec![0.0; len];
+        let mut second = if want_second { vec![0.0; len] } else { Vec::new() };
+        let mut buf = vec![0.0; 6 * controls];
+        for (s, &uv) in layout.uv.iter().enumerate() {
+            buf.fill(0.0);
+            {
+                let (a, rest) = buf.split_at_mut(controls);
+                let (b, rest) = rest.split_at_mut(controls);
+                let (c, rest) = rest.split_at_mut(controls);
+                let (d, rest) = rest.split_at_mut(controls);
+                let (e, f) = rest.split_at_mut(controls);
+                basis(uv, [a, b, c, d, e, f]);
+            }
+            let (t, lane) = (s / TILE, s % TILE);
+            for c in 0..controls {
+                let at = (t * controls + c) * 3 * TILE + lane;
+                for q in 0..6 {
+                    let v = buf[q * controls + c];
+                    if !v.is_finite() {
+                        return Err(TableError::NonFiniteWeight { sample: s, control: c });
+                    }
+                    if q < 3 {
+                        first[at + q * TILE] = v;
+                    } else if want_second {
+                        second[at + (q - 3) * TILE] = v;
+                    }
+                }
+            }
+        }
+        Ok(Rows {
+            controls,
+            tiles,
+            first,
+            second: want_second.then_some(second),
+        })
+    }
+
+    /// Rows of a basis given as jets (value, first and second derivatives).
+    fn from_jets(
+        layout: &SampleLayout,
+        controls: usize,
+        want_second: bool,
+        mut jets: impl FnMut(DVec2, &mut [Jet2]),
+    ) -> Result<Self, TableError> {
+        let mut buf = vec![Jet2::ZERO; controls];
+        Self::build(layout, controls, want_second, |uv, [w, wu, wv, wuu, wuv, wvv]| {
+            buf.fill(Jet2::ZERO);
+            jets(uv, &mut buf);
+            for (m, j) in buf.iter().enumerate() {
+                (w[m], wu[m], wv[m]) = (j.val, j.du, j.dv);
+                (wuu[m], wuv[m], wvv[m]) = (j.duu, j.duv, j.dvv);
+            }
+        })
+    }
+
+    fn memory_bytes(&self) -> usize {
+        (self.first.len() + self.second.as_ref().map_or(0, |s| s.len())) * std::mem::size_of::<f64>()
+    }
+
+    fn weight(&self, s: usize, c: usize) -> [f64; 3] {
+        let at = ((s / TILE) * self.controls + c) * 3 * TILE + s % TILE;
+        [self.first[at], self.first[at + TILE], self.first[at + 2 * TILE]]
+    }
+
+    /// [`Rows::kernel`] as a call of its own, so that its 9 accumulators get the register file
+    /// to themselves (inlined twice into [`Rows::tile_derivs`] the compiler kept one
+    /// accumulator on the stack: about 20 % slower).
+    #[inline(never)]
+    fn kernel_call(block: &[f64], ctrl: &ControlSoa) -> [[f64; TILE]; 9] {
+        Self::kernel(block, ctrl)
+    }
+
+    /// Σ_c row_q(c) · P_c for q = 0, 1, 2 over the tile's lanes: the 9 sums (x, y, z of each q).
+    #[inline(always)]
+    fn kernel(block: &[f64], ctrl: &ControlSoa) -> [[f64; TILE]; 9] {
+        // 9 accumulators (x, y, z of the three rows), each with the tile's samples as lanes.
+        let mut acc = [Lanes::ZERO; 9];
+        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
+        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
+            // One weight row live at a time (9 accumulators + 3 coordinates + 1 row + 1
+            // product fit the 16 SSE registers without spilling).
+            let (x, y, z) = (Lanes::splat(x), Lanes::splat(y), Lanes::splat(z));
+            for q in 0..3 {
+                let w = load(&wq[q * TILE..]);
+                acc[3 * q] = w.mul_add(x, acc[3 * q]);
+                acc[3 * q + 1] = w.mul_add(y, acc[3 * q + 1]);
+                acc[3 * q + 2] = w.mul_add(z, acc[3 * q + 2]);
+            }
+        }
+        acc.map(|v| v.to_array())
+    }
+
+    #[inline]
+    fn block<'a>(&self, rows: &'a [f64], t: usize) -> &'a [f64] {
+        let len = self.controls * 3 * TILE;
+        &rows[t * len..(t + 1) * len]
+    }
+
+    #[inline]
+    fn tile(&self, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
+        let a = Self::kernel(self.block(&self.first, t), ctrl);
+        std::array::from_fn(|l| SampleFrame {
+            position: DVec3::new(a[0][l], a[1][l], a[2][l]),
+            du: DVec3::new(a[3][l], a[4][l], a[5][l]),
+            dv: DVec3::new(a[6][l], a[7][l], a[8][l]),
+        })
+    }
+
+    #[inline]
+    fn tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
+        let a = Self::kernel_call(self.block(&self.first, t), ctrl);
+        let b = match &self.second {
+            Some(second) => Self::kernel_call(self.block(second, t), ctrl),
+            None => [[0.0; TILE]; 9],
+        };
+        std::array::from_fn(|l| SurfaceDerivs {
+            p: DVec3::new(a[0][l], a[1][l], a[2][l]),
+            su: DVec3::new(a[3][l], a[4][l], a[5][l]),
+            sv: DVec3::new(a[6][l], a[7][l], a[8][l]),
+            suu: DVec3::new(b[0][l], b[1][l], b[2][l]),
+            suv: DVec3::new(b[3][l], b[4][l], b[5][l]),
+            svv: DVec3::new(b[6][l], b[7][l], b[8][l]),
+        })
+    }
+
+    fn sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
+        let (t, lane) = (s / TILE, s % TILE);
+        let block = self.block(&self.first, t);
+        let mut acc = [DVec3::ZERO; 3];
+        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
+        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
+            let p = DVec3::new(x, y, z);
+            for (q, a) in acc.iter_mut().enumerate() {
+                *a += wq[q * TILE + lane] * p;
+            }
+        }
+        SampleFrame { position: acc[0], du: acc[1], dv: acc[2] }
+    }
+}
+
 /// Dense weight table of one (n, d, r, weight form); see the module doc.
 #[derive(Clone, Debug)]
 pub struct GbTable {
@@ -146,12 +364,7 @@ pub struct GbTable {
     pub form: WeightForm,
     /// Samples and triangles.
     pub layout: SampleLayout,
-    /// Number of flat control points N.
-    controls: usize,
-    /// Tiles of [`TILE`] samples (the last one padded with zero weights).
-    tiles: usize,
-    /// `data[((tile·N + c)·3 + q)·TILE + lane]`, q = 0, 1, 2 for w, ∂_u w, ∂_v w.
-    data: Vec<f64>,
+    rows: Rows,
 }
 
 impl GbTable {
@@ -163,10 +376,35 @@ impl GbTable {
         resolution: usize,
         form: WeightForm,
     ) -> Result<Self, TableError> {
-        let mut ev = GbBasisEvaluator::new(sides, degree)?;
+        Self::build(sides, degree, resolution, form, false)
+    }
+
+    /// As [`GbTable::new`], also with the second derivatives of the weights (for
+    /// [`GbTable::eval_tile_derivs`]: curvature). Twice the memory.
+    pub fn with_second_derivatives(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Self, TableError> {
+        Self::build(sides, degree, resolution, form, true)
+    }
+
+    /// The bytes a table of (n, d, r) needs (with or without second derivatives).
+    pub fn bytes_needed(sides: usize, degree: usize, resolution: usize, second: bool) -> u128 {
         let controls = flat_control_count(sides, degree) as u128;
-        let samples = 1 + (sides as u128) * (resolution as u128) * (resolution as u128 + 1) / 2;
-        let bytes = samples.div_ceil(TILE as u128) * TILE as u128 * 3 * controls * 8;
+        rows_bytes(SampleLayout::sample_count(sides, resolution) as u128, controls, second)
+    }
+
+    fn build(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+        second: bool,
+    ) -> Result<Self, TableError> {
+        let mut ev = GbBasisEvaluator::new(sides, degree)?;
+        let bytes = Self::bytes_needed(sides, degree, resolution, second);
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides,
@@ -176,14 +414,17 @@ impl GbTable {
             });
         }
         let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
-        let mut jets = vec![Jet2::ZERO; ev.len()];
-        Self::from_basis(sides, degree, form, layout, |uv, w, wu, wv| {
+        let controls = ev.len();
+        let rows = Rows::from_jets(&layout, controls, second, |uv, jets| {
             // `jets` has the evaluator's length, so this cannot fail.
-            if ev.eval_into(uv, form, &mut jets).is_ok() {
-                for (m, j) in jets.iter().enumerate() {
-                    (w[m], wu[m], wv[m]) = (j.val, j.du, j.dv);
-                }
-            }
+            let _ = ev.eval_into(uv, form, jets);
+        })?;
+        Ok(GbTable {
+            sides,
+            degree,
+            form,
+            layout,
+            rows,
         })
     }
 
@@ -199,8 +440,26 @@ impl GbTable {
             degree,
             resolution,
             form,
+            second_derivatives: false,
         };
         Self::cached_with(key, || GbTable::new(sides, degree, resolution, form))
+    }
+
+    /// The shared table of (n, d, r, form) with second derivatives, from the process-wide cache.
+    pub fn cached_with_second_derivatives(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Arc<GbTable>, TableError> {
+        let key = TableKey {
+            sides,
+            degree,
+            resolution,
+            form,
+            second_derivatives: true,
+        };
+        Self::cached_with(key, || GbTable::with_second_derivatives(sides, degree, resolution, form))
     }
 
     /// Builds a table from a basis function: `basis(uv, w, w_u, w_v)` fills the weights and
@@ -213,49 +472,24 @@ impl GbTable {
         mut basis: impl FnMut(DVec2, &mut [f64], &mut [f64], &mut [f64]),
     ) -> Result<Self, TableError> {
         let controls = flat_control_count(sides, degree);
-        let samples = layout.uv.len();
-        let tiles = samples.div_ceil(TILE);
-        let mut data = vec![0.0; tiles * TILE * 3 * controls];
-        let (mut w, mut wu, mut wv) = (
-            vec![0.0; controls],
-            vec![0.0; controls],
-            vec![0.0; controls],
-        );
-        for (s, &uv) in layout.uv.iter().enumerate() {
-            basis(uv, &mut w, &mut wu, &mut wv);
-            let (t, lane) = (s / TILE, s % TILE);
-            for c in 0..controls {
-                let at = (t * controls + c) * 3 * TILE + lane;
-                for (q, v) in [w[c], wu[c], wv[c]].into_iter().enumerate() {
-                    if !v.is_finite() {
-                        return Err(TableError::NonFiniteWeight {
-                            sample: s,
-                            control: c,
-                        });
-                    }
-                    data[at + q * TILE] = v;
-                }
-            }
-        }
+        let rows = Rows::build(&layout, controls, false, |uv, [w, wu, wv, _, _, _]| basis(uv, w, wu, wv))?;
         Ok(GbTable {
             sides,
             degree,
             form,
             layout,
-            controls,
-            tiles,
-            data,
+            rows,
         })
     }
 
     /// Number of flat control points N.
     pub fn control_count(&self) -> usize {
-        self.controls
+        self.rows.controls
     }
 
     /// Memory held by the weights, in bytes.
     pub fn memory_bytes(&self) -> usize {
-        self.data.len() * std::mem::size_of::<f64>()
+        self.rows.memory_bytes()
     }
 
     /// Number of samples.
@@ -263,14 +497,19 @@ impl GbTable {
         self.layout.uv.len()
     }
 
+    /// Number of tiles of [`TILE`] samples.
+    pub fn tile_count(&self) -> usize {
+        self.rows.tiles
+    }
+
+    /// True when the table holds the second derivatives.
+    pub fn has_second_derivatives(&self) -> bool {
+        self.rows.second.is_some()
+    }
+
     /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
     pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
-        let at = ((s / TILE) * self.controls + c) * 3 * TILE + s % TILE;
-        [
-            self.data[at],
-            self.data[at + TILE],
-            self.data[at + 2 * TILE],
-        ]
+        self.rows.weight(s, c)
     }
 
     /// The SoA control vector of a patch of this table's n and d.
@@ -293,51 +532,20 @@ impl GbTable {
     /// past the last sample are zero). `ctrl` must come from [`GbTable::controls_of`].
     #[inline]
     pub fn eval_tile(&self, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
-        let len = self.controls * 3 * TILE;
-        let block = &self.data[t * len..(t + 1) * len];
-        // 9 accumulators (x, y, z of S, S_u, S_v), each with the tile's samples as lanes.
-        let mut acc = [Lanes::ZERO; 9];
-        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
-        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
-            let (w, wu, wv) = (load(wq), load(&wq[TILE..]), load(&wq[2 * TILE..]));
-            let (x, y, z) = (Lanes::splat(x), Lanes::splat(y), Lanes::splat(z));
-            acc[0] = w.mul_add(x, acc[0]);
-            acc[1] = w.mul_add(y, acc[1]);
-            acc[2] = w.mul_add(z, acc[2]);
-            acc[3] = wu.mul_add(x, acc[3]);
-            acc[4] = wu.mul_add(y, acc[4]);
-            acc[5] = wu.mul_add(z, acc[5]);
-            acc[6] = wv.mul_add(x, acc[6]);
-            acc[7] = wv.mul_add(y, acc[7]);
-            acc[8] = wv.mul_add(z, acc[8]);
-        }
-        let a = acc.map(|v| v.to_array());
-        std::array::from_fn(|l| SampleFrame {
-            position: DVec3::new(a[0][l], a[1][l], a[2][l]),
-            du: DVec3::new(a[3][l], a[4][l], a[5][l]),
-            dv: DVec3::new(a[6][l], a[7][l], a[8][l]),
-        })
+        self.rows.tile(t, ctrl)
+    }
+
+    /// Position with first and second derivatives at the samples of tile `t` (second
+    /// derivatives zero unless the table has them, see [`GbTable::with_second_derivatives`]).
+    #[inline]
+    pub fn eval_tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
+        self.rows.tile_derivs(t, ctrl)
     }
 
     /// Position and derivatives at sample `s` alone. `ctrl` must come from
     /// [`GbTable::controls_of`]. For all samples use [`GbTable::eval_all`] (tile-wise, faster).
     pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
-        let len = self.controls * 3 * TILE;
-        let (t, lane) = (s / TILE, s % TILE);
-        let block = &self.data[t * len..(t + 1) * len];
-        let mut acc = [DVec3::ZERO; 3];
-        let coords = ctrl.x.iter().zip(ctrl.y.iter()).zip(ctrl.z.iter());
-        for (wq, ((&x, &y), &z)) in block.chunks_exact(3 * TILE).zip(coords) {
-            let p = DVec3::new(x, y, z);
-            for (q, a) in acc.iter_mut().enumerate() {
-                *a += wq[q * TILE + lane] * p;
-            }
-        }
-        SampleFrame {
-            position: acc[0],
-            du: acc[1],
-            dv: acc[2],
-        }
+        self.rows.sample(s, ctrl)
     }
 
     /// Positions and unit normals at all samples, into `positions` and `normals` (cleared
@@ -353,7 +561,7 @@ impl GbTable {
         positions.reserve(self.sample_count());
         normals.reserve(self.sample_count());
         let samples = self.sample_count();
-        for t in 0..self.tiles {
+        for t in 0..self.rows.tiles {
             let frames = self.eval_tile(t, ctrl);
             for f in frames.iter().take(samples - t * TILE) {
                 positions.push(f.position);
@@ -378,7 +586,7 @@ impl GbTable {
             n.reserve(self.sample_count());
         }
         let samples = self.sample_count();
-        for t in 0..self.tiles {
+        for t in 0..self.rows.tiles {
             for ((c, p), n) in ctrls
                 .iter()
                 .zip(positions.iter_mut())
@@ -420,6 +628,132 @@ impl GbTable {
         self.eval_all(&ctrl, &mut mesh.positions, &mut mesh.normals);
         mesh.triangles = self.layout.triangles.clone();
         Ok(mesh)
+    }
+}
+
+/// Weight table of ribbon-only (CGB) patches with per-side (degree, layers) `sides`, at the
+/// samples of [`SampleLayout::for_domain`] at one resolution: the normalized weights
+/// w / B_sum (seed 000 eq. 3.8) with first and second derivatives (quotient rule, exact), in
+/// the flat order side i, row k, column j ([`CgbPatch::control_points_flat`]).
+#[derive(Clone, Debug)]
+pub struct CgbTable {
+    /// Per side: (degree d_i, layer count l_i).
+    pub sides: Vec<(usize, usize)>,
+    /// Weight form of the correction weights μ.
+    pub form: WeightForm,
+    /// Samples and triangles.
+    pub layout: SampleLayout,
+    rows: Rows,
+}
+
+/// Key of the CGB table cache.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct CgbKey {
+    sides: Vec<(usize, usize)>,
+    resolution: usize,
+    form: WeightForm,
+}
+
+impl CgbTable {
+    /// The bytes a CGB table of `sides` at resolution r needs.
+    pub fn bytes_needed(sides: &[(usize, usize)], resolution: usize) -> u128 {
+        let controls: u128 = sides.iter().map(|&(d, l)| (l * (d + 1)) as u128).sum();
+        rows_bytes(SampleLayout::sample_count(sides.len(), resolution) as u128, controls, true)
+    }
+
+    /// Builds the table (with second derivatives).
+    pub fn new(sides: &[(usize, usize)], resolution: usize, form: WeightForm) -> Result<Self, TableError> {
+        let degrees: Vec<usize> = sides.iter().map(|s| s.0).collect();
+        let layers: Vec<usize> = sides.iter().map(|s| s.1).collect();
+        let mut ev = CgbBasisEvaluator::new(&degrees, &layers)?;
+        let bytes = Self::bytes_needed(sides, resolution);
+        if bytes > MAX_TABLE_BYTES {
+            return Err(TableError::TooLarge {
+                n: sides.len(),
+                d: degrees.iter().copied().max().unwrap_or(0),
+                r: resolution,
+                bytes,
+            });
+        }
+        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+        let rows = Rows::from_jets(&layout, ev.len(), true, |uv, jets| {
+            // `jets` has the evaluator's length, so this cannot fail.
+            let _ = ev.eval_into(uv, form, jets);
+        })?;
+        Ok(CgbTable {
+            sides: sides.to_vec(),
+            form,
+            layout,
+            rows,
+        })
+    }
+
+    /// The shared table from the process-wide cache (built on first use).
+    pub fn cached(sides: &[(usize, usize)], resolution: usize, form: WeightForm) -> Result<Arc<CgbTable>, TableError> {
+        type CgbCache = Mutex<HashMap<CgbKey, Arc<CgbTable>>>;
+        static CACHE: OnceLock<CgbCache> = OnceLock::new();
+        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+        let key = CgbKey {
+            sides: sides.to_vec(),
+            resolution,
+            form,
+        };
+        if let Ok(c) = cache.lock() {
+            if let Some(t) = c.get(&key) {
+                return Ok(Arc::clone(t));
+            }
+        }
+        let table = Arc::new(CgbTable::new(sides, resolution, form)?);
+        if let Ok(mut c) = cache.lock() {
+            return Ok(Arc::clone(c.entry(key).or_insert(table)));
+        }
+        Ok(table)
+    }
+
+    /// Number of flat control points Σ l_i (d_i + 1).
+    pub fn control_count(&self) -> usize {
+        self.rows.controls
+    }
+
+    /// Memory held by the weights, in bytes.
+    pub fn memory_bytes(&self) -> usize {
+        self.rows.memory_bytes()
+    }
+
+    /// Number of samples.
+    pub fn sample_count(&self) -> usize {
+        self.layout.uv.len()
+    }
+
+    /// Number of tiles of [`TILE`] samples.
+    pub fn tile_count(&self) -> usize {
+        self.rows.tiles
+    }
+
+    /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
+    pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
+        self.rows.weight(s, c)
+    }
+
+    /// The SoA control vector of a patch with this table's sides.
+    pub fn controls_of(&self, patch: &CgbPatch) -> Result<ControlSoa, TableError> {
+        patch.validate()?;
+        let found: Vec<(usize, usize)> = patch.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect();
+        if found != self.sides {
+            return Err(TableError::CgbMismatch {
+                found,
+                table: self.sides.clone(),
+            });
+        }
+        let mut c = ControlSoa::default();
+        c.fill_cgb(patch);
+        Ok(c)
+    }
+
+    /// Position with first and second derivatives at the [`TILE`] samples of tile `t`.
+    #[inline]
+    pub fn eval_tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
+        self.rows.tile_derivs(t, ctrl)
     }
 }
 
@@ -472,6 +806,9 @@ mod tests {
         assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
         let tiles = SampleLayout::sample_count(5, 4).div_ceil(TILE);
         assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles);
+        let s = GbTable::cached_with_second_derivatives(5, 3, 4, WeightForm::Squared).unwrap();
+        assert!(!Arc::ptr_eq(&a, &s) && s.has_second_derivatives() && !a.has_second_derivatives());
+        assert_eq!(s.memory_bytes(), 2 * a.memory_bytes());
         assert!(matches!(
             GbTable::new(2, 3, 4, WeightForm::Squared),
             Err(TableError::Patch(_))
@@ -494,5 +831,71 @@ mod tests {
             assert_near!(sum[1], 0.0, 1e-11);
             assert_near!(sum[2], 0.0, 1e-11);
         }
+    }
+
+    /// Deterministic scattered control rows: side i of degree `degrees[i]` with `layers[i]` rows.
+    fn ribbons(degrees: &[usize], layers: &[usize]) -> Vec<crate::gb::Ribbon> {
+        let mut seed = 0.37_f64;
+        let mut next = || {
+            seed = (seed * 97.13 + 0.311).fract();
+            seed - 0.5
+        };
+        degrees
+            .iter()
+            .zip(layers)
+            .enumerate()
+            .map(|(i, (&d, &l))| crate::gb::Ribbon {
+                degree: d,
+                rows: (0..l)
+                    .map(|k| (0..=d).map(|j| DVec3::new(i as f64 + next(), j as f64 + next(), k as f64 + next())).collect())
+                    .collect(),
+            })
+            .collect()
+    }
+
+    fn assert_derivs(a: &SurfaceDerivs, b: &SurfaceDerivs) {
+        for (x, y) in [(a.p, b.p), (a.su, b.su), (a.sv, b.sv), (a.suu, b.suu), (a.suv, b.suv), (a.svv, b.svv)] {
+            assert_near!(x, y, 1e-10);
+        }
+    }
+
+    #[test]
+    fn second_derivative_rows_match_direct_gb_evaluation() {
+        for form in [WeightForm::Squared, WeightForm::Linear] {
+            let t = GbTable::with_second_derivatives(5, 3, 4, form).unwrap();
+            let patch = GbPatch { ribbons: ribbons(&[3; 5], &[2; 5]), center: DVec3::new(0.1, 0.2, 1.3) };
+            let ctrl = t.controls_of(&patch).unwrap();
+            let mut fast = ControlSoa::default();
+            fast.fill_gb(&patch);
+            assert_eq!(fast, ctrl);
+            for s in 0..t.sample_count() {
+                let d = t.eval_tile_derivs(s / TILE, &ctrl)[s % TILE];
+                assert_derivs(&d, &patch.eval_derivs(t.layout.uv[s], form));
+                let f = t.eval_tile(s / TILE, &ctrl)[s % TILE];
+                assert_eq!((f.position, f.du, f.dv), (d.p, d.su, d.sv));
+            }
+        }
+        // Without second-derivative rows they read as zero.
+        let t = GbTable::new(4, 3, 2, WeightForm::Squared).unwrap();
+        let patch = GbPatch { ribbons: ribbons(&[3; 4], &[2; 4]), center: DVec3::Z };
+        let d = t.eval_tile_derivs(0, &t.controls_of(&patch).unwrap())[0];
+        assert_eq!((d.suu, d.suv, d.svv), (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO));
+    }
+
+    #[test]
+    fn cgb_table_matches_direct_cgb_evaluation() {
+        let (degrees, layers) = ([3, 4, 3, 5], [2, 2, 1, 3]);
+        let sides: Vec<(usize, usize)> = degrees.iter().copied().zip(layers).collect();
+        let t = CgbTable::cached(&sides, 5, WeightForm::Squared).unwrap();
+        assert!(Arc::ptr_eq(&t, &CgbTable::cached(&sides, 5, WeightForm::Squared).unwrap()));
+        assert_eq!(t.control_count(), 8 + 10 + 4 + 18);
+        let patch = CgbPatch { ribbons: ribbons(&degrees, &layers) };
+        let ctrl = t.controls_of(&patch).unwrap();
+        for s in 0..t.sample_count() {
+            let d = t.eval_tile_derivs(s / TILE, &ctrl)[s % TILE];
+            assert_derivs(&d, &patch.eval_derivs(t.layout.uv[s], WeightForm::Squared));
+        }
+        let other = CgbPatch { ribbons: ribbons(&[3; 4], &[2; 4]) };
+        assert!(matches!(t.controls_of(&other), Err(TableError::CgbMismatch { .. })));
     }
 }

@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 /// Result of [`check_mesh`].
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -52,13 +53,12 @@ pub const ZERO_AREA_REL: f64 = 1e-14;
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     let nv = positions.len();
     let mut c = MeshCheck { vertices: nv, triangles: triangles.len(), ..Default::default() };
-    let good: Vec<bool> = triangles.iter().map(|t| t.iter().all(|&i| (i as usize) < nv)).collect();
-    c.bad_indices = good.iter().filter(|&&g| !g).count();
+    let good = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
+    c.bad_indices = triangles.par_iter().filter(|t| !good(t)).count();
     c.zero_area_triangles = triangles
         .par_iter()
-        .zip(&good)
-        .filter(|(t, &g)| {
-            if !g {
+        .filter(|t| {
+            if !good(t) {
                 return false;
             }
             let [a, b, cc] = t.map(|i| positions[i as usize]);
@@ -68,84 +68,118 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
         })
         .count();
     // Corners per vertex: corner (v; a, b) for triangle (v, a, b) in CCW order. Its outgoing
-    // directed edge is v → a and its link edge a → b.
-    let mut start = vec![0u32; nv + 1];
-    for (t, &g) in triangles.iter().zip(&good) {
-        if g {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
+    // directed edge is v → a and its link edge a → b. Bucketed in parallel (atomic counters;
+    // the order within a bucket does not matter below).
+    let count: Vec<AtomicU32> = (0..nv + 1).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+    triangles.par_iter().with_min_len(4096).filter(|t| good(t)).for_each(|t| {
+        for &v in t {
+            count[v as usize + 1].fetch_add(1, Ordering::Relaxed);
         }
-    }
+    });
+    let mut start: Vec<u32> = count.into_iter().map(AtomicU32::into_inner).collect();
     for v in 0..nv {
         start[v + 1] += start[v];
     }
-    let mut fill = start.clone();
-    let mut links = vec![(0u32, 0u32); start[nv] as usize];
-    for (t, &g) in triangles.iter().zip(&good) {
-        if g {
-            for k in 0..3 {
-                let v = t[k] as usize;
-                links[fill[v] as usize] = (t[(k + 1) % 3], t[(k + 2) % 3]);
-                fill[v] += 1;
-            }
+    let fill: Vec<AtomicU32> = start[..nv].par_iter().map(|&s| AtomicU32::new(s)).collect();
+    let links: Vec<AtomicU64> = (0..start[nv]).into_par_iter().map(|_| AtomicU64::new(0)).collect();
+    triangles.par_iter().with_min_len(4096).filter(|t| good(t)).for_each(|t| {
+        for k in 0..3 {
+            let at = fill[t[k] as usize].fetch_add(1, Ordering::Relaxed);
+            links[at as usize].store((t[(k + 1) % 3] as u64) << 32 | t[(k + 2) % 3] as u64, Ordering::Relaxed);
         }
-    }
-    let corners = |v: usize| &links[start[v] as usize..start[v + 1] as usize];
-    // Directed edge u → w exists (count) iff some corner of u has first link vertex w.
-    let count_out = |u: usize, w: u32| corners(u).iter().filter(|&&(a, _)| a == w).count();
-    // Per vertex (in parallel): its outgoing edges and its fan.
+    });
+    drop(fill);
+    let unpack = |x: &AtomicU64| {
+        let x = x.load(Ordering::Relaxed);
+        ((x >> 32) as u32, x as u32)
+    };
+    // Per vertex (in parallel): its edges and its fan, from its own corner list only. A corner
+    // (u; a, b) of triangle (u, a, b) carries the directed edges u → a and b → u, and every
+    // directed edge x → y of a triangle appears exactly once as an outgoing edge (at x's corner)
+    // and once as an incoming edge (at y's corner), so the counts of u → w and w → u are both
+    // read from u's list.
     // Tally: [inconsistent, undirected, boundary, non-manifold edges, non-manifold vertices, used].
     let tally = (0..nv)
         .into_par_iter()
+        .with_min_len(1024)
         .map(|u| {
             let mut t = [0usize; 6];
-            let list = corners(u);
-            for (idx, &(w, _)) in list.iter().enumerate() {
-                if list[..idx].iter().any(|&(a, _)| a == w) {
-                    continue; // counted at its first occurrence
+            let packed = &links[start[u] as usize..start[u + 1] as usize];
+            let (mut stack, heap): ([(u32, u32); 16], Vec<(u32, u32)>);
+            let list: &[(u32, u32)] = if packed.len() <= 16 {
+                stack = [(0, 0); 16];
+                for (x, p) in stack.iter_mut().zip(packed) {
+                    *x = unpack(p);
                 }
-                let forward = count_out(u, w);
-                let backward = count_out(w as usize, u as u32);
-                if forward > 1 {
-                    t[0] += 1;
-                }
-                // Each undirected edge once: from its smaller end, or from the only direction used.
-                if (u as u32) < w || backward == 0 {
-                    t[1] += 1;
-                    match forward + backward {
-                        1 => t[2] += 1,
-                        2 => {}
-                        _ => t[3] += 1,
-                    }
-                }
-            }
-            // The link edges a → b around u must form one path or one cycle.
-            if list.is_empty() {
+                &stack[..packed.len()]
+            } else {
+                heap = packed.iter().map(unpack).collect();
+                &heap
+            };
+            let m = list.len();
+            let uu = u as u32;
+            if m == 0 {
                 t[4] += 1; // unused vertex
                 return t;
             }
             t[5] += 1;
-            let m = list.len();
+            // The link edges a → b around u must form one path or one cycle.
             let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
             let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
-            if !(unique_from && unique_to) {
-                t[4] += 1;
-                return t;
-            }
-            // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
-            let first = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0)).unwrap_or(0);
-            let mut cur = first;
-            let mut steps = 1;
-            while let Some(next) = (0..m).find(|&j| list[j].0 == list[cur].1) {
-                if next == first || steps > m {
-                    break;
+            if unique_from && unique_to {
+                // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
+                let open = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0));
+                let first = open.unwrap_or(0);
+                let mut cur = first;
+                let mut steps = 1;
+                while let Some(next) = list.iter().position(|x| x.0 == list[cur].1) {
+                    if next == first || steps > m {
+                        break;
+                    }
+                    cur = next;
+                    steps += 1;
                 }
-                cur = next;
-                steps += 1;
+                if steps == m {
+                    // One fan through all corners. The a's are distinct (every edge u → w at
+                    // most once), as are the b's (w → u at most once). A closed fan has the
+                    // same a's and b's: every edge is used in both directions. An open fan
+                    // a_first, …, b_last adds the boundary edges u–a_first (out only) and
+                    // u–b_last (in only). Each undirected edge is counted at its smaller end.
+                    t[1] += list.iter().filter(|&&(a, _)| uu < a).count();
+                    if let Some(f) = open {
+                        let (a_first, b_last) = (list[f].0, list[cur].1);
+                        if uu < a_first {
+                            t[2] += 1;
+                        }
+                        if uu < b_last {
+                            t[1] += 1;
+                            t[2] += 1;
+                        }
+                    }
+                    return t;
+                }
             }
-            if steps != m {
-                t[4] += 1;
+            t[4] += 1;
+            // A non-manifold vertex: count its edges one neighbour at a time.
+            for (idx, &(a, b)) in list.iter().enumerate() {
+                for (w, seen) in [(a, list[..idx].iter().any(|&(x, y)| x == a || y == a)), (b, b == a || list[..idx].iter().any(|&(x, y)| x == b || y == b))] {
+                    if seen {
+                        continue;
+                    }
+                    let forward = list.iter().filter(|&&(x, _)| x == w).count();
+                    let backward = list.iter().filter(|&&(_, y)| y == w).count();
+                    if forward > 1 {
+                        t[0] += 1;
+                    }
+                    if uu < w {
+                        t[1] += 1;
+                        match forward + backward {
+                            1 => t[2] += 1,
+                            2 => {}
+                            _ => t[3] += 1,
+                        }
+                    }
+                }
             }
             t
         })
@@ -156,11 +190,28 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     c.non_manifold_edges = nm_edges;
     c.non_manifold_vertices = nm_vertices;
     // Duplicate positions (bitwise equal coordinates, −0 = +0).
-    let mut keys: Vec<[u64; 3]> = positions.par_iter().map(|p| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits())).collect();
-    keys.par_sort_unstable();
-    c.duplicate_vertices = keys.windows(2).filter(|w| w[0] == w[1]).count();
+    // First a sort of 64-bit hashes of the keys: without two equal hashes there is no duplicate;
+    // otherwise the exact count by sorting the full keys.
+    let key = |p: &DVec3| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+    let mut hashes: Vec<u64> = positions.par_iter().map(|p| hash_key(key(p))).collect();
+    hashes.par_sort_unstable();
+    if hashes.windows(2).any(|w| w[0] == w[1]) {
+        let mut keys: Vec<[u64; 3]> = positions.par_iter().map(key).collect();
+        keys.par_sort_unstable();
+        c.duplicate_vertices = keys.windows(2).filter(|w| w[0] == w[1]).count();
+    }
     c.euler_characteristic = used as i64 - undirected as i64 + (triangles.len() - c.bad_indices) as i64;
     c
+}
+
+/// A 64-bit mix of three words (multiply–xorshift rounds, as in splitmix64).
+fn hash_key(k: [u64; 3]) -> u64 {
+    let mix = |mut z: u64| {
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    mix(mix(mix(k[0]).wrapping_add(k[1])).wrapping_add(k[2]))
 }
 
 /// Area-weighted vertex normals of a triangle mesh (unit, zero for unused vertices).
@@ -177,4 +228,92 @@ pub fn vertex_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3>
         }
     }
     n.iter().map(|v| v.normalize_or_zero()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::collections::{HashMap, HashSet};
+
+    /// Edge counts by hashing directed edges (independent of the corner lists).
+    fn reference_edges(nv: usize, triangles: &[[u32; 3]]) -> (usize, usize, usize, usize) {
+        let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+        for t in triangles.iter().filter(|t| t.iter().all(|&i| (i as usize) < nv)) {
+            for k in 0..3 {
+                *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+            }
+        }
+        let inconsistent = directed.values().filter(|&&c| c > 1).count();
+        let undirected: HashSet<(u32, u32)> = directed.keys().filter(|(a, b)| a != b).map(|&(a, b)| (a.min(b), a.max(b))).collect();
+        let (mut boundary, mut nm) = (0, 0);
+        for &(a, b) in &undirected {
+            let n = directed.get(&(a, b)).copied().unwrap_or(0) + directed.get(&(b, a)).copied().unwrap_or(0);
+            match n {
+                1 => boundary += 1,
+                2 => {}
+                _ => nm += 1,
+            }
+        }
+        (inconsistent, undirected.len(), boundary, nm)
+    }
+
+    #[test]
+    fn closed_tetrahedron_and_open_fan() {
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let tet = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        let c = check_mesh(&p, &tet);
+        assert!(c.is_clean_closed(), "{c:?}");
+        assert_eq!(c.euler_characteristic, 2);
+        let c = check_mesh(&p, &tet[..3]);
+        assert_eq!(c.boundary_edges, 3);
+        assert!(c.is_two_manifold() && !c.is_closed_manifold());
+        // Flipping one face makes three edges inconsistent.
+        let c = check_mesh(&p, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 2, 3]]);
+        assert_eq!(c.inconsistent_edges, 3);
+        // A duplicated position.
+        let c = check_mesh(&[DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X], &[[0, 1, 2]]);
+        assert_eq!(c.duplicate_vertices, 1);
+    }
+
+    proptest! {
+        #[test]
+        fn edge_counts_match_a_hash_reference(
+            tris in proptest::collection::vec(proptest::array::uniform3(0u32..9), 0..24),
+            pts in proptest::collection::vec(0u8..4, 8),
+        ) {
+            let nv = 8;
+            let positions: Vec<DVec3> = pts.iter().enumerate().map(|(i, &k)| DVec3::new(k as f64, (i % 2) as f64, 0.0)).collect();
+            let c = check_mesh(&positions, &tris);
+            let (inconsistent, undirected, boundary, nm) = reference_edges(nv, &tris);
+            prop_assert_eq!(c.inconsistent_edges, inconsistent);
+            prop_assert_eq!(c.boundary_edges, boundary);
+            prop_assert_eq!(c.non_manifold_edges, nm);
+            let good: Vec<&[u32; 3]> = tris.iter().filter(|t| t.iter().all(|&i| (i as usize) < nv)).collect();
+            let used: HashSet<u32> = good.iter().flat_map(|t| t.iter().copied()).collect();
+            prop_assert_eq!(c.bad_indices, tris.len() - good.len());
+            prop_assert_eq!(c.euler_characteristic, used.len() as i64 - undirected as i64 + good.len() as i64);
+            let distinct: HashSet<[u64; 3]> = positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
+            prop_assert_eq!(c.duplicate_vertices, nv - distinct.len());
+        }
+    
+        #[test]
+        fn damaged_torus_matches_the_hash_reference(drop in proptest::collection::vec(0usize..96, 0..6), flip in proptest::collection::vec(0usize..96, 0..3)) {
+            let quads = crate::mesh::generate::torus(8, 6, 3.0, 1.0).unwrap();
+            let mut tris: Vec<[u32; 3]> = quads.faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).collect();
+            for &k in &flip {
+                tris[k].swap(1, 2);
+            }
+            let kept: Vec<[u32; 3]> = tris.iter().enumerate().filter(|(k, _)| !drop.contains(k)).map(|(_, t)| *t).collect();
+            let c = check_mesh(&quads.positions, &kept);
+            let (inconsistent, undirected, boundary, nm) = reference_edges(quads.positions.len(), &kept);
+            prop_assert_eq!((c.inconsistent_edges, c.boundary_edges, c.non_manifold_edges), (inconsistent, boundary, nm));
+            let used: HashSet<u32> = kept.iter().flat_map(|t| t.iter().copied()).collect();
+            prop_assert_eq!(c.euler_characteristic, used.len() as i64 - undirected as i64 + kept.len() as i64);
+            if drop.is_empty() && flip.is_empty() {
+                prop_assert!(c.is_clean_closed());
+                prop_assert_eq!(c.euler_characteristic, 0);
+            }
+        }
+}
 }

@@ -23,10 +23,13 @@
 
 use super::patch::{LayoutError, SampleLayout};
 use crate::construct::{Patch, Surface};
+use crate::gb::table::{CgbTable, ControlSoa, GbTable, TableError, TILE};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::io::Write;
+use std::sync::Arc;
 
 /// One evaluated sample: position, unit normal (zero when undefined, e.g. at a degenerate corner;
 /// the welded mesh then falls back to the average of the other patches' normals or, failing that,
@@ -271,6 +274,24 @@ fn angle_deg(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
+/// `v` cut into the pieces `starts[p]..starts[p + 1]` (`starts` ascending, ending at most at
+/// `v.len()`).
+fn split_by<'a, T>(mut v: &'a mut [T], starts: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (a, b) = std::mem::take(&mut v).split_at_mut(w[1] - w[0]);
+        out.push(a);
+        v = b;
+    }
+    out
+}
+
+/// `len` default values, written in parallel: the first touch of a large fresh allocation (page
+/// faults, zeroing) then happens on all threads rather than serially.
+fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
+    (0..len).into_par_iter().with_min_len(1 << 14).map(|_| T::default()).collect()
+}
+
 /// Patches evaluated per progress step.
 const CHUNK: usize = 2048;
 
@@ -300,8 +321,8 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     // and the evaluation runs in parallel without locks.
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
-        positions: vec![DVec3::ZERO; nv],
-        normals: vec![DVec3::ZERO; nv],
+        positions: zeroed(nv),
+        normals: zeroed(nv),
         triangles: Vec::new(),
         patch: vec![0; nv],
         triangle_patch: Vec::new(),
@@ -324,7 +345,7 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     mesh.triangles = vec![[0; 3]; nt];
     mesh.triangle_patch = vec![0; nt];
     // Boundary samples of every patch (ring order), kept for welding and measurements.
-    let mut boundary = vec![SurfacePoint::default(); nb];
+    let mut boundary: Vec<SurfacePoint> = zeroed(nb);
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
 
@@ -418,23 +439,95 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     }
     drop(outs);
 
-    // Boundary samples of non-owners: add their normals and curvatures to the welded vertex.
+    // Welding of the non-owner samples (their normals and curvatures are added to the welded
+    // vertex) and the gap / G1 measurements along shared sides, each side pair once, from its
+    // smaller (patch, side), which also created the pair's inner vertices. So the inner samples
+    // run in parallel per patch, writing only that patch's vertices; the corners (nodes shared
+    // by any number of patches) follow serially in patch order.
+    let valid = |sp: &SurfacePoint| sp.normal != DVec3::ZERO && sp.normal.is_finite();
+    let add = |sp: &SurfacePoint, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16| {
+        *n += sp.normal;
+        if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
+            *h += sp.mean_curvature;
+            *k += sp.gaussian_curvature;
+        }
+        *w = w.saturating_add(1);
+    };
+    // The larger gap, NaN as soon as one gap is NaN.
+    let max_gap = |a: f64, b: f64| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) };
+    // Per side count n: the first boundary sample of its layout.
+    let mut first_boundary = vec![0usize; layouts.keys().max().map_or(0, |&n| n + 1)];
+    for (&n, l) in &layouts {
+        first_boundary[n] = l.ring_index(r, 0, 0);
+    }
+    let sample = |p: usize, s: usize| &boundary[bnd_start[p] + s - first_boundary[sides_of(p)]];
+    let mut shared = vec![false; nv];
+    let mut stats = WeldStats::default();
+    {
+        let vstart = &map.vstart;
+        let parts = split_by(&mut mesh.normals, vstart)
+            .into_iter()
+            .zip(split_by(&mut mesh.mean_curvature, vstart))
+            .zip(split_by(&mut mesh.gaussian_curvature, vstart))
+            .zip(split_by(&mut mesh.g1_deviation_deg, vstart))
+            .zip(split_by(&mut shared, vstart))
+            .zip(split_by(&mut weight, vstart))
+            .enumerate()
+            .collect::<Vec<_>>();
+        stats.max_boundary_gap = parts
+            .into_par_iter()
+            .with_min_len(64)
+            .map(|(p, (((((nrm, h), k), g1), sh), w))| {
+                let lp = &layouts[&sides_of(p)];
+                let mut gap_max = 0.0;
+                for (i, nb) in surface.neighbors[p].iter().enumerate() {
+                    let Some(nb) = nb else { continue };
+                    if (nb.patch, nb.side) < (p, i) {
+                        continue;
+                    }
+                    let lq = &layouts[&sides_of(nb.patch)];
+                    for t in 1..r {
+                        let sa = lp.boundary_index(i, t);
+                        let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                        let v = map.ids[map.offsets[p] + sa] as usize - vstart[p];
+                        if valid(b) {
+                            add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                        }
+                        gap_max = max_gap(gap_max, a.position.distance(b.position));
+                        g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
+                        sh[v] = true;
+                    }
+                }
+                gap_max
+            })
+            .reduce(|| 0.0, max_gap);
+    }
     for p in 0..np {
         let n = sides_of(p);
-        let layout = &layouts[&n];
-        let first_boundary = layout.ring_index(r, 0, 0);
-        for (q, sp) in boundary[bnd_start[p]..bnd_start[p + 1]].iter().enumerate() {
-            let kk = map.offsets[p] + first_boundary + q;
-            if map.owner[kk] || !(sp.normal != DVec3::ZERO && sp.normal.is_finite()) {
+        let lp = &layouts[&n];
+        for i in 0..n {
+            let s = lp.boundary_index(i, 0);
+            let kk = map.offsets[p] + s;
+            let sp = sample(p, s);
+            if !map.owner[kk] && valid(sp) {
+                let v = map.ids[kk] as usize;
+                add(sp, &mut mesh.normals[v], &mut mesh.mean_curvature[v], &mut mesh.gaussian_curvature[v], &mut weight[v]);
+            }
+        }
+        for (i, nb) in surface.neighbors[p].iter().enumerate() {
+            let Some(nb) = nb else { continue };
+            if (nb.patch, nb.side) < (p, i) {
                 continue;
             }
-            let v = map.ids[kk] as usize;
-            mesh.normals[v] += sp.normal;
-            if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
-                mesh.mean_curvature[v] += sp.mean_curvature;
-                mesh.gaussian_curvature[v] += sp.gaussian_curvature;
+            let lq = &layouts[&sides_of(nb.patch)];
+            for t in [0, r] {
+                let sa = lp.boundary_index(i, t);
+                let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.position.distance(b.position));
+                let v = map.ids[map.offsets[p] + sa] as usize;
+                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.normal, b.normal));
+                shared[v] = true;
             }
-            weight[v] = weight[v].saturating_add(1);
         }
     }
     mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
@@ -443,53 +536,21 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
             *k /= w as f64;
         }
     });
-
-    // Gap and G1 along shared sides (each pair once, from its smaller side).
-    let mut stats = WeldStats::default();
-    let mut shared = vec![false; nv];
-    for p in 0..np {
-        let lp = &layouts[&sides_of(p)];
-        let fp = lp.ring_index(r, 0, 0);
-        for (i, nb) in surface.neighbors[p].iter().enumerate() {
-            let Some(nb) = nb else { continue };
-            if (nb.patch, nb.side) < (p, i) {
-                continue;
-            }
-            let lq = &layouts[&sides_of(nb.patch)];
-            let fq = lq.ring_index(r, 0, 0);
-            for t in 0..=r {
-                let sa = lp.boundary_index(i, t);
-                let sb = lq.boundary_index(nb.side, r - t);
-                let a = &boundary[bnd_start[p] + sa - fp];
-                let b = &boundary[bnd_start[nb.patch] + sb - fq];
-                let gap = a.position.distance(b.position);
-                if gap > stats.max_boundary_gap || gap.is_nan() {
-                    stats.max_boundary_gap = gap;
-                }
-                let ang = angle_deg(a.normal, b.normal);
-                let v = map.ids[map.offsets[p] + sa] as usize;
-                shared[v] = true;
-                if ang > mesh.g1_deviation_deg[v] {
-                    mesh.g1_deviation_deg[v] = ang;
-                }
-            }
-        }
-    }
-    let mut sum = 0.0;
-    for v in 0..nv {
-        if shared[v] {
-            stats.shared_vertices += 1;
-            sum += mesh.g1_deviation_deg[v];
-            stats.max_g1_deg = stats.max_g1_deg.max(mesh.g1_deviation_deg[v]);
-        }
-    }
-    if stats.shared_vertices > 0 {
-        stats.mean_g1_deg = sum / stats.shared_vertices as f64;
+    let (count, sum, max) = shared
+        .par_iter()
+        .zip(mesh.g1_deviation_deg.par_iter())
+        .filter(|(&s, _)| s)
+        .map(|(_, &g)| (1usize, g, g))
+        .reduce(|| (0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+    stats.shared_vertices = count;
+    stats.max_g1_deg = max;
+    if count > 0 {
+        stats.mean_g1_deg = sum / count as f64;
     }
 
     // Normalize normals; vertices without any analytic normal take the area-weighted normal of
     // their triangles.
-    let missing: Vec<usize> = (0..nv).filter(|&v| weight[v] == 0).collect();
+    let missing: Vec<usize> = (0..nv).into_par_iter().filter(|&v| weight[v] == 0).collect();
     if !missing.is_empty() {
         let fallback = crate::quality::vertex_normals(&mesh.positions, &mesh.triangles);
         for v in missing {
@@ -500,57 +561,47 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     Ok((mesh, stats))
 }
 
-/// Weight tables of one patch kind at one resolution: for every sample of the layout, the
-/// nonzero basis weights with their first and second derivatives (compressed rows). Every patch
-/// kind is linear in its control points for a fixed domain point (the CGB normalization depends
-/// only on the domain point), so a patch is evaluated as Σ w·P over the table.
-struct WeightTable {
-    /// `start[s]..start[s + 1]`: the entries of sample s.
-    start: Vec<u32>,
-    entries: Vec<(u32, crate::gb::Jet2)>,
-}
-
-impl WeightTable {
-    fn build(samples: &[DVec2], len: usize, mut weights: impl FnMut(DVec2, &mut [crate::gb::Jet2])) -> Self {
-        let mut buf = vec![crate::gb::Jet2::ZERO; len];
-        let mut start = Vec::with_capacity(samples.len() + 1);
-        let mut entries = Vec::new();
-        start.push(0);
-        for &uv in samples {
-            buf.fill(crate::gb::Jet2::ZERO);
-            weights(uv, &mut buf);
-            for (i, w) in buf.iter().enumerate() {
-                if *w != crate::gb::Jet2::ZERO {
-                    entries.push((i as u32, *w));
-                }
-            }
-            start.push(entries.len() as u32);
-        }
-        WeightTable { start, entries }
-    }
-}
-
 /// Which table a patch uses: GB (n, d) or CGB (per-side degree and layer count).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-enum TableKey {
+enum Kind {
     Gb(usize, usize),
     Cgb(Vec<(usize, usize)>),
 }
 
-fn table_key(p: &Patch) -> TableKey {
+fn kind_of(p: &Patch) -> Kind {
     match p {
-        Patch::Gb(g) => TableKey::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
-        Patch::Cgb(c) => TableKey::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
+        Patch::Gb(g) => Kind::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
+        Patch::Cgb(c) => Kind::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
     }
 }
 
-/// The evaluator of GB and CGB patches used by the conversion: per-(kind, n, degree, r) weight
-/// tables built once (in parallel), then one sparse weighted sum per sample (seed 000 eq. 2.24
-/// for GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
+/// Tables up to this size are kept in the process-wide caches of [`crate::gb::table`] (the
+/// usual resolutions); larger ones are built for one conversion only.
+const CACHE_BYTES: u128 = 32 << 20;
+/// Above this size no table is built: the weights are evaluated directly at every sample.
+const TABLE_BYTES: u128 = 256 << 20;
+
+/// How the patches of one kind are evaluated.
+enum Evaluation {
+    /// [`GbTable`] with second derivatives.
+    Gb(Arc<GbTable>),
+    /// [`CgbTable`].
+    Cgb(Arc<CgbTable>),
+    /// No table (it would be too large): the basis is evaluated at every sample.
+    Direct,
+}
+
+/// The evaluator of GB and CGB patches used by the conversion: the weight tables of
+/// [`crate::gb::table`] ([`GbTable`] with second derivatives for GB patches, [`CgbTable`] for
+/// CGB patches), one per (kind, n, degrees, r, weight form), shared through their caches; every
+/// patch is then a tile-wise SIMD weighted sum over its control points (seed 000 eq. 2.24 for
+/// GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
 /// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
 pub struct GbSurfaceEvaluator {
-    tables: HashMap<TableKey, WeightTable>,
-    keys: Vec<TableKey>,
+    evaluations: Vec<Evaluation>,
+    /// Per patch: its entry of `evaluations`.
+    which: Vec<u32>,
+    form: crate::gb::WeightForm,
 }
 
 fn gb_domain(n: usize) -> Vec<DVec2> {
@@ -560,56 +611,116 @@ fn gb_domain(n: usize) -> Vec<DVec2> {
     }
 }
 
+fn table_error(patch: usize, e: TableError) -> TessellateError {
+    match e {
+        TableError::Layout(source) => TessellateError::Layout { patch, source },
+        TableError::Patch(source) => TessellateError::InvalidPatch { patch, source },
+        _ => TessellateError::Evaluation { patch, sample: 0 },
+    }
+}
+
+/// The sample record of the surface derivatives: unit normal (zero where undefined) and mean
+/// and Gaussian curvature from the fundamental forms (0 where undefined; the formulas and
+/// conditions of [`crate::gb::SurfaceDerivs::curvature`], the normal computed once).
+#[inline]
+fn surface_point(d: &crate::gb::SurfaceDerivs) -> SurfacePoint {
+    let Some(n) = d.normal() else {
+        return SurfacePoint { position: d.p, ..Default::default() };
+    };
+    let (e, f, g) = d.first_fundamental_form();
+    let (l, m, nn) = (d.suu.dot(n), d.suv.dot(n), d.svv.dot(n));
+    let det = e * g - f * f;
+    let (mut h, mut k) = (0.0, 0.0);
+    if det > 0.0 {
+        let mean = (l * g - 2.0 * m * f + nn * e) / (2.0 * det);
+        let gaussian = (l * nn - m * m) / det;
+        if mean.is_finite() && gaussian.is_finite() {
+            (h, k) = (mean, gaussian);
+        }
+    }
+    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k }
+}
+
+thread_local! {
+    /// Per worker thread: the control vector of the patch being evaluated.
+    static CONTROLS: RefCell<ControlSoa> = RefCell::new(ControlSoa::default());
+}
+
 impl GbSurfaceEvaluator {
-    /// Validates every patch and builds the weight tables for resolution `r`.
+    /// Validates every patch and builds (or fetches) the weight tables for resolution `r`.
     pub fn new(surface: &Surface, r: usize, form: crate::gb::WeightForm) -> Result<Self, TessellateError> {
-        let mut keys = Vec::with_capacity(surface.patches.len());
-        let mut distinct: HashMap<TableKey, usize> = HashMap::new();
-        for (i, p) in surface.patches.iter().enumerate() {
+        let mut which = Vec::with_capacity(surface.patches.len());
+        let mut distinct: HashMap<Kind, u32> = HashMap::new();
+        let mut firsts: Vec<(Kind, usize)> = Vec::new();
+        // Validation in parallel; the first invalid patch (smallest index) is reported.
+        let invalid = surface.patches.par_iter().enumerate().find_first(|(_, p)| {
+            match p {
+                Patch::Gb(g) => g.validate(),
+                Patch::Cgb(c) => c.validate(),
+            }
+            .is_err()
+        });
+        if let Some((i, p)) = invalid {
             let v = match p {
                 Patch::Gb(g) => g.validate(),
                 Patch::Cgb(c) => c.validate(),
             };
             v.map_err(|source| TessellateError::InvalidPatch { patch: i, source })?;
-            let k = table_key(p);
-            distinct.entry(k.clone()).or_insert(i);
-            keys.push(k);
         }
-        let list: Vec<(TableKey, usize)> = distinct.into_iter().collect();
-        let built: Result<Vec<(TableKey, WeightTable)>, TessellateError> = list
+        let kinds: Vec<Kind> = surface.patches.par_iter().map(kind_of).collect();
+        for (i, k) in kinds.into_iter().enumerate() {
+            let id = match distinct.get(&k) {
+                Some(&id) => id,
+                None => {
+                    let id = firsts.len() as u32;
+                    distinct.insert(k.clone(), id);
+                    firsts.push((k, i));
+                    id
+                }
+            };
+            which.push(id);
+        }
+        let evaluations: Result<Vec<Evaluation>, TessellateError> = firsts
             .into_par_iter()
-            .map(|(key, first)| {
-                let patch = &surface.patches[first];
-                let n = patch_sides(patch);
-                let layout = SampleLayout::new(&gb_domain(n), r).map_err(|source| TessellateError::Layout { patch: first, source })?;
-                let table = match patch {
-                    Patch::Gb(g) => {
-                        let mut ev = g.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
-                        let len = ev.len();
-                        WeightTable::build(&layout.uv, len, |uv, out| {
-                            let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| out[idx] = w);
-                            out[0] = b0;
-                        })
-                    }
-                    Patch::Cgb(c) => {
-                        let mut ev = c.evaluator().map_err(|source| TessellateError::InvalidPatch { patch: first, source })?;
-                        let len = ev.len();
-                        let mut err = None;
-                        let t = WeightTable::build(&layout.uv, len, |uv, out| {
-                            if let Err(e) = ev.eval_into(uv, form, out) {
-                                err = Some(e);
-                            }
-                        });
-                        if let Some(source) = err {
-                            return Err(TessellateError::InvalidPatch { patch: first, source });
+            .map(|(kind, first)| {
+                SampleLayout::new(&gb_domain(patch_sides(&surface.patches[first])), r)
+                    .map_err(|source| TessellateError::Layout { patch: first, source })?;
+                Ok(match kind {
+                    Kind::Gb(n, d) => {
+                        let bytes = GbTable::bytes_needed(n, d, r, true);
+                        if bytes > TABLE_BYTES {
+                            Evaluation::Direct
+                        } else if bytes > CACHE_BYTES {
+                            Evaluation::Gb(Arc::new(GbTable::with_second_derivatives(n, d, r, form).map_err(|e| table_error(first, e))?))
+                        } else {
+                            Evaluation::Gb(GbTable::cached_with_second_derivatives(n, d, r, form).map_err(|e| table_error(first, e))?)
                         }
-                        t
                     }
-                };
-                Ok((key, table))
+                    Kind::Cgb(sides) => {
+                        let bytes = CgbTable::bytes_needed(&sides, r);
+                        if bytes > TABLE_BYTES {
+                            Evaluation::Direct
+                        } else if bytes > CACHE_BYTES {
+                            Evaluation::Cgb(Arc::new(CgbTable::new(&sides, r, form).map_err(|e| table_error(first, e))?))
+                        } else {
+                            Evaluation::Cgb(CgbTable::cached(&sides, r, form).map_err(|e| table_error(first, e))?)
+                        }
+                    }
+                })
             })
             .collect();
-        Ok(GbSurfaceEvaluator { tables: built?.into_iter().collect(), keys })
+        Ok(GbSurfaceEvaluator { evaluations: evaluations?, which, form })
+    }
+}
+
+/// Pushes the samples of a table, tile by tile, onto `out`; `tile(t)` evaluates tile t.
+#[inline]
+fn push_tiles(samples: usize, tiles: usize, out: &mut Vec<SurfacePoint>, tile: impl Fn(usize) -> [crate::gb::SurfaceDerivs; TILE]) {
+    for t in 0..tiles {
+        let frames = tile(t);
+        for d in frames.iter().take(samples - t * TILE) {
+            out.push(surface_point(d));
+        }
     }
 }
 
@@ -620,32 +731,38 @@ impl PatchEvaluator for GbSurfaceEvaluator {
 
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {
         out.clear();
-        let (Some(key), Some(patch)) = (self.keys.get(index), surface.patches.get(index)) else { return };
-        let Some(table) = self.tables.get(key) else { return };
-        let points = match patch {
-            Patch::Gb(g) => g.control_points_flat(),
-            Patch::Cgb(c) => c.control_points_flat(),
-        };
-        let samples = table.start.len() - 1;
-        if samples != layout.uv.len() {
-            return;
-        }
+        let (Some(&id), Some(patch)) = (self.which.get(index), surface.patches.get(index)) else { return };
+        let Some(evaluation) = self.evaluations.get(id as usize) else { return };
+        let samples = layout.uv.len();
         out.reserve(samples);
-        for s in 0..samples {
-            let mut d = crate::gb::SurfaceDerivs::default();
-            for (i, w) in &table.entries[table.start[s] as usize..table.start[s + 1] as usize] {
-                match points.get(*i as usize) {
-                    Some(p) => d.add_weighted(w, *p),
-                    None => {
-                        out.clear();
+        CONTROLS.with(|cell| {
+            let mut ctrl = cell.borrow_mut();
+            match (evaluation, patch) {
+                (Evaluation::Gb(t), Patch::Gb(g)) => {
+                    ctrl.fill_gb(g);
+                    if ctrl.len() != t.control_count() || t.sample_count() != samples {
                         return;
                     }
+                    push_tiles(samples, t.tile_count(), out, |k| t.eval_tile_derivs(k, &ctrl));
                 }
+                (Evaluation::Cgb(t), Patch::Cgb(c)) => {
+                    ctrl.fill_cgb(c);
+                    if ctrl.len() != t.control_count() || t.sample_count() != samples {
+                        return;
+                    }
+                    push_tiles(samples, t.tile_count(), out, |k| t.eval_tile_derivs(k, &ctrl));
+                }
+                (Evaluation::Direct, Patch::Gb(g)) => {
+                    let Ok(mut ev) = g.evaluator() else { return };
+                    out.extend(layout.uv.iter().map(|&uv| surface_point(&g.eval_derivs_with_form(&mut ev, uv, self.form))));
+                }
+                (Evaluation::Direct, Patch::Cgb(c)) => {
+                    let Ok(mut ev) = c.evaluator() else { return };
+                    out.extend(layout.uv.iter().map(|&uv| surface_point(&c.eval_derivs_with(&mut ev, uv, self.form))));
+                }
+                _ => {}
             }
-            let normal = d.normal().unwrap_or(DVec3::ZERO);
-            let (h, k) = d.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
-            out.push(SurfacePoint { position: d.p, normal, mean_curvature: h, gaussian_curvature: k });
-        }
+        });
     }
 }
 
