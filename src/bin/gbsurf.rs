@@ -348,15 +348,16 @@ mod openmesh_io {
     use gbsurf::mesh::{PolyMesh, TriMesh};
     use std::path::Path;
 
-    const OWN: [&str; 4] = ["obj", "off", "ply", "stl"];
+    /// Formats OpenMesh reads and writes that the crate's own I/O does not.
+    const OPENMESH_ONLY: [&str; 1] = ["om"];
 
     fn om_error(path: &Path, e: impl std::fmt::Display) -> ConvertError {
-        ConvertError::Io { path: path.display().to_string(), message: format!("OpenMesh: {e}") }
+        ConvertError::Io { path: path.display().to_string(), message: e.to_string() }
     }
 
     pub fn handles(path: &Path) -> bool {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        !ext.is_empty() && !OWN.contains(&ext.as_str())
+        OPENMESH_ONLY.contains(&ext.as_str())
     }
 
     pub fn read(path: &Path) -> Result<PolyMesh, ConvertError> {
