@@ -302,20 +302,25 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<
         };
         mids.push(d);
     }
-    let mut patches = Vec::with_capacity(mesh.n_faces());
-    for f in mesh.faces() {
-        let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
-        let m = hs.len();
-        // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
-        let sides =
-            (0..m).map(|i| hs[(i + m - 1) % m]).map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
-        patches.push(PatchLayout {
-            sides: sides.collect(),
-            corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
-            center: None,
-            source: PatchSource::Face(f.idx()),
-        });
-    }
+    // One patch per face, built in parallel and collected in face order.
+    let patches: Vec<PatchLayout> = (0..mesh.n_faces() as u32)
+        .into_par_iter()
+        .map(|f| {
+            let f = FaceId(f);
+            let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+            let m = hs.len();
+            // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
+            let sides = (0..m)
+                .map(|i| hs[(i + m - 1) % m])
+                .map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
+            PatchLayout {
+                sides: sides.collect(),
+                corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
+                center: None,
+                source: PatchSource::Face(f.idx()),
+            }
+        })
+        .collect();
     Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
 }
 
