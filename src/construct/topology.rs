@@ -46,7 +46,7 @@ use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{PatchSource, Surface};
 use super::{ConstructError, ConstructOptions};
 use crate::mesh::geometry::newell_normal;
-use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId};
+use crate::mesh::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -282,26 +282,29 @@ fn tile_edge_mid(mesh: &HalfEdgeMesh, t: &Tiles, h: HalfedgeId) -> DVec3 {
 /// The tile curve network of seed 000 §3.3 (nodes = tile centres, index = vertex index).
 pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<CurveNetwork, ConstructError> {
     let t = tiles(mesh, opts)?;
-    let mut curves = Vec::with_capacity(mesh.n_edges());
-    let mut curve_nodes = Vec::with_capacity(mesh.n_edges());
-    let mut mids = Vec::with_capacity(mesh.n_edges());
-    for e in mesh.edges() {
-        let h = mesh.edge_halfedge(e, 0);
-        let tw = mesh.twin(h);
-        let (u, v) = (mesh.origin(h), mesh.target(h));
-        curves.push([t.center[u.idx()], tile_edge_mid(mesh, &t, h), tile_edge_mid(mesh, &t, tw), t.center[v.idx()]]);
-        curve_nodes.push([u.idx(), v.idx()]);
-        // Edge tile: tile vertices of u and v in face(h) (left) and face(tw) (right).
-        let d = match (mesh.face(h), mesh.face(tw)) {
-            (Some(_), Some(_)) => {
-                let ml = 0.5 * (t.vertex[h.idx()] + t.vertex[mesh.next(h).idx()]);
-                let mr = 0.5 * (t.vertex[tw.idx()] + t.vertex[mesh.next(tw).idx()]);
-                1.5 * (ml - mr)
-            }
-            _ => DVec3::ZERO,
-        };
-        mids.push(d);
-    }
+    // One curve per edge, built in parallel and collected in edge order.
+    let per_edge: Vec<([DVec3; 4], [usize; 2], DVec3)> = (0..mesh.n_edges() as u32)
+        .into_par_iter()
+        .map(|e| {
+            let h = mesh.edge_halfedge(EdgeId(e), 0);
+            let tw = mesh.twin(h);
+            let (u, v) = (mesh.origin(h), mesh.target(h));
+            let curve = [t.center[u.idx()], tile_edge_mid(mesh, &t, h), tile_edge_mid(mesh, &t, tw), t.center[v.idx()]];
+            // Edge tile: tile vertices of u and v in face(h) (left) and face(tw) (right).
+            let d = match (mesh.face(h), mesh.face(tw)) {
+                (Some(_), Some(_)) => {
+                    let ml = 0.5 * (t.vertex[h.idx()] + t.vertex[mesh.next(h).idx()]);
+                    let mr = 0.5 * (t.vertex[tw.idx()] + t.vertex[mesh.next(tw).idx()]);
+                    1.5 * (ml - mr)
+                }
+                _ => DVec3::ZERO,
+            };
+            (curve, [u.idx(), v.idx()], d)
+        })
+        .collect();
+    let curves: Vec<[DVec3; 4]> = per_edge.iter().map(|x| x.0).collect();
+    let curve_nodes: Vec<[usize; 2]> = per_edge.iter().map(|x| x.1).collect();
+    let mids: Vec<DVec3> = per_edge.iter().map(|x| x.2).collect();
     // One patch per face, built in parallel and collected in face order.
     let patches: Vec<PatchLayout> = (0..mesh.n_faces() as u32)
         .into_par_iter()
