@@ -36,6 +36,7 @@ use super::{ConstructError, ConstructOptions};
 use crate::mesh::geometry::newell_normal;
 use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// The dual curve network of seed 000 §2.3 (with the open-boundary extension described in the
 /// module doc). Nodes: one per face (index = face index), then one per boundary edge.
@@ -43,19 +44,23 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Curv
     opts.validate()?;
     let k = opts.fullness;
     let nf = mesh.n_faces();
-    // Face planes.
+    // Face planes, per face in parallel (collected in face order; first degenerate face reported).
+    let planes: Vec<Option<(DVec3, DVec3)>> = (0..nf as u32)
+        .into_par_iter()
+        .map(|f| {
+            let pts: Vec<DVec3> = mesh.face_vertices(FaceId(f)).map(|v| mesh.position(v)).collect();
+            let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+            let n = newell_normal(&pts);
+            let len = n.length();
+            (len > 1e-14 * pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max)).then(|| (c, n / len))
+        })
+        .collect();
     let mut centroid = Vec::with_capacity(nf);
     let mut normal = Vec::with_capacity(nf);
-    for f in mesh.faces() {
-        let pts: Vec<DVec3> = mesh.face_vertices(f).map(|v| mesh.position(v)).collect();
-        let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
-        let n = newell_normal(&pts);
-        let len = n.length();
-        if !(len > 1e-14 * pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max)) {
-            return Err(ConstructError::DegenerateFace { face: f.idx() });
-        }
+    for (f, pl) in planes.into_iter().enumerate() {
+        let (c, n) = pl.ok_or(ConstructError::DegenerateFace { face: f })?;
         centroid.push(c);
-        normal.push(n / len);
+        normal.push(n);
     }
     let mid = |h: HalfedgeId| 0.5 * (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h)));
     // Edge midpoint as seen from face f (projected onto its plane with best_plane).

@@ -7,6 +7,7 @@ use super::surface::{Patch, PatchSource, SideRef, Surface};
 use super::{ConstructError, ConstructOptions, TwistMode};
 use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// How a patch side runs along a network curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -119,21 +120,24 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
     }
 
     // Rows: rows[p][i] = [row0, row1].
-    let mut rows: Vec<Vec<[[DVec3; 4]; 2]>> = Vec::with_capacity(np);
-    for lay in &net.patches {
-        let n = lay.sides.len();
-        let b: Vec<[DVec3; 4]> = lay.sides.iter().map(|&s| side_points(net, s)).collect();
-        let r = (0..n)
-            .map(|i| {
-                let prev = &b[(i + n - 1) % n];
-                let next = &b[(i + 1) % n];
-                let t0 = lay.corner_twists[(i + n - 1) % n];
-                let t1 = lay.corner_twists[i];
-                [b[i], [prev[2], t0, t1, next[1]]]
-            })
-            .collect();
-        rows.push(r);
-    }
+    // Per patch in parallel, collected in patch order.
+    let mut rows: Vec<Vec<[[DVec3; 4]; 2]>> = net
+        .patches
+        .par_iter()
+        .map(|lay| {
+            let n = lay.sides.len();
+            let b: Vec<[DVec3; 4]> = lay.sides.iter().map(|&s| side_points(net, s)).collect();
+            (0..n)
+                .map(|i| {
+                    let prev = &b[(i + n - 1) % n];
+                    let next = &b[(i + 1) % n];
+                    let t0 = lay.corner_twists[(i + n - 1) % n];
+                    let t1 = lay.corner_twists[i];
+                    [b[i], [prev[2], t0, t1, next[1]]]
+                })
+                .collect()
+        })
+        .collect();
 
     let mut neighbors: Vec<Vec<Option<SideRef>>> =
         net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
@@ -143,7 +147,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         TwistMode::Interp => Some(BlendKind::Interp),
     };
     let mut shared: Vec<Vec<bool>> = net.patches.iter().map(|l| vec![false; l.sides.len()]).collect();
-    for (c, u) in uses.iter().enumerate() {
+    for u in uses.iter() {
         if u.len() != 2 {
             continue;
         }
@@ -154,42 +158,32 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         neighbors[pb][sb] = Some(SideRef { patch: pa, side: sa });
         shared[pa][sa] = true;
         shared[pb][sb] = true;
-        let Some(kind) = kind else { continue };
-        let cc = net.curves[c];
-        let na = rows[pa].len();
-        let nb = rows[pb].len();
-        // Cross-derivatives fixed by the network, all in A's parameter s.
-        let xa0 = 3.0 * (rows[pa][(sa + na - 1) % na][0][2] - cc[0]);
-        let xa1 = 3.0 * (rows[pa][(sa + 1) % na][0][1] - cc[3]);
-        let xb0 = 3.0 * (rows[pb][(sb + 1) % nb][0][1] - cc[0]);
-        let xb1 = 3.0 * (rows[pb][(sb + nb - 1) % nb][0][2] - cc[3]);
-        let t0 = 3.0 * (cc[1] - cc[0]);
-        let t1 = 3.0 * (cc[3] - cc[2]);
-        let d0 = end_direction(xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
-        let d1 = end_direction(xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
-        let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
-        let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
-            decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
-        };
-        let (aa0, ba0) = dec(xa0, d0, t0, 0)?;
-        let (aa1, ba1) = dec(xa1, d1, t1, 1)?;
-        let (ab0, bb0) = dec(xb0, d0, t0, 0)?;
-        let (ab1, bb1) = dec(xb1, d1, t1, 1)?;
-        // With D = (X_A − X_B)/2, α_A > 0 > α_B iff X_A and X_B lie on opposite sides of T. Equal
-        // signs mean the network folds at that node: the blend would still make the tangent planes
-        // agree, but with opposite normals (a 180° flip), so report it instead.
-        for (end, aa, ab) in [(0, aa0, ab0), (1, aa1, ab1)] {
-            if !(aa > 0.0 && ab < 0.0) {
-                return Err(ConstructError::FoldedCorner { curve: c, end, node: net.curve_nodes[c][end] });
-            }
+    }
+    if let Some(kind) = kind {
+        // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
+        // write only the two inner twists of its own two sides, so the order does not matter; the
+        // first error in curve order is returned, as in a serial loop.
+        let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = uses
+            .par_iter()
+            .enumerate()
+            .map(|(c, u)| {
+                if u.len() != 2 {
+                    return Ok(None);
+                }
+                let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
+                shared_twists(net, &rows, opts, kind, c, a, b).map(Some)
+            })
+            .collect();
+        for (u, t) in uses.iter().zip(twists) {
+            let Some(t) = t? else { continue };
+            let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
+            let (pa, sa, _) = a;
+            let (pb, sb, _) = b;
+            rows[pa][sa][1][1] = t[0];
+            rows[pa][sa][1][2] = t[1];
+            rows[pb][sb][1][1] = t[2];
+            rows[pb][sb][1][2] = t[3];
         }
-        let qa = cross_derivative_coeffs([aa0, aa1], [ba0, ba1], &blend, &cc, xa0, xa1);
-        let qb = cross_derivative_coeffs([ab0, ab1], [bb0, bb1], &blend, &cc, xb0, xb1);
-        // P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23); B runs the curve backwards: its column j is A's 3−j.
-        rows[pa][sa][1][1] = cc[1] + qa[1] / 3.0;
-        rows[pa][sa][1][2] = cc[2] + qa[2] / 3.0;
-        rows[pb][sb][1][1] = cc[2] + qb[2] / 3.0;
-        rows[pb][sb][1][2] = cc[1] + qb[1] / 3.0;
     }
     // Open sides: adopt the adjacent shared side's twist at each corner.
     if kind.is_some() {
@@ -211,24 +205,30 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         }
     }
 
-    let mut patches = Vec::with_capacity(np);
-    let mut sources = Vec::with_capacity(np);
-    for (p, lay) in net.patches.iter().enumerate() {
-        let ribbons: Vec<Ribbon> = rows[p]
-            .iter()
-            .map(|r| Ribbon { degree: 3, rows: vec![r[0].to_vec(), r[1].to_vec()] })
-            .collect();
-        for (i, r) in ribbons.iter().enumerate() {
-            if r.rows.iter().flatten().any(|q| !q.is_finite()) {
-                return Err(ConstructError::NonFinite { patch: p, side: i });
+    // Per patch in parallel, collected in patch order; the first error in patch order wins.
+    let built: Vec<Result<Patch, ConstructError>> = net
+        .patches
+        .par_iter()
+        .zip(rows.par_iter())
+        .enumerate()
+        .map(|(p, (lay, rows_p))| {
+            let ribbons: Vec<Ribbon> = rows_p
+                .iter()
+                .map(|r| Ribbon { degree: 3, rows: vec![r[0].to_vec(), r[1].to_vec()] })
+                .collect();
+            for (i, r) in ribbons.iter().enumerate() {
+                if r.rows.iter().flatten().any(|q| !q.is_finite()) {
+                    return Err(ConstructError::NonFinite { patch: p, side: i });
+                }
             }
-        }
-        patches.push(match lay.center {
-            Some(center) => Patch::Gb(GbPatch { ribbons, center }),
-            None => Patch::Cgb(CgbPatch { ribbons }),
-        });
-        sources.push(lay.source);
-    }
+            Ok(match lay.center {
+                Some(center) => Patch::Gb(GbPatch { ribbons, center }),
+                None => Patch::Cgb(CgbPatch { ribbons }),
+            })
+        })
+        .collect();
+    let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
+    let sources: Vec<PatchSource> = net.patches.iter().map(|l| l.source).collect();
     Ok(Surface {
         patches,
         neighbors,
@@ -236,6 +236,53 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
         curves: net.curves.iter().map(|c| c.to_vec()).collect(),
         warnings: Vec::new(),
     })
+}
+
+/// The inner twists of the two sides on shared curve `c` (A traverses it forward, B backwards):
+/// `[A col 1, A col 2, B col 1, B col 2]` of row 1, from one direction blend (seed 000 §4.4).
+fn shared_twists(
+    net: &CurveNetwork,
+    rows: &[Vec<[[DVec3; 4]; 2]>],
+    opts: &ConstructOptions,
+    kind: BlendKind,
+    c: usize,
+    a: Use,
+    b: Use,
+) -> Result<[DVec3; 4], ConstructError> {
+    let (pa, sa, _) = a;
+    let (pb, sb, _) = b;
+    let cc = net.curves[c];
+    let na = rows[pa].len();
+    let nb = rows[pb].len();
+    // Cross-derivatives fixed by the network, all in A's parameter s.
+    let xa0 = 3.0 * (rows[pa][(sa + na - 1) % na][0][2] - cc[0]);
+    let xa1 = 3.0 * (rows[pa][(sa + 1) % na][0][1] - cc[3]);
+    let xb0 = 3.0 * (rows[pb][(sb + 1) % nb][0][1] - cc[0]);
+    let xb1 = 3.0 * (rows[pb][(sb + nb - 1) % nb][0][2] - cc[3]);
+    let t0 = 3.0 * (cc[1] - cc[0]);
+    let t1 = 3.0 * (cc[3] - cc[2]);
+    let d0 = end_direction(xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
+    let d1 = end_direction(xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
+    let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
+    let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
+        decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
+    };
+    let (aa0, ba0) = dec(xa0, d0, t0, 0)?;
+    let (aa1, ba1) = dec(xa1, d1, t1, 1)?;
+    let (ab0, bb0) = dec(xb0, d0, t0, 0)?;
+    let (ab1, bb1) = dec(xb1, d1, t1, 1)?;
+    // With D = (X_A − X_B)/2, α_A > 0 > α_B iff X_A and X_B lie on opposite sides of T. Equal
+    // signs mean the network folds at that node: the blend would still make the tangent planes
+    // agree, but with opposite normals (a 180° flip), so report it instead.
+    for (end, aa, ab) in [(0, aa0, ab0), (1, aa1, ab1)] {
+        if !(aa > 0.0 && ab < 0.0) {
+            return Err(ConstructError::FoldedCorner { curve: c, end, node: net.curve_nodes[c][end] });
+        }
+    }
+    let qa = cross_derivative_coeffs([aa0, aa1], [ba0, ba1], &blend, &cc, xa0, xa1);
+    let qb = cross_derivative_coeffs([ab0, ab1], [bb0, bb1], &blend, &cc, xb0, xb1);
+    // P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23); B runs the curve backwards: its column j is A's 3−j.
+    Ok([cc[1] + qa[1] / 3.0, cc[2] + qa[2] / 3.0, cc[2] + qb[2] / 3.0, cc[1] + qb[1] / 3.0])
 }
 
 /// D at a curve end (seed 000 eq. 4.7): (X_A − X_B)/2; `None` when it is parallel to the tangent

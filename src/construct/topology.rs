@@ -46,8 +46,9 @@ use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{PatchSource, Surface};
 use super::{ConstructError, ConstructOptions};
 use crate::mesh::geometry::newell_normal;
-use crate::mesh::{HalfEdgeMesh, HalfedgeId};
+use crate::mesh::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId};
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 /// Tile geometry of a mesh: per half-edge h with a face, the tile vertex of origin(h) in face(h);
 /// per boundary half-edge-adjacent outgoing h, the split point on its edge; tile centres/normals.
@@ -92,27 +93,39 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Tiles, Cons
         let (p, q) = pos(h);
         p + (q - p) / w
     };
+    // Tile vertices per face in parallel (each face sets only its own half-edges); collected in
+    // face order, the first degenerate face is reported.
+    let per_face: Vec<Result<Vec<(HalfedgeId, DVec3)>, ConstructError>> = (0..mesh.n_faces() as u32)
+        .into_par_iter()
+        .map(|f| {
+            let f = FaceId(f);
+            let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+            let m = hs.len();
+            let pts: Vec<DVec3> = hs.iter().map(|&h| pos(h).0).collect();
+            let c = pts.iter().copied().sum::<DVec3>() / m as f64;
+            let n = newell_normal(&pts);
+            let scale = pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max);
+            if !(n.length() > 1e-14 * scale) {
+                return Err(ConstructError::DegenerateFace { face: f.idx() });
+            }
+            let n = n.normalize();
+            let a = |k: usize| near(hs[k % m]); // a_k near p_k on E_k
+            let b = |k: usize| near(mesh.twin(hs[k % m])); // b_k near p_{k+1} on E_k
+            Ok((0..m)
+                .map(|k| {
+                    // Division line of E_j: b_{j−1} → a_{j+1}.
+                    let (km1, km2) = ((k + m - 1) % m, (k + m - 2) % m);
+                    let (l0, l1) = (b(km2), a(k)); // E_{k−1}
+                    let (r0, r1) = (b(km1), a(k + 1)); // E_k
+                    (hs[k], intersect_in_plane(l0, l1, r0, r1, c, n).unwrap_or_else(|| 0.5 * (b(km1) + a(k))))
+                })
+                .collect())
+        })
+        .collect();
     let mut vertex = vec![DVec3::ZERO; nh];
-    for f in mesh.faces() {
-        let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
-        let m = hs.len();
-        let pts: Vec<DVec3> = hs.iter().map(|&h| pos(h).0).collect();
-        let c = pts.iter().copied().sum::<DVec3>() / m as f64;
-        let n = newell_normal(&pts);
-        let scale = pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max);
-        if !(n.length() > 1e-14 * scale) {
-            return Err(ConstructError::DegenerateFace { face: f.idx() });
-        }
-        let n = n.normalize();
-        let a = |k: usize| near(hs[k % m]); // a_k near p_k on E_k
-        let b = |k: usize| near(mesh.twin(hs[k % m])); // b_k near p_{k+1} on E_k
-        for k in 0..m {
-            // Division line of E_j: b_{j−1} → a_{j+1}.
-            let (km1, km2) = ((k + m - 1) % m, (k + m - 2) % m);
-            let (l0, l1) = (b(km2), a(k)); // E_{k−1}
-            let (r0, r1) = (b(km1), a(k + 1)); // E_k
-            vertex[hs[k].idx()] =
-                intersect_in_plane(l0, l1, r0, r1, c, n).unwrap_or_else(|| 0.5 * (b(km1) + a(k)));
+    for r in per_face {
+        for (h, p) in r? {
+            vertex[h.idx()] = p;
         }
     }
     let mut split: Vec<DVec3> = mesh.halfedges().map(near).collect();
@@ -269,40 +282,48 @@ fn tile_edge_mid(mesh: &HalfEdgeMesh, t: &Tiles, h: HalfedgeId) -> DVec3 {
 /// The tile curve network of seed 000 §3.3 (nodes = tile centres, index = vertex index).
 pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<CurveNetwork, ConstructError> {
     let t = tiles(mesh, opts)?;
-    let mut curves = Vec::with_capacity(mesh.n_edges());
-    let mut curve_nodes = Vec::with_capacity(mesh.n_edges());
-    let mut mids = Vec::with_capacity(mesh.n_edges());
-    for e in mesh.edges() {
-        let h = mesh.edge_halfedge(e, 0);
-        let tw = mesh.twin(h);
-        let (u, v) = (mesh.origin(h), mesh.target(h));
-        curves.push([t.center[u.idx()], tile_edge_mid(mesh, &t, h), tile_edge_mid(mesh, &t, tw), t.center[v.idx()]]);
-        curve_nodes.push([u.idx(), v.idx()]);
-        // Edge tile: tile vertices of u and v in face(h) (left) and face(tw) (right).
-        let d = match (mesh.face(h), mesh.face(tw)) {
-            (Some(_), Some(_)) => {
-                let ml = 0.5 * (t.vertex[h.idx()] + t.vertex[mesh.next(h).idx()]);
-                let mr = 0.5 * (t.vertex[tw.idx()] + t.vertex[mesh.next(tw).idx()]);
-                1.5 * (ml - mr)
+    // One curve per edge, built in parallel and collected in edge order.
+    let per_edge: Vec<([DVec3; 4], [usize; 2], DVec3)> = (0..mesh.n_edges() as u32)
+        .into_par_iter()
+        .map(|e| {
+            let h = mesh.edge_halfedge(EdgeId(e), 0);
+            let tw = mesh.twin(h);
+            let (u, v) = (mesh.origin(h), mesh.target(h));
+            let curve = [t.center[u.idx()], tile_edge_mid(mesh, &t, h), tile_edge_mid(mesh, &t, tw), t.center[v.idx()]];
+            // Edge tile: tile vertices of u and v in face(h) (left) and face(tw) (right).
+            let d = match (mesh.face(h), mesh.face(tw)) {
+                (Some(_), Some(_)) => {
+                    let ml = 0.5 * (t.vertex[h.idx()] + t.vertex[mesh.next(h).idx()]);
+                    let mr = 0.5 * (t.vertex[tw.idx()] + t.vertex[mesh.next(tw).idx()]);
+                    1.5 * (ml - mr)
+                }
+                _ => DVec3::ZERO,
+            };
+            (curve, [u.idx(), v.idx()], d)
+        })
+        .collect();
+    let curves: Vec<[DVec3; 4]> = per_edge.iter().map(|x| x.0).collect();
+    let curve_nodes: Vec<[usize; 2]> = per_edge.iter().map(|x| x.1).collect();
+    let mids: Vec<DVec3> = per_edge.iter().map(|x| x.2).collect();
+    // One patch per face, built in parallel and collected in face order.
+    let patches: Vec<PatchLayout> = (0..mesh.n_faces() as u32)
+        .into_par_iter()
+        .map(|f| {
+            let f = FaceId(f);
+            let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+            let m = hs.len();
+            // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
+            let sides = (0..m)
+                .map(|i| hs[(i + m - 1) % m])
+                .map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
+            PatchLayout {
+                sides: sides.collect(),
+                corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
+                center: None,
+                source: PatchSource::Face(f.idx()),
             }
-            _ => DVec3::ZERO,
-        };
-        mids.push(d);
-    }
-    let mut patches = Vec::with_capacity(mesh.n_faces());
-    for f in mesh.faces() {
-        let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
-        let m = hs.len();
-        // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
-        let sides =
-            (0..m).map(|i| hs[(i + m - 1) % m]).map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
-        patches.push(PatchLayout {
-            sides: sides.collect(),
-            corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
-            center: None,
-            source: PatchSource::Face(f.idx()),
-        });
-    }
+        })
+        .collect();
     Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
 }
 

@@ -16,7 +16,7 @@
 //! [`super::validate`]; isolated vertices are dropped (see [`HalfEdgeMesh::warnings`]).
 
 use super::error::{MeshError, MeshWarning};
-use super::validate::{check_polymesh, drop_isolated};
+use super::validate::{check_polymesh, drop_isolated, fx_map, FxHashMap};
 use super::PolyMesh;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -89,15 +89,16 @@ impl HalfEdgeMesh {
         let (clean, original_vertex, warnings) = drop_isolated(mesh);
         let nv = clean.positions.len();
         let n_corners: usize = clean.faces.iter().map(Vec::len).sum();
-        let mut edge_of: HashMap<(u32, u32), u32> = HashMap::with_capacity(n_corners);
+        let mut edge_of: FxHashMap<(u32, u32), u32> = fx_map(n_corners);
         let mut he_origin = Vec::with_capacity(n_corners + 8);
         let mut he_face = Vec::with_capacity(n_corners + 8);
         let mut he_next = Vec::with_capacity(n_corners + 8);
         let mut he_prev = Vec::with_capacity(n_corners + 8);
         let mut face_he = Vec::with_capacity(clean.faces.len());
+        let mut hs = Vec::new();
         for (f, face) in clean.faces.iter().enumerate() {
             let n = face.len();
-            let mut hs = Vec::with_capacity(n);
+            hs.clear();
             for i in 0..n {
                 let (a, b) = (face[i], face[(i + 1) % n]);
                 let key = (a.min(b), a.max(b));

@@ -25,7 +25,56 @@ use super::geometry::newell_normal;
 use super::halfedge::HalfEdgeMesh;
 use super::PolyMesh;
 use glam::DVec3;
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A small multiplicative (Fx-style) hasher for integer keys: the maps here are only looked up,
+/// never iterated, so the hash function cannot change any result, only the speed.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct FxHasher(u64);
+
+impl FxHasher {
+    #[inline]
+    fn add(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for FxHasher {
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(b));
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, i: u32) {
+        self.add(u64::from(i));
+    }
+    #[inline]
+    fn write_u64(&mut self, i: u64) {
+        self.add(i);
+    }
+    #[inline]
+    fn write_usize(&mut self, i: usize) {
+        self.add(i as u64);
+    }
+}
+
+/// `HashMap` with [`FxHasher`].
+pub(crate) type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
+
+/// An empty [`FxHashMap`] with room for `n` entries.
+pub(crate) fn fx_map<K, V>(n: usize) -> FxHashMap<K, V> {
+    FxHashMap::with_capacity_and_hasher(n, Default::default())
+}
 
 /// A mesh that passed validation: cleaned (isolated vertices dropped), with warnings and the map
 /// back to the input's vertex numbering.
@@ -73,7 +122,7 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         }
     }
     let nv = mesh.positions.len();
-    let mut seen: HashMap<u32, ()> = HashMap::new();
+    let mut seen: FxHashMap<u32, ()> = fx_map(8);
     for (f, face) in mesh.faces.iter().enumerate() {
         if face.len() < 3 {
             return Err(MeshError::FaceTooSmall { face: f, len: face.len(), line: None });
@@ -103,34 +152,42 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         }
     }
     // 4. duplicates with the same orientation; 7. with the opposite one.
-    let mut cycles: HashMap<Vec<u32>, usize> = HashMap::with_capacity(mesh.faces.len());
+    let mut cycles: FxHashMap<Vec<u32>, usize> = fx_map(mesh.faces.len());
     for (f, face) in mesh.faces.iter().enumerate() {
-        if let Some(&first) = cycles.get(&canonical_cycle(face)) {
-            return Err(MeshError::DuplicateFace { face: f, first, line: None });
+        match cycles.entry(canonical_cycle(face)) {
+            Entry::Occupied(e) => return Err(MeshError::DuplicateFace { face: f, first: *e.get(), line: None }),
+            Entry::Vacant(e) => {
+                e.insert(f);
+            }
         }
-        cycles.insert(canonical_cycle(face), f);
     }
+    let n_corners: usize = mesh.faces.iter().map(Vec::len).sum();
     // 5. edge use counts (undirected), faces listed in order.
-    let mut edge_faces: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-    for (f, face) in mesh.faces.iter().enumerate() {
+    // Only the use counts are stored; the face list of an offending edge is rebuilt in face order.
+    let mut edge_uses: FxHashMap<(u32, u32), u32> = fx_map(n_corners);
+    for face in mesh.faces.iter() {
         for (a, b) in face_edges(face) {
-            edge_faces.entry((a.min(b), a.max(b))).or_default().push(f as u32);
+            *edge_uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
     for face in mesh.faces.iter() {
         for (a, b) in face_edges(face) {
-            let faces = &edge_faces[&(a.min(b), a.max(b))];
-            if faces.len() > 2 {
-                return Err(MeshError::NonManifoldEdge {
-                    edge: (a.min(b) as usize, a.max(b) as usize),
-                    faces: faces.iter().map(|&f| f as usize).collect(),
-                    line: None,
-                });
+            let key = (a.min(b), a.max(b));
+            if edge_uses[&key] > 2 {
+                let faces = mesh
+                    .faces
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(g, fc)| face_edges(fc).map(move |(x, y)| (g, (x.min(y), x.max(y)))))
+                    .filter(|&(_, k)| k == key)
+                    .map(|(g, _)| g)
+                    .collect();
+                return Err(MeshError::NonManifoldEdge { edge: (key.0 as usize, key.1 as usize), faces, line: None });
             }
         }
     }
     // 6. directed edges.
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::with_capacity(edge_faces.len() * 2);
+    let mut directed: FxHashMap<(u32, u32), usize> = fx_map(n_corners);
     for (f, face) in mesh.faces.iter().enumerate() {
         for (a, b) in face_edges(face) {
             if let Some(&g) = directed.get(&(a, b)) {
