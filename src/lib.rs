@@ -1,8 +1,8 @@
 //! # gbsurf
 //!
 //! Smooth, exact surfaces made of n-sided Generalized Bézier (GB) patches from polygon control
-//! meshes, with tangent-plane (G1) continuity between patches; exact offsets of curves and surfaces
-//! (PH curves, PN surfaces).
+//! meshes, with tangent-plane (G1) continuity between patches. (Exact offsets of curves and
+//! surfaces, PH curves and PN surfaces of seeds 003/004, are planned as a later module.)
 //!
 //! Layers, each depending only on the ones above it in this list:
 //! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers.
@@ -14,7 +14,6 @@
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
 //! - [`tessellate`]: watertight sampling of all patches into triangle meshes through sinks.
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
-//! - [`offset`]: PH curves and PN surfaces (seeds 003/004).
 //! - [`ffi`]: the C ABI, the only module with `unsafe`.
 //! - `openmesh` (cargo feature `openmesh`, in [`ffi`] because the cxx bridge declares `unsafe extern`):
 //!   OpenMesh file I/O and its Catmull–Clark, re-exported here as `gbsurf::openmesh`.
@@ -31,7 +30,6 @@ pub mod construct;
 pub mod ffi;
 pub mod gb;
 pub mod mesh;
-pub mod offset;
 #[cfg(feature = "openmesh")]
 pub use ffi::openmesh;
 pub mod quality;
