@@ -71,29 +71,9 @@ impl FromStr for Method {
     }
 }
 
-/// How the twist control points are set (seed 000 §4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Twist {
-    /// The first approximation of the seed: G1 only where four-sided patches meet; reported.
-    None,
-    /// Approximating direction blend (seed 000 eq. 4.16): G1 everywhere.
-    Approx,
-    /// Interpolating direction blend (seed 000 eq. 4.24): G1 everywhere.
-    #[default]
-    Interp,
-}
-
-impl Twist {
-    /// `none`, `approx`, `interp`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Twist::None => "none",
-            Twist::Approx => "approx",
-            Twist::Interp => "interp",
-        }
-    }
-}
+/// How the twist control points are set (seed 000 §4): the construction's own
+/// [`crate::construct::TwistMode`], under the name the API and the CLI use.
+pub use crate::construct::TwistMode as Twist;
 
 impl FromStr for Twist {
     type Err = ConvertError;
@@ -320,11 +300,7 @@ fn convert_valid(
 pub fn construct_options(options: &ConvertOptions) -> crate::construct::ConstructOptions {
     crate::construct::ConstructOptions {
         fullness: options.fullness,
-        twist: match options.twist {
-            Twist::None => crate::construct::TwistMode::None,
-            Twist::Approx => crate::construct::TwistMode::Approx,
-            Twist::Interp => crate::construct::TwistMode::Interp,
-        },
+        twist: options.twist,
         mid_scale: options.mid_scale,
         best_plane: options.best_plane,
         tile_depth: options.tile_depth,

@@ -22,6 +22,7 @@ pub use topology::{build_topology, tiles, topology_network, Tiles};
 
 /// How the twist control points (row 1, columns 1 and 2 of each ribbon) are set (seed 000 §4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum TwistMode {
     /// First approximation: convex combination of seed 000 eq. 2.11 (dual) or the tile vertex
     /// (§3.4.1). G1 only where four-sided faces meet four-sided patches; reported, not guaranteed.
@@ -31,6 +32,17 @@ pub enum TwistMode {
     /// Interpolating direction blend (eq. 4.24): G1 along every shared side.
     #[default]
     Interp,
+}
+
+impl TwistMode {
+    /// `none`, `approx`, `interp`.
+    pub fn name(self) -> &'static str {
+        match self {
+            TwistMode::None => "none",
+            TwistMode::Approx => "approx",
+            TwistMode::Interp => "interp",
+        }
+    }
 }
 
 /// Parameters of both constructions.
