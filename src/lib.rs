@@ -14,11 +14,13 @@
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
 //! - [`tessellate`]: watertight sampling of all patches into triangle meshes through sinks.
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
-//! - [`ffi`]: the C ABI, the only module with `unsafe`.
-//! - `openmesh` (cargo feature `openmesh`, in [`ffi`] because the cxx bridge declares `unsafe extern`):
-//!   OpenMesh file I/O and its Catmull–Clark, re-exported here as `gbsurf::openmesh`.
+//!
+//! This crate has no `unsafe` code, no FFI and no command-line dependencies (the compiler enforces
+//! the first: `forbid(unsafe_code)`). The other layers are crates of their own in this workspace:
+//! `gbsurf-cli` (`cli/`, the `gbsurf` binary), `gbsurf-capi` (`capi/`, the C ABI `libgbsurf`) and
+//! `gbsurf-openmesh` (`openmesh/`, the cxx bridge to OpenMesh).
 
-#![deny(unsafe_code)]
+#![forbid(unsafe_code)]
 
 #[macro_use]
 pub mod tol;
@@ -26,12 +28,8 @@ pub mod tol;
 pub mod api;
 pub mod bezier;
 pub mod construct;
-#[allow(unsafe_code)]
-pub mod ffi;
 pub mod gb;
 pub mod mesh;
-#[cfg(feature = "openmesh")]
-pub use ffi::openmesh;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;

@@ -114,12 +114,10 @@ fn repeated_index() {
 
 #[test]
 fn zero_area_file() {
-    // The file's comment says "a face whose corners are collinear", but its added face "1 2 9"
-    // has corners (-1,-1,-1), (1,-1,-1), (2,0,0): NOT collinear (area √2). What the file really
-    // contains is a third face on the cube edge 1–2 (and a 1 → 2 direction used twice), so the
-    // first error is the non-manifold edge. The zero-area check itself is tested below.
+    // "f 5 6 9": corners (-1,-1,1), (1,-1,1), (0,-1,1) are collinear (a sliver beside the
+    // pentagon "5 9 6 8 7" of an otherwise closed two-manifold cube).
     let e = err("zero_area.obj");
-    assert_eq!(e, MeshError::NonManifoldEdge { edge: (0, 1), faces: vec![0, 2, 6], line: Some(17) });
+    assert_eq!(e, MeshError::ZeroAreaFace { face: 6, area: 0.0, line: Some(17) });
 }
 
 fn cube() -> PolyMesh {

@@ -11,7 +11,7 @@ use gbsurf::mesh::{read_mesh, HalfEdgeMesh};
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
 const GOOD: &[&str] = &[
-    "cube", "cube_extruded", "cube_nonplanar", "dodecahedron", "grid_open", "house", "l_prism", "octahedron",
+    "cube", "cube_corner_pulled", "cube_extruded", "cube_nonplanar", "dodecahedron", "grid_open", "house", "l_prism", "octahedron",
     "prism3", "pyramid", "star_prism", "torus",
 ];
 const SAMPLES: usize = 17;

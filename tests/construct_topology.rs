@@ -10,7 +10,7 @@ use gbsurf::{assert_near, DVec3};
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
 const GOOD: &[&str] = &[
-    "cube", "cube_extruded", "cube_nonplanar", "dodecahedron", "grid_open", "house", "l_prism", "octahedron",
+    "cube", "cube_corner_pulled", "cube_extruded", "cube_nonplanar", "dodecahedron", "grid_open", "house", "l_prism", "octahedron",
     "prism3", "pyramid", "star_prism", "torus",
 ];
 

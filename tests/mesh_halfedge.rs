@@ -15,6 +15,7 @@ const GOOD: &[(&str, usize, usize, usize, i64, usize)] = &[
     ("cube.obj", 8, 12, 6, 2, 0),
     ("cube_extruded.obj", 16, 28, 14, 2, 0),
     ("cube_nonplanar.obj", 8, 12, 6, 2, 0),
+    ("cube_corner_pulled.obj", 8, 12, 6, 2, 0),
     ("dodecahedron.obj", 20, 30, 12, 2, 0),
     ("grid_open.obj", 25, 40, 16, 1, 1),
     ("house.obj", 10, 15, 7, 2, 0),

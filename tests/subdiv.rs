@@ -31,10 +31,11 @@ fn load(name: &str) -> PolyMesh {
     m
 }
 
-const CLOSED_MODELS: [&str; 11] = [
+const CLOSED_MODELS: [&str; 12] = [
     "cube.obj",
     "cube_extruded.obj",
     "cube_nonplanar.obj",
+    "cube_corner_pulled.obj",
     "dodecahedron.obj",
     "house.obj",
     "l_prism.obj",

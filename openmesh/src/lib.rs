@@ -1,9 +1,9 @@
-//! Bridge to OpenMesh (cargo feature `openmesh`; needs Debian's `libopenmesh-dev` and a C++17
+//! Bridge to OpenMesh (needs Debian's `libopenmesh-dev` and a C++17
 //! compiler): mesh file I/O in every format OpenMesh knows (OBJ, OFF, PLY, STL, OM) with double
 //! positions, and OpenMesh's own uniform Catmull–Clark subdivider as a reference for
-//! [`crate::subdiv::catmull_clark`].
+//! [`gbsurf::subdiv::catmull_clark`].
 //!
-//! The C++ side is `cpp/bridge/openmesh_bridge.cpp` (a `PolyMesh_ArrayKernelT` with `Vec3d`
+//! The C++ side is `openmesh/cpp/openmesh_bridge.cpp` (a `PolyMesh_ArrayKernelT` with `Vec3d`
 //! points). Meshes cross the bridge as flat arrays; every C++ failure is a thrown
 //! `std::runtime_error` that cxx turns into an `Err`, never an abort.
 //!
@@ -15,15 +15,15 @@
 //! OpenMesh's Catmull–Clark (`Tools/Subdivider/Uniform/CatmullClarkT_impl.hh`, OpenMesh 9.0)
 //! equals the textbook rule on closed meshes: face points = centroids, interior edge points
 //! `(a + b + F₀ + F₁)/4`, interior vertices `Σ neighbours/n² + Σ F/n² + (n−2)/n·V`
-//! (= `(Q + 2R + (n−3)V)/n`). On boundaries it differs from [`crate::subdiv::catmull_clark`]:
+//! (= `(Q + 2R + (n−3)V)/n`). On boundaries it differs from [`gbsurf::subdiv::catmull_clark`]:
 //! boundary edge points are midpoints in both, but every boundary vertex, corners included, gets
 //! `(V + m₁ + m₂)/3` with `m₁, m₂` the midpoints of its two boundary edges, i.e. the mask
 //! `(1, 4, 1)/6` (the cubic B-spline *limit* mask) instead of the subdivision mask `(1, 6, 1)/8`,
 //! and corners are not kept fixed. (An isolated vertex counts as a boundary vertex there and
 //! moves to V/3.)
 
-use crate::mesh::{PolyMesh, TriMesh};
-use crate::subdiv::SubdivError;
+use gbsurf::mesh::{PolyMesh, TriMesh};
+use gbsurf::subdiv::SubdivError;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
@@ -39,7 +39,7 @@ mod bridge {
     }
 
     unsafe extern "C++" {
-        include!("gbsurf/cpp/bridge/openmesh_bridge.h");
+        include!("gbsurf-openmesh/cpp/openmesh_bridge.h");
         fn read_mesh(path: &str) -> Result<MeshData>;
         fn write_mesh(mesh: &MeshData, path: &str, binary: bool, precision: u32) -> Result<()>;
         fn catmull_clark(mesh: &MeshData, levels: u32) -> Result<MeshData>;
@@ -172,13 +172,13 @@ fn write(
 }
 
 /// OpenMesh's uniform Catmull–Clark subdivider (`CatmullClarkT`), `levels` times: the reference
-/// for [`crate::subdiv::catmull_clark`] (equal on closed meshes; boundary rules differ, see the
-/// module docs). The mesh is validated first with the same rules as [`crate::subdiv`].
+/// for [`gbsurf::subdiv::catmull_clark`] (equal on closed meshes; boundary rules differ, see the
+/// module docs). The mesh is validated first with the same rules as [`gbsurf::subdiv`].
 /// Output order: old vertices, then edge points, then face points (OpenMesh's own order).
 pub fn openmesh_catmull_clark(mesh: &PolyMesh, levels: u32) -> Result<PolyMesh, OpenMeshError> {
     // Counts per level (S = Σ|f|): V' = V + E + F, E' = 2E + S, F' = S, S' = 4S.
     let mut v = mesh.positions.len() as u64;
-    let mut e = crate::subdiv::edge_count(mesh)? as u64;
+    let mut e = gbsurf::subdiv::edge_count(mesh)? as u64;
     let mut f = mesh.faces.len() as u64;
     let mut s = mesh.faces.iter().map(|f| f.len() as u64).sum::<u64>();
     for _ in 0..levels {

@@ -9,7 +9,7 @@ use std::process::Command;
 const BIN: &str = env!("CARGO_BIN_EXE_gbsurf");
 
 fn model(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/models").join(name)
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -31,7 +31,7 @@ fn convert(input: &Path, output: &Path, method: &str) {
 
 /// Vertex positions of a converted surface, read back with OpenMesh (any format it reads).
 fn surface_points(path: &Path) -> Vec<gbsurf::DVec3> {
-    gbsurf::openmesh::read_mesh(path).unwrap().positions
+    gbsurf_openmesh::read_mesh(path).unwrap().positions
 }
 
 #[test]
@@ -42,8 +42,8 @@ fn om_and_off_twins_convert_like_the_obj() {
         let (mesh, _) = read_polymesh(&obj).unwrap();
         let om = dir.join("in.om");
         let off = dir.join("in.off");
-        gbsurf::openmesh::write_mesh_binary(&mesh, &om).unwrap();
-        gbsurf::openmesh::write_mesh(&mesh, &off).unwrap();
+        gbsurf_openmesh::write_mesh_binary(&mesh, &om).unwrap();
+        gbsurf_openmesh::write_mesh(&mesh, &off).unwrap();
         for method in ["dual", "topology"] {
             let reference = dir.join(format!("ref-{method}.om"));
             convert(&obj, &reference, method);

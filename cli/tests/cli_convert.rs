@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models");
 
 fn tmpdir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("gbsurf-cli-{}-{name}", std::process::id()));
@@ -92,7 +92,7 @@ fn bad_repeated_index() {
 }
 #[test]
 fn bad_zero_area() {
-    fails(&bad("zero_area.obj"), &[], "edge (0, 1) is shared by 3 faces");
+    fails(&bad("zero_area.obj"), &[], "face 6 (line 17) has zero area");
 }
 #[test]
 fn bad_options_and_paths() {

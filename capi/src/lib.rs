@@ -1,4 +1,5 @@
-//! The C ABI: the only module with `unsafe`.
+//! The C ABI of gbsurf (`libgbsurf.a`, `libgbsurf.so`): the only crate of the workspace with
+//! `unsafe` code besides the cxx bridge of `gbsurf-openmesh`.
 //!
 //! Conventions (see `cpp/include/gbsurf.h`, generated from this module by cbindgen):
 //! - every function is named `gbsurf_*`; every fallible function returns a `uint32_t` status
@@ -17,10 +18,6 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 mod options;
 mod result;
-
-/// The cxx bridge to OpenMesh (cargo feature `openmesh`): safe Rust functions over C++.
-#[cfg(feature = "openmesh")]
-pub mod openmesh;
 
 pub use options::*;
 pub use result::*;
@@ -281,7 +278,10 @@ pub extern "C" fn gbsurf_status_name(status: u32) -> *const c_char {
 }
 
 #[cfg(test)]
-mod tests {
+mod tests;
+
+#[cfg(test)]
+mod boundary_tests {
     use super::*;
     use std::ffi::CStr;
 

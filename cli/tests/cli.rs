@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
 const BIN: &str = env!("CARGO_BIN_EXE_gbsurf");
-const CUBIC5: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/cubic5.gbp");
-const QUINTIC3: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/quintic3.gbp");
+const CUBIC5: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/cubic5.gbp");
+const QUINTIC3: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/quintic3.gbp");
 
 fn run(args: &[&str], stdin: &str) -> Output {
     let mut child = Command::new(BIN)

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "gbsurf/cpp/bridge/openmesh_bridge.h"
-#include "gbsurf/src/ffi/openmesh.rs.h"
+#include "gbsurf-openmesh/cpp/openmesh_bridge.h"
+#include "gbsurf-openmesh/src/lib.rs.h"
 
 namespace gbsurf_om {
 

@@ -361,7 +361,7 @@ mod openmesh_io {
     }
 
     pub fn read(path: &Path) -> Result<PolyMesh, ConvertError> {
-        gbsurf::openmesh::read_mesh(path).map_err(|e| om_error(path, e))
+        gbsurf_openmesh::read_mesh(path).map_err(|e| om_error(path, e))
     }
 
     /// The file OpenMesh writes for `mesh` (positions, triangles, vertex normals), as bytes, so it
@@ -370,7 +370,7 @@ mod openmesh_io {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let tmp = std::env::temp_dir().join(format!("gbsurf-{}-{name}", std::process::id()));
         let tri = TriMesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), triangles: mesh.triangles.clone() };
-        let written = gbsurf::openmesh::write_tri_mesh(&tri, &tmp).map_err(|e| om_error(path, e));
+        let written = gbsurf_openmesh::write_tri_mesh(&tri, &tmp).map_err(|e| om_error(path, e));
         let bytes = written.and_then(|()| std::fs::read(&tmp).map_err(|e| om_error(path, e)));
         let _ = std::fs::remove_file(&tmp);
         bytes

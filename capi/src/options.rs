@@ -1,8 +1,8 @@
 //! The options struct of the C ABI and the report figures.
 
 use super::*;
-use crate::api::{ConvertError, ConvertOptions, Method, Twist};
-use crate::gb::WeightForm;
+use gbsurf::api::{ConvertError, ConvertOptions, Method, Twist};
+use gbsurf::gb::WeightForm;
 
 /// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 pub const GBSURF_METHOD_DUAL: u32 = 0;
@@ -277,7 +277,7 @@ pub struct GbsurfReport {
 pub(crate) const REPORT_SIZE: u32 = std::mem::size_of::<GbsurfReport>() as u32;
 
 impl GbsurfReport {
-    pub(crate) fn from_report(r: &crate::quality::Report, method: u32) -> Self {
+    pub(crate) fn from_report(r: &gbsurf::quality::Report, method: u32) -> Self {
         GbsurfReport {
             struct_size: REPORT_SIZE,
             method,

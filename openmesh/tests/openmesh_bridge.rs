@@ -1,22 +1,23 @@
 //! OpenMesh bridge (feature `openmesh`): our Catmull–Clark against OpenMesh's `CatmullClarkT`,
 //! the documented boundary difference, and file round trips through OpenMesh's writers/readers.
 //! Run with `cargo test --features openmesh --test openmesh_bridge`.
-#![cfg(feature = "openmesh")]
+
 
 use gbsurf::mesh::{PolyMesh, TriMesh};
-use gbsurf::openmesh::{
+use gbsurf_openmesh::{
     openmesh_catmull_clark, read_mesh, write_mesh, write_mesh_binary, write_tri_mesh, OpenMeshError,
 };
 use gbsurf::subdiv::{catmull_clark, SubdivError};
 use gbsurf::{assert_near, DVec3};
 use std::path::PathBuf;
 
-const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models");
 
-const CLOSED_MODELS: [&str; 11] = [
+const CLOSED_MODELS: [&str; 12] = [
     "cube.obj",
     "cube_extruded.obj",
     "cube_nonplanar.obj",
+    "cube_corner_pulled.obj",
     "dodecahedron.obj",
     "house.obj",
     "l_prism.obj",

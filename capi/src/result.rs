@@ -1,13 +1,13 @@
 //! The conversion entry points and the opaque result handle with its accessors.
 
 use super::*;
-use crate::api::{Conversion, ConvertError, ConvertOptions};
-use crate::construct::{Patch, Surface};
-use crate::mesh::{MeshError, PolyMesh};
+use gbsurf::api::{Conversion, ConvertError, ConvertOptions};
+use gbsurf::construct::{Patch, Surface};
+use gbsurf::mesh::{MeshError, PolyMesh};
 use glam::DVec3;
 use std::ffi::{c_void, CStr};
 use std::sync::OnceLock;
-use crate::tessellate::SurfaceMesh;
+use gbsurf::tessellate::SurfaceMesh;
 
 /// Patch kind: an n-sided Generalized Bézier patch (ribbons plus a central control point).
 pub const GBSURF_PATCH_GB: u32 = 0;
@@ -89,7 +89,7 @@ fn flatten(v: &[DVec3]) -> Vec<f64> {
 }
 
 fn flatten_surface(s: &Surface) -> FlatSurface {
-    let flat_ribbon = |r: &crate::gb::Ribbon| FlatRibbon {
+    let flat_ribbon = |r: &gbsurf::gb::Ribbon| FlatRibbon {
         degree: r.degree,
         layers: r.rows.len(),
         points: r.rows.iter().flat_map(|row| flatten(row)).collect(),
@@ -181,7 +181,7 @@ fn run(
     options: *const GbsurfOptions,
     progress: GbsurfProgressFn,
     user_data: *mut c_void,
-    job: impl FnOnce(&ConvertOptions, crate::api::Progress<'_>) -> Result<Conversion, ConvertError>,
+    job: impl FnOnce(&ConvertOptions, gbsurf::api::Progress<'_>) -> Result<Conversion, ConvertError>,
 ) -> FfiResult<Box<GbsurfResult>> {
     let opts = read_options(options)?;
     let mut cb = |fraction: f32| -> bool {
@@ -191,7 +191,7 @@ fn run(
             None => true,
         }
     };
-    let progress_arg: crate::api::Progress<'_> = if progress.is_some() {
+    let progress_arg: gbsurf::api::Progress<'_> = if progress.is_some() {
         Some(&mut cb)
     } else {
         None
@@ -201,7 +201,7 @@ fn run(
     Ok(Box::new(pack(conv, method)))
 }
 
-fn pack(conv: crate::api::Conversion, method: u32) -> GbsurfResult {
+fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
     GbsurfResult {
         report: GbsurfReport::from_report(&conv.report, method),
         sides_histogram: conv
@@ -270,7 +270,7 @@ pub unsafe extern "C" fn gbsurf_convert(
         };
         let mesh = build_mesh(p, s, i)?;
         let r = run(options, progress, user_data, |o, cb| {
-            crate::api::convert(&mesh, o, cb)
+            gbsurf::api::convert(&mesh, o, cb)
         })?;
         write_out(out, r);
         Ok(())
@@ -301,7 +301,7 @@ pub unsafe extern "C" fn gbsurf_convert_file(
             .to_str()
             .map_err(|_| FfiError::new(GBSURF_ERR_IO, "path is not valid UTF-8"))?;
         let r = run(options, progress, user_data, |o, cb| {
-            crate::api::convert_file(path, o, cb)
+            gbsurf::api::convert_file(path, o, cb)
         })
         .map_err(|mut e| {
             e.message = format!("{path}: {}", e.message);

@@ -1,8 +1,8 @@
 //! The committed C header `cpp/include/gbsurf.h` must equal what cbindgen generates from
-//! `src/ffi/` now. To update it after changing the C ABI:
+//! `capi/src/` now. To update it after changing the C ABI:
 //!
 //! ```text
-//! GBSURF_BLESS=1 cargo test --test ffi_header
+//! GBSURF_BLESS=1 cargo test -p gbsurf-capi header
 //! ```
 
 use std::path::Path;
@@ -13,9 +13,9 @@ fn generate() -> String {
         .expect("cbindgen.toml is readable and valid");
     let bindings = cbindgen::Builder::new()
         .with_config(config)
-        .with_src(Path::new(dir).join("src/ffi/mod.rs"))
+        .with_src(Path::new(dir).join("src/lib.rs"))
         .generate()
-        .expect("cbindgen can parse src/ffi");
+        .expect("cbindgen can parse capi/src");
     let mut out = Vec::new();
     bindings.write(&mut out);
     String::from_utf8(out).expect("header is UTF-8")
@@ -23,7 +23,7 @@ fn generate() -> String {
 
 #[test]
 fn header_is_up_to_date() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cpp/include/gbsurf.h");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cpp/include/gbsurf.h");
     let fresh = generate();
     if std::env::var_os("GBSURF_BLESS").is_some() {
         std::fs::write(&path, &fresh).expect("write cpp/include/gbsurf.h");
@@ -38,7 +38,7 @@ fn header_is_up_to_date() {
             .unwrap_or(committed.lines().count().min(fresh.lines().count()));
         panic!(
             "cpp/include/gbsurf.h is stale (first difference at line {}).\n\
-             Regenerate it with:\n    GBSURF_BLESS=1 cargo test --test ffi_header\n\
+             Regenerate it with:\n    GBSURF_BLESS=1 cargo test -p gbsurf-capi header\n\
              and commit the result.",
             first + 1
         );

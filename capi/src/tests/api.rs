@@ -1,8 +1,8 @@
 //! The C ABI called from Rust: every misuse returns its own status code with a message naming the
 //! element, nothing panics across the boundary, handles are freed.
-#![allow(clippy::missing_safety_doc)]
 
-use gbsurf::ffi::*;
+
+use crate::*;
 use std::ffi::{c_void, CStr};
 use std::ptr::{null, null_mut};
 
@@ -192,7 +192,7 @@ fn cancelling_progress_gives_cancelled() {
 
 #[test]
 fn convert_file_reports_io_and_named_validation_errors() {
-    let bad = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/bad/");
+    let bad = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models/bad/");
     let cases = [
         ("garbage.obj", GBSURF_ERR_IO, "line 1"),
         ("nan.obj", GBSURF_ERR_NAN, "vertex 0"),
@@ -203,7 +203,7 @@ fn convert_file_reports_io_and_named_validation_errors() {
         ("nonmanifold_edge.obj", GBSURF_ERR_INVALID_MESH, "edge"),
         ("bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH, "vertex 0"),
         ("repeated_index.obj", GBSURF_ERR_INVALID_MESH, "face"),
-        ("zero_area.obj", GBSURF_ERR_INVALID_MESH, "edge (0, 1)"),
+        ("zero_area.obj", GBSURF_ERR_INVALID_MESH, "face 6 (line 17) has zero area"),
         ("huge_coordinates.obj", GBSURF_ERR_INVALID_MESH, "exceeds"),
         ("empty.obj", GBSURF_ERR_INVALID_MESH, "empty"),
         ("no_such_file.obj", GBSURF_ERR_IO, "no_such_file"),
