@@ -9,7 +9,8 @@
 //! - [`BaseDisplacement`]: r(u) = r_B(u) + r_D(u), a cubic base curve carrying the end positions
 //!   and tangents plus displacement vectors that move only the inside of the curve.
 
-use super::bernstein::binomial;
+use super::bernstein::{bernstein_all, binomial};
+use super::curve::gauss_legendre;
 use super::{BezierCurve, Point};
 use thiserror::Error;
 
@@ -116,17 +117,13 @@ fn end_points<P: Point>(p: &[P], m: usize, order: usize) -> Vec<P> {
         .collect()
 }
 
-/// ∫_0^1 B^a_i(t) B^b_j(t) dt = C(a, i) C(b, j) / ((a + b + 1) C(a + b, i + j)).
-fn bernstein_product_integral(a: usize, i: usize, b: usize, j: usize) -> f64 {
-    binomial(a, i) * binomial(b, j) / ((a + b + 1) as f64 * binomial(a + b, i + j))
-}
-
 /// Constrained least-squares degree reduction (seed 002 "fokszám csökkentés"; formulas in
 /// `docs/math/editing.md`): the degree-m curve q that minimizes ∫_0^1 |r(t) − q(t)|² dt among the
 /// curves with r^{(k)}(0) = q^{(k)}(0) and r^{(k)}(1) = q^{(k)}(1) for k = 0..=order.
 /// `order = 1` keeps end positions and first derivatives (Hermite constraints), `order = 0` only
 /// the end points. The constraints fix q_0..q_order and q_{m−order}..q_m; the others solve the
-/// normal equations Σ_j G_ij q_j = Σ_k H_ik p_k (i, j free), G and H Bernstein Gram matrices.
+/// normal equations Σ_j G_ij q_j = Σ_k H_ik p_k (i, j free), G and H Bernstein Gram matrices,
+/// here by QR on d + 1 Gauss–Legendre samples (the same objective, exactly).
 /// Errors: m ≥ d, or m < 2·order + 1.
 pub fn reduce_degree<P: Point>(
     curve: &BezierCurve<P>,
@@ -153,26 +150,30 @@ pub fn reduce_degree<P: Point>(
     }
     let free: Vec<usize> = (order + 1..m - order).collect();
     if !free.is_empty() {
+        // The objective is a polynomial of degree 2d in t, so N = d + 1 Gauss–Legendre nodes
+        // integrate it exactly: minimize Σ_k w_k |r(t_k) − q(t_k)|² over the free points, by QR
+        // (condition number √cond(G), unlike the normal equations G x = H p).
+        let (x, w) = gauss_legendre(d + 1);
+        let rows = x.len();
         let nf = free.len();
-        // normal equations G_FF x = H_F p − G_F,fixed q_fixed
-        let mut g = vec![0.0; nf * nf];
-        let mut rhs = vec![P::ZERO; nf];
-        for (a, &i) in free.iter().enumerate() {
-            for (b, &j) in free.iter().enumerate() {
-                g[a * nf + b] = bernstein_product_integral(m, i, m, j);
+        let mut a = vec![0.0; rows * nf];
+        let mut b = vec![P::ZERO; rows];
+        for (k, (&xk, &wk)) in x.iter().zip(&w).enumerate() {
+            let t = 0.5 * (xk + 1.0);
+            let sk = (0.5 * wk).sqrt();
+            let bm = bernstein_all(m, t);
+            for (c, &i) in free.iter().enumerate() {
+                a[k * nf + c] = sk * bm[i];
             }
-            let mut r = (0..=d).fold(P::ZERO, |acc, k| {
-                acc + p[k] * bernstein_product_integral(m, i, d, k)
-            });
-            for j in (0..=order).chain(m - order..=m) {
-                r = r - q[j] * bernstein_product_integral(m, i, m, j);
-            }
-            rhs[a] = r;
+            let fixed = (0..=order)
+                .chain(m - order..=m)
+                .fold(P::ZERO, |acc, j| acc + q[j] * bm[j]);
+            b[k] = (curve.eval(t) - fixed) * sk;
         }
-        let x = cholesky_solve(&mut g, nf, rhs)
+        let sol = householder_solve(&mut a, rows, nf, b)
             .map_err(|pivot| ReduceError::Singular { target: m, pivot })?;
-        for (a, &i) in free.iter().enumerate() {
-            q[i] = x[a];
+        for (c, &i) in free.iter().enumerate() {
+            q[i] = sol[c];
         }
     }
     if let Some(pivot) = q.iter().position(|v| !v.is_finite()) {
@@ -186,43 +187,58 @@ pub fn reduce_degree<P: Point>(
     })
 }
 
-/// Solves G x = b for a symmetric positive definite n×n matrix `g` (row-major, overwritten by its
-/// Cholesky factor) and vector-valued right-hand sides; Err(pivot) when a pivot is not positive.
-fn cholesky_solve<P: Point>(g: &mut [f64], n: usize, mut b: Vec<P>) -> Result<Vec<P>, usize> {
-    for j in 0..n {
-        let mut s = g[j * n + j];
-        for k in 0..j {
-            s -= g[j * n + k] * g[j * n + k];
+/// Least-squares solution of A x ≈ b (A: `rows` × `cols`, row-major, rows ≥ cols, overwritten)
+/// with vector-valued b, by Householder QR; Err(column) when a diagonal entry of R is below
+/// 1e-13 times the largest (numerically rank-deficient).
+fn householder_solve<P: Point>(
+    a: &mut [f64],
+    rows: usize,
+    cols: usize,
+    mut b: Vec<P>,
+) -> Result<Vec<P>, usize> {
+    let mut diag = vec![0.0; cols];
+    for c in 0..cols {
+        let norm = (c..rows)
+            .map(|r| a[r * cols + c].powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let alpha = if a[c * cols + c] > 0.0 { -norm } else { norm };
+        diag[c] = alpha;
+        // v = x − alpha e_1 stored in column c (rows c..), H = I − 2 v vᵀ / vᵀv
+        a[c * cols + c] -= alpha;
+        let vtv: f64 = (c..rows).map(|r| a[r * cols + c].powi(2)).sum();
+        if vtv == 0.0 {
+            continue;
         }
-        if !(s > 0.0) {
-            return Err(j);
-        }
-        let ljj = s.sqrt();
-        g[j * n + j] = ljj;
-        for i in j + 1..n {
-            let mut t = g[i * n + j];
-            for k in 0..j {
-                t -= g[i * n + k] * g[j * n + k];
+        for c2 in c + 1..cols {
+            let dot: f64 = (c..rows).map(|r| a[r * cols + c] * a[r * cols + c2]).sum();
+            let f = 2.0 * dot / vtv;
+            for r in c..rows {
+                a[r * cols + c2] -= f * a[r * cols + c];
             }
-            g[i * n + j] = t / ljj;
+        }
+        let dot = (c..rows).fold(P::ZERO, |acc, r| acc + b[r] * a[r * cols + c]);
+        let f = 2.0 / vtv;
+        for r in c..rows {
+            b[r] = b[r] - dot * (f * a[r * cols + c]);
         }
     }
-    // L y = b, then Lᵀ x = y
-    for i in 0..n {
-        let mut t = b[i];
-        for k in 0..i {
-            t = t - b[k] * g[i * n + k];
-        }
-        b[i] = t * (1.0 / g[i * n + i]);
+    let scale = diag.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    if let Some(c) = diag
+        .iter()
+        .position(|d| d.is_nan() || d.abs() <= 1e-13 * scale)
+    {
+        return Err(c);
     }
-    for i in (0..n).rev() {
-        let mut t = b[i];
-        for k in i + 1..n {
-            t = t - b[k] * g[k * n + i];
+    let mut x = vec![P::ZERO; cols];
+    for c in (0..cols).rev() {
+        let mut t = b[c];
+        for c2 in c + 1..cols {
+            t = t - x[c2] * a[c * cols + c2];
         }
-        b[i] = t * (1.0 / g[i * n + i]);
+        x[c] = t * (1.0 / diag[c]);
     }
-    Ok(b)
+    Ok(x)
 }
 
 /// A curve of degree d ≥ 3 written as r(u) = r_B(u) + r_D(u) (seed 002, "alap + eltolás"):
@@ -246,8 +262,10 @@ impl<P: Point> BaseDisplacement<P> {
         let base = hermite_cubic(curve);
         let elevated = base.elevate_by(d - 3);
         let mut displacement = vec![P::ZERO; d + 1];
-        for i in 2..=d - 2 {
-            displacement[i] = curve.points()[i] - elevated.points()[i];
+        for (i, (q, c)) in curve.points().iter().zip(elevated.points()).enumerate() {
+            if (2..=d - 2).contains(&i) {
+                displacement[i] = *q - *c;
+            }
         }
         Ok(Self { base, displacement })
     }
