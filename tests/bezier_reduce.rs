@@ -151,7 +151,7 @@ fn errors_name_the_argument() {
     );
 
     let mut bd = BaseDisplacement::new(&c.elevate_by(2)).unwrap(); // degree 6: editable 2..=4
-    for index in [0, 1, 5, 6, 7] {
+    for index in [0, 1, 5, 6, 7, usize::MAX] {
         assert_eq!(
             bd.set_displacement(index, DVec3::X),
             Err(ReduceError::FixedDisplacement { index, degree: 6 })

@@ -315,7 +315,7 @@ impl<P: Point> BaseDisplacement<P> {
     /// Sets displacement vector `index` (2 ≤ index ≤ d−2): changes the inside of the curve only.
     pub fn set_displacement(&mut self, index: usize, vector: P) -> Result<(), ReduceError> {
         let d = self.degree();
-        if index < 2 || index + 2 > d {
+        if index < 2 || index > d - 2 {
             return Err(ReduceError::FixedDisplacement { index, degree: d });
         }
         if !vector.is_finite() {

@@ -70,8 +70,8 @@ pub enum CommonDegreeError {
 /// Cubic ribbon of a degree-d ribbon with d ≥ 3 (two rows or more): row 0 = H(P_{·,0}),
 /// row 1 = H(P_{·,0}) + (d/3)·H(P_{·,1} − P_{·,0}), H = [`hermite_cubic`]. The boundary and the
 /// cross-derivative d(P_{·,1} − P_{·,0}) keep their end values and end first derivatives.
-/// Rows k ≥ 2 are ignored. The caller checks the shape (see [`base_patch`]).
-pub fn hermite_ribbon(ribbon: &Ribbon) -> Ribbon {
+/// Rows k ≥ 2 are ignored. Only for validated ribbons of degree ≥ 3 (see [`base_patch`]).
+fn hermite_ribbon(ribbon: &Ribbon) -> Ribbon {
     let d = ribbon.degree;
     let r0 = BezierCurve::from_vec(ribbon.rows[0].clone());
     let diff = BezierCurve::from_vec(
@@ -95,8 +95,9 @@ pub fn hermite_ribbon(ribbon: &Ribbon) -> Ribbon {
     }
 }
 
-/// The cubic base patch of a degree-d patch (d ≥ 3): [`hermite_ribbon`] of every side and the
-/// patch's central point (rule 1 of the module documentation).
+/// The cubic base patch of a degree-d patch (d ≥ 3): side i gets row 0 = H(P_{·,0}),
+/// row 1 = H(P_{·,0}) + (d/3)·H(P_{·,1} − P_{·,0}) with H = [`hermite_cubic`], and the central
+/// point is the patch's (rule 1 of the module documentation).
 pub fn base_patch(patch: &GbPatch) -> Result<GbPatch, DecomposeError> {
     patch.validate()?;
     let d = patch.degree();
