@@ -61,8 +61,8 @@ pub struct Reduction<P> {
     pub error_bound: f64,
 }
 
-/// Upper bound of max_{t∈[0,1]} |a(t) − b(t)|: elevate the lower-degree curve to the degree of
-/// the other and take the largest distance of corresponding control points. It is an upper bound
+/// Upper bound of max over t ∈ [0, 1] of |a(t) − b(t)|: elevate the lower-degree curve to the
+/// degree of the other and take the largest distance of corresponding control points. It is a bound
 /// because a − b = Σ (a_i − b_i) B_i(t) with B_i ≥ 0, Σ B_i = 1 (convex hull property).
 pub fn error_bound<P: Point>(a: &BezierCurve<P>, b: &BezierCurve<P>) -> f64 {
     let (lo, hi) = if a.degree() <= b.degree() {
