@@ -18,6 +18,7 @@ pub mod composite;
 pub mod curve;
 pub mod join;
 pub mod rational;
+pub mod reduce;
 pub mod surface;
 
 use glam::{DVec2, DVec3, DVec4};

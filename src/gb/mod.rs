@@ -2,6 +2,7 @@
 
 pub mod cgb;
 pub mod connected;
+pub mod decompose;
 pub mod derivs;
 pub mod domain;
 pub mod elevate;
