@@ -1,7 +1,7 @@
 //! The result of surface construction: patches plus how their sides meet. This is the contract
 //! between construction (networks, ribbons, twists) and tessellation/quality.
 
-use crate::gb::{CgbPatch, GbPatch};
+use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
 
 /// One patch of a constructed surface.
@@ -12,6 +12,21 @@ pub enum Patch {
     Gb(GbPatch),
     /// A ribbon-only patch (topology-preserving structure: one per mesh face).
     Cgb(CgbPatch),
+}
+
+impl Patch {
+    /// The ribbons of the patch, one per side (side i runs from domain vertex i−1 to vertex i).
+    pub fn ribbons(&self) -> &[Ribbon] {
+        match self {
+            Patch::Gb(g) => &g.ribbons,
+            Patch::Cgb(c) => &c.ribbons,
+        }
+    }
+
+    /// The number of sides n.
+    pub fn sides(&self) -> usize {
+        self.ribbons().len()
+    }
 }
 
 /// Where a patch side continues: the neighbouring patch and its side. Both sides share one
@@ -50,4 +65,29 @@ pub struct Surface {
     /// see [`super::prepare`]), human-readable.
     #[serde(default)]
     pub warnings: Vec<String>,
+}
+
+impl Surface {
+    /// Every shared side once: `(patch, side, neighbour)` with `(patch, side) < (neighbour.patch,
+    /// neighbour.side)`, in patch order then side order. Open boundary sides are skipped.
+    pub fn shared_sides(&self) -> impl Iterator<Item = (usize, usize, SideRef)> + '_ {
+        self.neighbors.iter().enumerate().flat_map(|(p, sides)| {
+            sides.iter().enumerate().filter_map(move |(i, nb)| match nb {
+                Some(nb) if (nb.patch, nb.side) > (p, i) => Some((p, i, *nb)),
+                _ => None,
+            })
+        })
+    }
+
+    /// The shared sides across from patch `p`: `(side, neighbour)` for every side of `p` that has
+    /// a neighbour with `(p, side) < (neighbour.patch, neighbour.side)` (each shared side is then
+    /// visited once when this is called for every patch).
+    pub fn shared_sides_of(&self, p: usize) -> impl Iterator<Item = (usize, SideRef)> + '_ {
+        self.neighbors.get(p).into_iter().flat_map(move |sides| {
+            sides.iter().enumerate().filter_map(move |(i, nb)| match nb {
+                Some(nb) if (nb.patch, nb.side) > (p, i) => Some((i, *nb)),
+                _ => None,
+            })
+        })
+    }
 }
