@@ -31,14 +31,25 @@ fn quad(f: impl Fn(f64) -> f64) -> f64 {
     (0..m)
         .map(|k| {
             let a = k as f64 * h;
-            x.iter().zip(&w).map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0))).sum::<f64>() * 0.5 * h
+            x.iter()
+                .zip(&w)
+                .map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0)))
+                .sum::<f64>()
+                * 0.5
+                * h
         })
         .sum()
 }
 
 fn check_interpolates(p0: DVec2, d0: DVec2, p1: DVec2, d1: DVec2) {
     let sols = PlanarPhQuintic::hermite(p0, d0, p1, d1).unwrap();
-    let size = p0.abs().max(p1.abs()).max(d0.abs()).max(d1.abs()).max_element().max(1.0);
+    let size = p0
+        .abs()
+        .max(p1.abs())
+        .max(d0.abs())
+        .max(d1.abs())
+        .max_element()
+        .max(1.0);
     for s in &sols.solutions {
         let b = s.curve.bezier();
         assert_near!(b.eval(0.0), p0, 1e-14 * size);
@@ -94,7 +105,9 @@ fn rindex_952(w0: Complex, w1: Complex, w2: Complex) -> f64 {
             }
         }
         t.push(1.0);
-        t.windows(2).map(|s| (angle(a, s[0], s[1]) - angle(b, s[0], s[1])).abs()).sum()
+        t.windows(2)
+            .map(|s| (angle(a, s[0], s[1]) - angle(b, s[0], s[1])).abs())
+            .sum()
     }
 }
 
@@ -146,7 +159,11 @@ fn rotation_index_and_energy_match_quadrature() {
         assert_near!(s.rotation_index, r, 1e-8);
         for k in 0..=10 {
             let t = k as f64 / 10.0;
-            assert_near!(s.curve.curvature(t), kappa(t), 1e-12 * kappa(t).abs().max(1.0));
+            assert_near!(
+                s.curve.curvature(t),
+                kappa(t),
+                1e-12 * kappa(t).abs().max(1.0)
+            );
         }
     }
 }
@@ -180,7 +197,10 @@ fn arc_length_equals_quadrature_and_inverts() {
             let t = k as f64 / 8.0;
             let part = quad(|u| h.eval(u * t).length()) * t;
             assert_near!(s.curve.arc_length_at(t), part, 1e-12 * l);
-            let back = s.curve.param_at_arc_length(s.curve.arc_length_at(t)).unwrap();
+            let back = s
+                .curve
+                .param_at_arc_length(s.curve.arc_length_at(t))
+                .unwrap();
             assert_near!(back, t, 1e-13);
         }
     }
@@ -189,12 +209,19 @@ fn arc_length_equals_quadrature_and_inverts() {
         curve.param_at_arc_length(-1.0),
         Err(PhError::ArcLengthOutOfRange { .. })
     ));
-    assert!(matches!(curve.param_at_arc_length(f64::NAN), Err(PhError::NonFinite { .. })));
+    assert!(matches!(
+        curve.param_at_arc_length(f64::NAN),
+        Err(PhError::NonFinite { .. })
+    ));
 }
 
 #[test]
 fn a_sampled_ph_quintic_is_recovered() {
-    let curve = PlanarPhQuintic::new(DVec2::new(0.3, -0.2), [c(1.2, 0.4), c(0.9, -0.5), c(1.1, 0.3)]).unwrap();
+    let curve = PlanarPhQuintic::new(
+        DVec2::new(0.3, -0.2),
+        [c(1.2, 0.4), c(0.9, -0.5), c(1.1, 0.3)],
+    )
+    .unwrap();
     let sols = PlanarPhQuintic::hermite(
         curve.eval(0.0),
         curve.derivative(0.0),
@@ -208,10 +235,15 @@ fn a_sampled_ph_quintic_is_recovered() {
         .iter()
         .filter(|s| {
             let p = s.curve.control_points();
-            p.iter().zip(&target).all(|(a, b)| (*a - *b).length() < 1e-13)
+            p.iter()
+                .zip(&target)
+                .all(|(a, b)| (*a - *b).length() < 1e-13)
         })
         .count();
-    assert_eq!(hit, 1, "exactly one of the four solutions is the sampled curve");
+    assert_eq!(
+        hit, 1,
+        "exactly one of the four solutions is the sampled curve"
+    );
 }
 
 #[test]
@@ -224,7 +256,12 @@ fn curvature_extreme_is_the_maximum() {
             .map(|k| s.curve.curvature(k as f64 / 2000.0).abs())
             .fold(0.0, f64::max);
         assert!(ext.curvature.abs() >= sampled * (1.0 - 1e-12));
-        assert!(ext.curvature.abs() <= sampled * (1.0 + 1e-3), "{} vs {}", ext.curvature, sampled);
+        assert!(
+            ext.curvature.abs() <= sampled * (1.0 + 1e-3),
+            "{} vs {}",
+            ext.curvature,
+            sampled
+        );
         assert_near!(ext.radius, 1.0 / ext.curvature.abs(), 1e-12 * ext.radius);
     }
 }
@@ -253,11 +290,17 @@ fn offset_952(curve: &PlanarPhQuintic, d: f64) -> Vec<(f64, f64, f64)> {
 #[test]
 fn offset_matches_algorithm_952_and_the_definition() {
     let (p0, d0, p1, d1) = sample_952();
-    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1).unwrap().best().curve;
+    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1)
+        .unwrap()
+        .best()
+        .curve;
     let d = 1.25; // the sample's distance
     let off = curve.offset(d).unwrap();
     assert_eq!(off.points.len(), 10);
-    for ((w, x, y), (pt, wt)) in offset_952(&curve, d).into_iter().zip(off.points.iter().zip(&off.weights)) {
+    for ((w, x, y), (pt, wt)) in offset_952(&curve, d)
+        .into_iter()
+        .zip(off.points.iter().zip(&off.weights))
+    {
         assert_near!(*wt, w, 1e-13 * w.abs().max(1.0));
         assert_near!(*pt, DVec2::new(x / w, y / w), 1e-12);
     }
@@ -271,7 +314,10 @@ fn offset_matches_algorithm_952_and_the_definition() {
 #[test]
 fn offset_is_exactly_at_distance_below_min_radius() {
     let (p0, d0, p1, d1) = sample_952();
-    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1).unwrap().best().curve;
+    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1)
+        .unwrap()
+        .best()
+        .curve;
     let rmin = curve.min_radius_of_curvature().unwrap();
     for d in [0.5 * rmin, -0.9 * rmin, 0.99 * rmin] {
         let off = curve.offset(d).unwrap();
@@ -282,7 +328,11 @@ fn offset_is_exactly_at_distance_below_min_radius() {
             let r = curve.eval(t);
             assert_near!((q - r).length(), d.abs(), 1e-12);
             // q − r is normal to the curve and on the side of d's sign (right for d > 0).
-            assert_near!((q - r).dot(curve.derivative(t)), 0.0, 1e-12 * curve.speed(t));
+            assert_near!(
+                (q - r).dot(curve.derivative(t)),
+                0.0,
+                1e-12 * curve.speed(t)
+            );
             assert!((q - r).perp_dot(curve.derivative(t)) * d > 0.0);
         }
         // The offset's own tangent is parallel to the curve's (1 + dκ > 0): r_d′ = σT(1 + dκ).
@@ -301,12 +351,20 @@ fn offset_is_exactly_at_distance_below_min_radius() {
 #[test]
 fn cusps_are_reported_beyond_min_radius_on_the_concave_side() {
     let (p0, d0, p1, d1) = sample_952();
-    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1).unwrap().best().curve;
+    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1)
+        .unwrap()
+        .best()
+        .curve;
     let ext = curve.max_curvature().unwrap();
     // Concave side: d > 0 (right) where κ < 0, d < 0 where κ > 0; so d = −1.2/κ_max.
     let d = -1.2 / ext.curvature;
     let off = curve.offset(d).unwrap();
-    assert!(off.cusps.len() >= 2, "expected a pair of cusps around t = {}: {:?}", ext.t, off.cusps);
+    assert!(
+        off.cusps.len() >= 2,
+        "expected a pair of cusps around t = {}: {:?}",
+        ext.t,
+        off.cusps
+    );
     for &t in &off.cusps {
         assert_near!(1.0 + d * curve.curvature(t), 0.0, 1e-9);
     }
@@ -328,32 +386,62 @@ fn bad_input_is_rejected_with_the_argument_named() {
     let (p0, d0, p1, d1) = sample_952();
     assert_eq!(
         PlanarPhQuintic::hermite(p0, DVec2::ZERO, p1, d1),
-        Err(PhError::ZeroDerivative { arg: "d0", index: None })
+        Err(PhError::ZeroDerivative {
+            arg: "d0",
+            index: None
+        })
     );
     assert_eq!(
         PlanarPhQuintic::hermite(p0, d0, p1, DVec2::ZERO),
-        Err(PhError::ZeroDerivative { arg: "d1", index: None })
+        Err(PhError::ZeroDerivative {
+            arg: "d1",
+            index: None
+        })
     );
     assert_eq!(
         PlanarPhQuintic::hermite(p0, d0, p0, d1),
-        Err(PhError::CoincidentPoints { arg: "p0, p1", index: 0 })
+        Err(PhError::CoincidentPoints {
+            arg: "p0, p1",
+            index: 0
+        })
     );
     assert_eq!(
         PlanarPhQuintic::hermite(p0, d0, DVec2::new(f64::NAN, 0.0), d1),
-        Err(PhError::NonFinite { arg: "p1", index: None })
+        Err(PhError::NonFinite {
+            arg: "p1",
+            index: None
+        })
     );
-    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1).unwrap().best().curve;
+    let curve = PlanarPhQuintic::hermite(p0, d0, p1, d1)
+        .unwrap()
+        .best()
+        .curve;
     assert_eq!(curve.offset(0.0), Err(PhError::ZeroOffsetDistance));
-    assert_eq!(curve.offset(f64::INFINITY), Err(PhError::NonFinite { arg: "d", index: None }));
+    assert_eq!(
+        curve.offset(f64::INFINITY),
+        Err(PhError::NonFinite {
+            arg: "d",
+            index: None
+        })
+    );
     assert!(matches!(
         PlanarPhQuintic::new(p0, [c(1.0, 0.0), c(f64::NAN, 0.0), c(1.0, 0.0)]),
-        Err(PhError::NonFinite { arg: "w", index: Some(1) })
+        Err(PhError::NonFinite {
+            arg: "w",
+            index: Some(1)
+        })
     ));
     // w(t) = (1 − 2t)·(1 + 0i) vanishes at t = ½: the offset has a pole there.
     let singular = PlanarPhQuintic::new(p0, [c(1.0, 0.0), c(0.0, 0.0), c(-1.0, 0.0)]).unwrap();
-    assert!(matches!(singular.offset(0.1), Err(PhError::SingularHodograph { t }) if (t - 0.5).abs() < 1e-12));
+    assert!(
+        matches!(singular.offset(0.1), Err(PhError::SingularHodograph { t }) if (t - 0.5).abs() < 1e-12)
+    );
     assert_eq!(singular.bending_energy(), f64::INFINITY);
-    let msg = PhError::ZeroDerivative { arg: "tangents", index: Some(3) }.to_string();
+    let msg = PhError::ZeroDerivative {
+        arg: "tangents",
+        index: Some(3),
+    }
+    .to_string();
     assert!(msg.contains("tangents") && msg.contains('3'), "{msg}");
 }
 

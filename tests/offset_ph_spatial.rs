@@ -25,13 +25,24 @@ fn quad(f: impl Fn(f64) -> f64) -> f64 {
     (0..m)
         .map(|k| {
             let a = k as f64 * h;
-            x.iter().zip(&w).map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0))).sum::<f64>() * 0.5 * h
+            x.iter()
+                .zip(&w)
+                .map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0)))
+                .sum::<f64>()
+                * 0.5
+                * h
         })
         .sum()
 }
 
 fn check_curve(c: &SpatialPhQuintic, p0: DVec3, d0: DVec3, p1: DVec3, d1: DVec3) {
-    let size = p0.abs().max(p1.abs()).max(d0.abs()).max(d1.abs()).max_element().max(1.0);
+    let size = p0
+        .abs()
+        .max(p1.abs())
+        .max(d0.abs())
+        .max(d1.abs())
+        .max_element()
+        .max(1.0);
     let b = c.bezier();
     assert_near!(b.eval(0.0), p0, 1e-14 * size);
     assert_near!(b.eval(1.0), p1, 1e-13 * size);
@@ -87,7 +98,12 @@ fn quaternion_roots_solve_a_i_astar() {
 #[test]
 fn hermite_with_angles_interpolates_and_frame_is_orthonormal() {
     let (p0, d0, p1, d1) = data();
-    for (phi0, phi2) in [(0.0, 0.0), (-FRAC_PI_2, -FRAC_PI_2), (1.0, -2.0), (3.0, 0.5)] {
+    for (phi0, phi2) in [
+        (0.0, 0.0),
+        (-FRAC_PI_2, -FRAC_PI_2),
+        (1.0, -2.0),
+        (3.0, 0.5),
+    ] {
         let c = SpatialPhQuintic::hermite(p0, d0, p1, d1, phi0, phi2).unwrap();
         check_curve(&c, p0, d0, p1, d1);
     }
@@ -131,14 +147,24 @@ fn planar_data_reproduce_the_planar_interpolants() {
         for phi2 in [-FRAC_PI_2, FRAC_PI_2] {
             let c = SpatialPhQuintic::hermite(e(p0), e(d0), e(p1), e(d1), phi0, phi2).unwrap();
             let pts = c.control_points();
-            assert!(pts.iter().all(|p| p.z.abs() < 1e-14), "planar data give a planar curve");
+            assert!(
+                pts.iter().all(|p| p.z.abs() < 1e-14),
+                "planar data give a planar curve"
+            );
             let hit = planar.solutions.iter().any(|s| {
-                s.curve.control_points().iter().zip(&pts).all(|(a, b)| (e(*a) - *b).length() < 1e-12)
+                s.curve
+                    .control_points()
+                    .iter()
+                    .zip(&pts)
+                    .all(|(a, b)| (e(*a) - *b).length() < 1e-12)
             });
             matched += hit as usize;
         }
     }
-    assert_eq!(matched, 4, "the four angle choices are the four planar solutions");
+    assert_eq!(
+        matched, 4,
+        "the four angle choices are the four planar solutions"
+    );
     let def = SpatialPhQuintic::hermite_default(e(p0), e(d0), e(p1), e(d1)).unwrap();
     let least = planar
         .solutions
@@ -153,19 +179,31 @@ fn bad_input_is_rejected() {
     let (p0, d0, p1, d1) = data();
     assert_eq!(
         SpatialPhQuintic::hermite_default(p0, DVec3::ZERO, p1, d1),
-        Err(PhError::ZeroDerivative { arg: "d0", index: None })
+        Err(PhError::ZeroDerivative {
+            arg: "d0",
+            index: None
+        })
     );
     assert_eq!(
         SpatialPhQuintic::hermite_default(p0, d0, p0, d1),
-        Err(PhError::CoincidentPoints { arg: "p0, p1", index: 0 })
+        Err(PhError::CoincidentPoints {
+            arg: "p0, p1",
+            index: 0
+        })
     );
     assert_eq!(
         SpatialPhQuintic::hermite(p0, d0, p1, d1, f64::NAN, 0.0),
-        Err(PhError::NonFinite { arg: "phi0", index: None })
+        Err(PhError::NonFinite {
+            arg: "phi0",
+            index: None
+        })
     );
     assert_eq!(
         SpatialPhQuintic::hermite_default(p0, d0, p1, DVec3::new(0.0, f64::INFINITY, 0.0)),
-        Err(PhError::NonFinite { arg: "d1", index: None })
+        Err(PhError::NonFinite {
+            arg: "d1",
+            index: None
+        })
     );
 }
 

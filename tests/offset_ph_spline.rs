@@ -13,7 +13,15 @@ fn pts(v: &[(f64, f64)]) -> Vec<DVec2> {
 
 /// Algorithm 952's open sample (7 points).
 fn open_952() -> Vec<DVec2> {
-    pts(&[(-2.1, 1.8), (-3.1, 0.0), (-0.3, -0.8), (0.7, 2.2), (3.4, 0.5), (1.1, -0.6), (2.3, -2.4)])
+    pts(&[
+        (-2.1, 1.8),
+        (-3.1, 0.0),
+        (-0.3, -0.8),
+        (0.7, 2.2),
+        (3.4, 0.5),
+        (1.1, -0.6),
+        (2.3, -2.4),
+    ])
 }
 
 /// Algorithm 952's closed sample (the repeated first point dropped: 9 distinct points).
@@ -35,10 +43,17 @@ fn closed_952() -> Vec<DVec2> {
 /// quadrature of that segment's own hodograph.
 fn check_spline(s: &PlanarPhSpline, points: &[DVec2]) {
     let n = s.segments.len();
-    let size = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
+    let size = points
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(1.0, f64::max);
     for (i, seg) in s.segments.iter().enumerate() {
         assert_near!(seg.eval(0.0), points[i], 1e-12 * size);
-        assert_near!(seg.end_point(), points[(i + 1) % points.len()], 1e-10 * size);
+        assert_near!(
+            seg.end_point(),
+            points[(i + 1) % points.len()],
+            1e-10 * size
+        );
     }
     let joints = if s.closed { n } else { n - 1 };
     for i in 0..joints {
@@ -55,7 +70,11 @@ fn check_spline(s: &PlanarPhSpline, points: &[DVec2]) {
         let l: f64 = (0..16)
             .map(|k| {
                 let a = k as f64 / 16.0;
-                gx.iter().zip(&gw).map(|(&x, &w)| w * h.eval(a + (x + 1.0) / 32.0).length()).sum::<f64>() / 32.0
+                gx.iter()
+                    .zip(&gw)
+                    .map(|(&x, &w)| w * h.eval(a + (x + 1.0) / 32.0).length())
+                    .sum::<f64>()
+                    / 32.0
             })
             .sum();
         assert_near!(seg.arc_length(), l, 1e-12 * l);
@@ -132,7 +151,11 @@ fn hermite_splines_are_c1() {
         assert_near!(seg.derivative(0.0), tangents[i], 1e-13);
         assert_near!(seg.derivative(1.0), tangents[i + 1], 1e-13);
     }
-    let p3: Vec<DVec3> = p.iter().enumerate().map(|(i, v)| v.extend(0.3 * i as f64)).collect();
+    let p3: Vec<DVec3> = p
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v.extend(0.3 * i as f64))
+        .collect();
     let t3: Vec<DVec3> = tangents.iter().map(|v| v.extend(0.3)).collect();
     for angles in [None, Some((0.2, -0.4))] {
         let s3 = SpatialPhSpline::hermite(&p3, &t3, angles).unwrap();
@@ -151,43 +174,67 @@ fn bad_input_names_the_index() {
     let mut p = open_952();
     assert_eq!(
         PlanarPhSpline::c2_open(&p[..2], OpenEnds::CubicEndSpans),
-        Err(PhError::TooFewPoints { arg: "points", got: 2, need: 3 })
+        Err(PhError::TooFewPoints {
+            arg: "points",
+            got: 2,
+            need: 3
+        })
     );
     p[3] = p[2];
     assert_eq!(
         PlanarPhSpline::c2_open(&p, OpenEnds::CubicEndSpans),
-        Err(PhError::CoincidentPoints { arg: "points", index: 2 })
+        Err(PhError::CoincidentPoints {
+            arg: "points",
+            index: 2
+        })
     );
     let mut q = closed_952();
     q.push(q[0]); // the first point repeated: last segment has zero length
     assert_eq!(
         PlanarPhSpline::c2_closed(&q),
-        Err(PhError::CoincidentPoints { arg: "points", index: 9 })
+        Err(PhError::CoincidentPoints {
+            arg: "points",
+            index: 9
+        })
     );
     let mut r = open_952();
     r[4].y = f64::NAN;
     assert_eq!(
         PlanarPhSpline::c2_closed(&r),
-        Err(PhError::NonFinite { arg: "points", index: Some(4) })
+        Err(PhError::NonFinite {
+            arg: "points",
+            index: Some(4)
+        })
     );
     let t = vec![DVec2::X; 3];
     assert_eq!(
         PlanarPhSpline::hermite(&open_952(), &t),
-        Err(PhError::LengthMismatch { arg: "tangents", got: 3, expected: 7 })
+        Err(PhError::LengthMismatch {
+            arg: "tangents",
+            got: 3,
+            expected: 7
+        })
     );
     let mut t = vec![DVec2::X; 7];
     t[5] = DVec2::ZERO;
     assert_eq!(
         PlanarPhSpline::hermite(&open_952(), &t),
-        Err(PhError::ZeroDerivative { arg: "tangents", index: Some(5) })
+        Err(PhError::ZeroDerivative {
+            arg: "tangents",
+            index: Some(5)
+        })
     );
 }
 
 /// Random "reasonably even" point sets (the C² construction's domain, Algorithm 952): a walk
 /// with steps of length 0.6..1.6 turning by at most ±80° per step.
 fn walk(closed: bool) -> impl Strategy<Value = Vec<DVec2>> {
-    (3usize..12, prop::collection::vec((0.6..1.6f64, -1.4..1.4f64), 12), 0.0..6.3f64).prop_map(
-        move |(n, steps, h0)| {
+    (
+        3usize..12,
+        prop::collection::vec((0.6..1.6f64, -1.4..1.4f64), 12),
+        0.0..6.3f64,
+    )
+        .prop_map(move |(n, steps, h0)| {
             if closed {
                 // Points on a perturbed circle.
                 (0..n + 1)
@@ -207,8 +254,7 @@ fn walk(closed: bool) -> impl Strategy<Value = Vec<DVec2>> {
                 }
                 p
             }
-        },
-    )
+        })
 }
 
 proptest! {

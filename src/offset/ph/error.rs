@@ -70,7 +70,11 @@ pub enum PhError {
     Bezier(#[from] BezierError),
 }
 
-pub(crate) fn check_finite2(arg: &'static str, index: Option<usize>, v: glam::DVec2) -> Result<(), PhError> {
+pub(crate) fn check_finite2(
+    arg: &'static str,
+    index: Option<usize>,
+    v: glam::DVec2,
+) -> Result<(), PhError> {
     if v.is_finite() {
         Ok(())
     } else {
@@ -78,7 +82,11 @@ pub(crate) fn check_finite2(arg: &'static str, index: Option<usize>, v: glam::DV
     }
 }
 
-pub(crate) fn check_finite3(arg: &'static str, index: Option<usize>, v: glam::DVec3) -> Result<(), PhError> {
+pub(crate) fn check_finite3(
+    arg: &'static str,
+    index: Option<usize>,
+    v: glam::DVec3,
+) -> Result<(), PhError> {
     if v.is_finite() {
         Ok(())
     } else {

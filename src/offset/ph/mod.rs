@@ -11,7 +11,7 @@
 //!   interpolation with free angles, exact arc length, the Euler–Rodrigues frame.
 //! - [`spline`]: segment-wise Hermite PH splines (planar, spatial) and C² planar PH quintic
 //!   splines, open and closed, by Newton–Raphson.
-//! - [`error`]: [`PhError`].
+//! - [`error`] holds [`PhError`].
 
 pub mod complex;
 pub mod error;

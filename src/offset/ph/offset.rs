@@ -50,8 +50,8 @@ impl RationalOffset {
     /// weight σ(t) > 0.
     pub fn eval(&self, t: f64) -> DVec2 {
         let mut h = [DVec3::ZERO; 10];
-        for (k, q) in self.homogeneous().into_iter().enumerate() {
-            h[k] = q;
+        for (k, (p, &w)) in self.points.iter().zip(&self.weights).take(10).enumerate() {
+            h[k] = (*p * w).extend(w);
         }
         let q = poly::de_casteljau(h, t);
         q.truncate() / q.z
@@ -65,7 +65,10 @@ impl RationalOffset {
     /// The offset as a [`RationalCurve`] of the `bezier` layer; errors when a weight is not
     /// positive (that layer requires positive weights).
     pub fn to_rational_curve(&self) -> Result<RationalCurve<DVec2>, PhError> {
-        Ok(RationalCurve::new(self.points.clone(), self.weights.clone())?)
+        Ok(RationalCurve::new(
+            self.points.clone(),
+            self.weights.clone(),
+        )?)
     }
 }
 
@@ -75,7 +78,10 @@ impl PlanarPhQuintic {
     /// weight is exactly zero.
     pub fn offset(&self, d: f64) -> Result<RationalOffset, PhError> {
         if !d.is_finite() {
-            return Err(PhError::NonFinite { arg: "d", index: None });
+            return Err(PhError::NonFinite {
+                arg: "d",
+                index: None,
+            });
         }
         if d == 0.0 {
             return Err(PhError::ZeroOffsetDistance);

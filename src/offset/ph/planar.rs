@@ -84,7 +84,10 @@ impl PlanarPhQuintic {
     pub fn new(p0: DVec2, w: [Complex; 3]) -> Result<Self, PhError> {
         check_finite2("p0", None, p0)?;
         if let Some(i) = w.iter().position(|z| !z.is_finite()) {
-            return Err(PhError::NonFinite { arg: "w", index: Some(i) });
+            return Err(PhError::NonFinite {
+                arg: "w",
+                index: Some(i),
+            });
         }
         Ok(Self { p0, w })
     }
@@ -284,7 +287,11 @@ impl PlanarPhQuintic {
     pub fn rotation_index(&self) -> f64 {
         let (_, n) = self.speed_and_turning_power();
         let mut knots = vec![0.0];
-        knots.extend(poly::roots_in(&n, 0.0, 1.0).into_iter().filter(|&t| t > 0.0 && t < 1.0));
+        knots.extend(
+            poly::roots_in(&n, 0.0, 1.0)
+                .into_iter()
+                .filter(|&t| t > 0.0 && t < 1.0),
+        );
         knots.push(1.0);
         let roots = self.preimage_roots();
         let mut total = 0.0;
@@ -347,7 +354,11 @@ impl PlanarPhQuintic {
                 best = CurvatureExtreme {
                     t,
                     curvature: k,
-                    radius: if k == 0.0 { f64::INFINITY } else { 1.0 / k.abs() },
+                    radius: if k == 0.0 {
+                        f64::INFINITY
+                    } else {
+                        1.0 / k.abs()
+                    },
                 };
             }
         }
@@ -367,21 +378,35 @@ impl PlanarPhQuintic {
     /// then every w_k is multiplied by √Δp. The middle equation is ∫_0^1 w² = Δp written out
     /// with the legs of [`control_points`](Self::control_points). The chosen solution
     /// minimizes the absolute rotation index, ties broken by bending energy.
-    pub fn hermite(p0: DVec2, d0: DVec2, p1: DVec2, d1: DVec2) -> Result<HermiteSolutions, PhError> {
+    pub fn hermite(
+        p0: DVec2,
+        d0: DVec2,
+        p1: DVec2,
+        d1: DVec2,
+    ) -> Result<HermiteSolutions, PhError> {
         check_finite2("p0", None, p0)?;
         check_finite2("d0", None, d0)?;
         check_finite2("p1", None, p1)?;
         check_finite2("d1", None, d1)?;
         if d0 == DVec2::ZERO {
-            return Err(PhError::ZeroDerivative { arg: "d0", index: None });
+            return Err(PhError::ZeroDerivative {
+                arg: "d0",
+                index: None,
+            });
         }
         if d1 == DVec2::ZERO {
-            return Err(PhError::ZeroDerivative { arg: "d1", index: None });
+            return Err(PhError::ZeroDerivative {
+                arg: "d1",
+                index: None,
+            });
         }
         let dp = p1 - p0;
         let size = p0.abs().max(p1.abs()).max_element();
         if dp.length() <= f64::EPSILON * size || dp == DVec2::ZERO {
-            return Err(PhError::CoincidentPoints { arg: "p0, p1", index: 0 });
+            return Err(PhError::CoincidentPoints {
+                arg: "p0, p1",
+                index: 0,
+            });
         }
         let scale = Complex::from_vec(dp);
         let root_scale = scale.sqrt();

@@ -64,7 +64,11 @@ pub(crate) fn roots_in(c: &[f64], a: f64, b: f64) -> Vec<f64> {
     }
     if c.len() == 2 {
         let r = -c[0] / c[1];
-        return if r >= a && r <= b { vec![r] } else { Vec::new() };
+        return if r >= a && r <= b {
+            vec![r]
+        } else {
+            Vec::new()
+        };
     }
     let m = a.abs().max(b.abs()).max(1.0);
     let scale: f64 = c
@@ -148,10 +152,17 @@ pub(crate) fn arc_length_coeffs(sigma: &[f64; 5]) -> [f64; 6] {
 /// `s`) with derivative σ (`sigma`): Newton steps t ← t − (s(t) − target)/σ(t), kept inside a
 /// bracket [lo, hi] that always contains the root; a step that leaves the bracket, or a zero
 /// speed, is replaced by bisection.
-pub(crate) fn invert_arc_length(s: &[f64; 6], sigma: &[f64; 5], target: f64) -> Result<f64, PhError> {
+pub(crate) fn invert_arc_length(
+    s: &[f64; 6],
+    sigma: &[f64; 5],
+    target: f64,
+) -> Result<f64, PhError> {
     let length = s[5];
     if !target.is_finite() {
-        return Err(PhError::NonFinite { arg: "s", index: None });
+        return Err(PhError::NonFinite {
+            arg: "s",
+            index: None,
+        });
     }
     if target < 0.0 || target > length {
         return Err(PhError::ArcLengthOutOfRange { s: target, length });

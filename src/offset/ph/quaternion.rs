@@ -37,7 +37,10 @@ impl Quaternion {
 
     /// Conjugate q* = s − v.
     pub fn conj(self) -> Self {
-        Self { s: self.s, v: -self.v }
+        Self {
+            s: self.s,
+            v: -self.v,
+        }
     }
 
     /// |q|² = s² + |v|².
@@ -97,7 +100,10 @@ impl Sub for Quaternion {
 impl Neg for Quaternion {
     type Output = Self;
     fn neg(self) -> Self {
-        Self { s: -self.s, v: -self.v }
+        Self {
+            s: -self.s,
+            v: -self.v,
+        }
     }
 }
 impl Mul<f64> for Quaternion {

@@ -36,12 +36,21 @@ pub fn i_sandwich_root(v: DVec3, phi: f64) -> Quaternion {
         return Quaternion::ZERO;
     }
     let (l, m, nu) = (v.x / n, v.y / n, v.z / n);
-    let s = if l >= 0.0 { 1.0 + l } else { (m * m + nu * nu) / (1.0 - l) };
+    let s = if l >= 0.0 {
+        1.0 + l
+    } else {
+        (m * m + nu * nu) / (1.0 - l)
+    };
     let (sp, cp) = phi.sin_cos();
     if s > 0.0 {
         let c = (n * s / 2.0).sqrt();
         let k = (n / (2.0 * s)).sqrt();
-        Quaternion::new(-c * sp, c * cp, k * (m * cp + nu * sp), k * (nu * cp - m * sp))
+        Quaternion::new(
+            -c * sp,
+            c * cp,
+            k * (m * cp + nu * sp),
+            k * (nu * cp - m * sp),
+        )
     } else {
         let r = n.sqrt();
         Quaternion::new(0.0, 0.0, r * cp, -r * sp)
@@ -53,7 +62,10 @@ impl SpatialPhQuintic {
     pub fn new(p0: DVec3, a: [Quaternion; 3]) -> Result<Self, PhError> {
         check_finite3("p0", None, p0)?;
         if let Some(i) = a.iter().position(|q| !q.is_finite()) {
-            return Err(PhError::NonFinite { arg: "a", index: Some(i) });
+            return Err(PhError::NonFinite {
+                arg: "a",
+                index: Some(i),
+            });
         }
         Ok(Self { p0, a })
     }
@@ -181,7 +193,10 @@ impl SpatialPhQuintic {
     /// the planar case.
     pub fn bending_energy(&self) -> f64 {
         poly::integrate(|t| {
-            let c = self.derivative(t).cross(self.second_derivative(t)).length_squared();
+            let c = self
+                .derivative(t)
+                .cross(self.second_derivative(t))
+                .length_squared();
             let s = self.speed(t);
             c / (s * s * s * s * s)
         })
@@ -202,10 +217,16 @@ impl SpatialPhQuintic {
     ) -> Result<Self, PhError> {
         check_hermite(p0, d0, p1, d1)?;
         if !phi0.is_finite() {
-            return Err(PhError::NonFinite { arg: "phi0", index: None });
+            return Err(PhError::NonFinite {
+                arg: "phi0",
+                index: None,
+            });
         }
         if !phi2.is_finite() {
-            return Err(PhError::NonFinite { arg: "phi2", index: None });
+            return Err(PhError::NonFinite {
+                arg: "phi2",
+                index: None,
+            });
         }
         Ok(Self::hermite_unchecked(p0, d0, p1, d1, phi0, phi2))
     }
@@ -216,7 +237,10 @@ impl SpatialPhQuintic {
         let v = (p1 - p0) * 120.0 - (d0 + d1) * 15.0 + a0.i_product_vec(a2) * 10.0;
         let z = i_sandwich_root(v, PHI1);
         let a1 = (z - (a0 + a2) * 3.0) * 0.25;
-        Self { p0, a: [a0, a1, a2] }
+        Self {
+            p0,
+            a: [a0, a1, a2],
+        }
     }
 
     /// The default Hermite interpolant: among (φ0, φ2) ∈ {−π/2, π/2}² the one of least bending
@@ -247,14 +271,23 @@ fn check_hermite(p0: DVec3, d0: DVec3, p1: DVec3, d1: DVec3) -> Result<(), PhErr
     check_finite3("p1", None, p1)?;
     check_finite3("d1", None, d1)?;
     if d0 == DVec3::ZERO {
-        return Err(PhError::ZeroDerivative { arg: "d0", index: None });
+        return Err(PhError::ZeroDerivative {
+            arg: "d0",
+            index: None,
+        });
     }
     if d1 == DVec3::ZERO {
-        return Err(PhError::ZeroDerivative { arg: "d1", index: None });
+        return Err(PhError::ZeroDerivative {
+            arg: "d1",
+            index: None,
+        });
     }
     let size = p0.abs().max(p1.abs()).max_element();
     if (p1 - p0).length() <= f64::EPSILON * size || p1 == p0 {
-        return Err(PhError::CoincidentPoints { arg: "p0, p1", index: 0 });
+        return Err(PhError::CoincidentPoints {
+            arg: "p0, p1",
+            index: 0,
+        });
     }
     Ok(())
 }

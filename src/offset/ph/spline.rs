@@ -64,9 +64,18 @@ pub struct SpatialPhSpline {
     pub segments: Vec<SpatialPhQuintic>,
 }
 
-fn check_points2(arg: &'static str, pts: &[DVec2], need: usize, closed: bool) -> Result<(), PhError> {
+fn check_points2(
+    arg: &'static str,
+    pts: &[DVec2],
+    need: usize,
+    closed: bool,
+) -> Result<(), PhError> {
     if pts.len() < need {
-        return Err(PhError::TooFewPoints { arg, got: pts.len(), need });
+        return Err(PhError::TooFewPoints {
+            arg,
+            got: pts.len(),
+            need,
+        });
     }
     for (i, p) in pts.iter().enumerate() {
         check_finite2(arg, Some(i), *p)?;
@@ -98,7 +107,10 @@ impl PlanarPhSpline {
         for (i, d) in tangents.iter().enumerate() {
             check_finite2("tangents", Some(i), *d)?;
             if *d == DVec2::ZERO {
-                return Err(PhError::ZeroDerivative { arg: "tangents", index: Some(i) });
+                return Err(PhError::ZeroDerivative {
+                    arg: "tangents",
+                    index: Some(i),
+                });
             }
         }
         let segments = (0..points.len() - 1)
@@ -107,7 +119,11 @@ impl PlanarPhSpline {
                     .map(|s| s.best().curve)
             })
             .collect::<Result<_, _>>()?;
-        Ok(Self { segments, closed: false, iterations: 0 })
+        Ok(Self {
+            segments,
+            closed: false,
+            iterations: 0,
+        })
     }
 
     /// Open C² PH quintic spline through `points` (at least 3 for cubic end spans, 2 for given
@@ -119,10 +135,16 @@ impl PlanarPhSpline {
                 check_finite2("ends.start", None, start)?;
                 check_finite2("ends.end", None, end)?;
                 if start == DVec2::ZERO {
-                    return Err(PhError::ZeroDerivative { arg: "ends.start", index: None });
+                    return Err(PhError::ZeroDerivative {
+                        arg: "ends.start",
+                        index: None,
+                    });
                 }
                 if end == DVec2::ZERO {
-                    return Err(PhError::ZeroDerivative { arg: "ends.end", index: None });
+                    return Err(PhError::ZeroDerivative {
+                        arg: "ends.end",
+                        index: None,
+                    });
                 }
                 2
             }
@@ -159,15 +181,31 @@ impl PlanarPhSpline {
         let mid = mid_guesses(&q, &dq, n, false);
         let (start, end) = match ends {
             OpenEnds::CubicEndSpans => (
-                Boundary::Affine { alpha: Complex::ZERO, beta: 2.0, gamma: -1.0 },
-                Boundary::Affine { alpha: Complex::ZERO, beta: 2.0, gamma: -1.0 },
+                Boundary::Affine {
+                    alpha: Complex::ZERO,
+                    beta: 2.0,
+                    gamma: -1.0,
+                },
+                Boundary::Affine {
+                    alpha: Complex::ZERO,
+                    beta: 2.0,
+                    gamma: -1.0,
+                },
             ),
             OpenEnds::Derivatives { start, end } => {
                 let s0 = aligned_root(Complex::from_vec(start), mid[0]);
                 let s1 = aligned_root(Complex::from_vec(end), mid[n - 1]);
                 (
-                    Boundary::Affine { alpha: s0 * 2.0, beta: -1.0, gamma: 0.0 },
-                    Boundary::Affine { alpha: s1 * 2.0, beta: -1.0, gamma: 0.0 },
+                    Boundary::Affine {
+                        alpha: s0 * 2.0,
+                        beta: -1.0,
+                        gamma: 0.0,
+                    },
+                    Boundary::Affine {
+                        alpha: s1 * 2.0,
+                        beta: -1.0,
+                        gamma: 0.0,
+                    },
                 )
             }
         };
@@ -192,8 +230,19 @@ impl PlanarPhSpline {
         let mut dq = sys.solve(&rhs);
         dq.push(dq[0]);
         let mid = mid_guesses(&q, &dq, n, true);
-        let eta = if (mid[n - 1] * mid[0].conj()).re < 0.0 { -1.0 } else { 1.0 };
-        solve_c2(&q, n, Boundary::Periodic { eta }, Boundary::Periodic { eta }, &mid, true)
+        let eta = if (mid[n - 1] * mid[0].conj()).re < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        solve_c2(
+            &q,
+            n,
+            Boundary::Periodic { eta },
+            Boundary::Periodic { eta },
+            &mid,
+            true,
+        )
     }
 
     /// Total arc length (sum of the exact segment lengths).
@@ -212,9 +261,17 @@ impl SpatialPhSpline {
     /// Segment-wise spatial Hermite interpolation with the default angles of
     /// [`SpatialPhQuintic::hermite_default`] (`angles = None`) or given (φ0, φ2) for every
     /// segment.
-    pub fn hermite(points: &[DVec3], tangents: &[DVec3], angles: Option<(f64, f64)>) -> Result<Self, PhError> {
+    pub fn hermite(
+        points: &[DVec3],
+        tangents: &[DVec3],
+        angles: Option<(f64, f64)>,
+    ) -> Result<Self, PhError> {
         if points.len() < 2 {
-            return Err(PhError::TooFewPoints { arg: "points", got: points.len(), need: 2 });
+            return Err(PhError::TooFewPoints {
+                arg: "points",
+                got: points.len(),
+                need: 2,
+            });
         }
         if tangents.len() != points.len() {
             return Err(PhError::LengthMismatch {
@@ -229,14 +286,20 @@ impl SpatialPhSpline {
         for (i, d) in tangents.iter().enumerate() {
             check_finite3("tangents", Some(i), *d)?;
             if *d == DVec3::ZERO {
-                return Err(PhError::ZeroDerivative { arg: "tangents", index: Some(i) });
+                return Err(PhError::ZeroDerivative {
+                    arg: "tangents",
+                    index: Some(i),
+                });
             }
         }
         for i in 0..points.len() - 1 {
             let (a, b) = (points[i], points[i + 1]);
             let size = a.abs().max(b.abs()).max_element();
             if a == b || (b - a).length() <= f64::EPSILON * size {
-                return Err(PhError::CoincidentPoints { arg: "points", index: i });
+                return Err(PhError::CoincidentPoints {
+                    arg: "points",
+                    index: i,
+                });
             }
         }
         let segments = (0..points.len() - 1)
@@ -298,7 +361,11 @@ fn mid_guesses(q: &[Complex], dq: &[Complex], n: usize, _closed: bool) -> Vec<Co
 #[derive(Debug, Clone, Copy)]
 enum Boundary {
     /// z_0 = α + β z_1 + γ z_2 (start) or z_{n+1} = α + β z_n + γ z_{n−1} (end).
-    Affine { alpha: Complex, beta: f64, gamma: f64 },
+    Affine {
+        alpha: Complex,
+        beta: f64,
+        gamma: f64,
+    },
     /// z_0 = η z_n (start) or z_{n+1} = η z_1 (end).
     Periodic { eta: f64 },
 }
@@ -313,7 +380,13 @@ fn full(z: &[Complex], start: Boundary, end: Boundary) -> Vec<Complex> {
     };
     let zn1 = match end {
         Boundary::Affine { alpha, beta, gamma } => {
-            alpha + z[n - 1] * beta + if n >= 2 { z[n - 2] * gamma } else { Complex::ZERO }
+            alpha
+                + z[n - 1] * beta
+                + if n >= 2 {
+                    z[n - 2] * gamma
+                } else {
+                    Complex::ZERO
+                }
         }
         Boundary::Periodic { eta } => z[0] * eta,
     };
@@ -403,7 +476,11 @@ fn solve_c2(
         let coef: Vec<[Complex; 3]> = (1..=n)
             .map(|i| {
                 let (a, b, c) = (zf[i - 1], zf[i], zf[i + 1]);
-                [a * 6.0 + b * 13.0 + c, a * 13.0 + b * 54.0 + c * 13.0, a + b * 13.0 + c * 6.0]
+                [
+                    a * 6.0 + b * 13.0 + c,
+                    a * 13.0 + b * 54.0 + c * 13.0,
+                    a + b * 13.0 + c * 6.0,
+                ]
             })
             .collect();
         // The Jacobian of the α terms is zero: only the matrix is used.
@@ -423,7 +500,7 @@ fn solve_c2(
             break;
         }
     }
-    if !(res <= 1e-11 * qscale) || z.iter().any(|x| !x.is_finite()) {
+    if res.is_nan() || res > 1e-11 * qscale || z.iter().any(|x| !x.is_finite()) {
         return Err(PhError::NewtonNoConvergence {
             what: "C2 PH quintic spline",
             iterations,
@@ -437,7 +514,11 @@ fn solve_c2(
             w: [(zf[i - 1] + zf[i]) * 0.5, zf[i], (zf[i] + zf[i + 1]) * 0.5],
         })
         .collect();
-    Ok(PlanarPhSpline { segments, closed, iterations })
+    Ok(PlanarPhSpline {
+        segments,
+        closed,
+        iterations,
+    })
 }
 
 /// A complex (cyclic) tridiagonal matrix: sub-, main and super-diagonal plus the two corner
