@@ -1,8 +1,8 @@
 //! # gbsurf
 //!
 //! Smooth, exact surfaces made of n-sided Generalized Bézier (GB) patches from polygon control
-//! meshes, with tangent-plane (G1) continuity between patches. (Exact offsets of curves and
-//! surfaces, PH curves and PN surfaces of seeds 003/004, are planned as a later module.)
+//! meshes, with tangent-plane (G1) continuity between patches, and exact offsets of curves and
+//! surfaces (Pythagorean-hodograph curves, Pythagorean-normal surfaces).
 //!
 //! Layers, each depending only on the ones above it in this list:
 //! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers.
@@ -13,6 +13,7 @@
 //! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
 //! - [`tessellate`]: watertight sampling of all patches into triangle meshes through sinks.
+//! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
 //!
 //! This crate has no `unsafe` code, no FFI and no command-line dependencies (the compiler enforces
@@ -30,6 +31,7 @@ pub mod bezier;
 pub mod construct;
 pub mod gb;
 pub mod mesh;
+pub mod offset;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;
