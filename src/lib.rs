@@ -30,6 +30,7 @@ pub mod construct;
 pub mod ffi;
 pub mod gb;
 pub mod mesh;
+pub mod offset;
 #[cfg(feature = "openmesh")]
 pub use ffi::openmesh;
 pub mod quality;

@@ -1,0 +1,2 @@
+//! Exact offsets: Pythagorean-normal (PN) surfaces (seed 004 §4).
+pub mod pn;
