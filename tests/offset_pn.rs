@@ -987,3 +987,43 @@ proptest! {
         }
     }
 }
+
+/// Neighbouring patches' exact rational forms (surface and offset) share their boundary rows of
+/// homogeneous control points up to round-off, so an export is watertight.
+#[test]
+fn rational_boundaries_match() {
+    for (name, s) in surfaces() {
+        let (pr, pc) = s.patch_count();
+        for d in [None, Some(0.4)] {
+            let form = |i, j| match d {
+                None => s.rational(i, j).unwrap(),
+                Some(d) => s.rational_offset(i, j, d).unwrap(),
+            };
+            for i in 0..pr {
+                for j in 0..pc {
+                    let a = form(i, j);
+                    let ha = a.homogeneous.points();
+                    let scale = ha.iter().flatten().map(|p| p.length()).fold(0.0, f64::max);
+                    if i + 1 < pr {
+                        let b = form(i + 1, j);
+                        for (p, q) in ha[11].iter().zip(&b.homogeneous.points()[0]) {
+                            assert!(
+                                (*p - *q).length() <= 1e-12 * scale,
+                                "{name} u-edge [{i}][{j}]"
+                            );
+                        }
+                    }
+                    if j + 1 < pc {
+                        let b = form(i, j + 1);
+                        for (r, rb) in ha.iter().zip(b.homogeneous.points()) {
+                            assert!(
+                                (r[11] - rb[0]).length() <= 1e-12 * scale,
+                                "{name} v-edge [{i}][{j}]"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
