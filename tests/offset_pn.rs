@@ -17,6 +17,10 @@ use proptest::prelude::*;
 
 type Grid = Vec<Vec<DVec3>>;
 
+fn binom(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
+}
+
 // ---------------------------------------------------------------- test surfaces
 
 /// A graph z = f(x, y) with f, gradient and Hessian.
@@ -570,22 +574,40 @@ fn offsets_are_at_distance_d() {
 
 #[test]
 fn rational_forms_have_the_stated_degrees() {
-    let (p, nn) = CONVEX.grid(3, 4, O1);
+    let (p, nn) = CONVEX.grid(5, 4, O1);
     let s = interp(&p, &nn, PnOptions::default());
-    let r = s.rational(0, 1).unwrap();
+    let r = s.rational(1, 1).unwrap();
     assert_eq!(r.degree(), (11, 11));
     assert_eq!(r.homogeneous.points().len(), 12);
-    let rn = s.rational_normal(0, 1).unwrap();
+    // (A direction with only 3 grid points would give a quadratic y and a lower degree.)
+    // The weight W = qJ has full degree 11 in u and in v: the 11th forward difference of its
+    // Bernstein coefficients (proportional to the leading power coefficient) is not zero.
+    let w = r.weights();
+    let diff11 = |c: Vec<f64>| -> f64 {
+        (0..=11)
+            .map(|k| if k % 2 == 0 { 1.0 } else { -1.0 } * binom(11, k) * c[11 - k])
+            .sum()
+    };
+    let wmax = w.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let du11 = diff11(w.iter().map(|r| r[5]).collect()).abs();
+    let dv11 = diff11(w[5].clone()).abs();
+    // Round-off in an 11th difference is about 2^11 · 1e-16 relative; measured here: 6e-8 (u),
+    // 8e-6 (v) relative (small: the cubic terms of y are small on a fine grid, but not zero).
+    assert!(
+        du11 > 1e-10 * wmax && dv11 > 1e-10 * wmax,
+        "{du11:e} {dv11:e} {wmax:e}"
+    );
+    let rn = s.rational_normal(1, 1).unwrap();
     assert_eq!(rn.degree(), (6, 6));
     for (u, v) in samples(5) {
-        let e = s.eval(0, 1, u, v).unwrap();
+        let e = s.eval(1, 1, u, v).unwrap();
         assert_near!(rn.eval(u, v).unwrap(), e.normal, 1e-12);
     }
     // For this convex patch all weights are positive: it converts to a RationalSurface.
     let rs = r.to_rational_surface().unwrap();
     assert_near!(
         rs.eval(0.3, 0.6),
-        s.eval(0, 1, 0.3, 0.6).unwrap().point,
+        s.eval(1, 1, 0.3, 0.6).unwrap().point,
         1e-10
     );
     s.certify_regular().unwrap();
