@@ -1,4 +1,4 @@
-//! The public API of the main job (issue 3): polygon control mesh → watertight triangle mesh of a
+//! The public API of the main job: polygon control mesh → watertight triangle mesh of a
 //! G1 surface of GB patches (or, for comparison, of a subdivision surface), with per-vertex
 //! quality data and a report.
 //!
@@ -201,7 +201,7 @@ pub struct Conversion {
     pub mesh: SurfaceMesh,
     /// The exact surface (patches, adjacency, curve network); `None` for subdivision methods.
     pub surface: Option<Surface>,
-    /// The report (issue 3 keys).
+    /// The report (see [`crate::quality::Report`]).
     pub report: Report,
     /// Human-readable warnings (also in `report.warnings`).
     pub warnings: Vec<String>,

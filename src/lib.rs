@@ -12,9 +12,12 @@
 //! - [`mesh`]: polygon meshes, half-edge topology, validation and file I/O.
 //! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
-//! - [`tessellate`]: watertight sampling of all patches into triangle meshes through sinks.
+//! - [`tessellate`]: watertight sampling of all patches into one welded triangle mesh (plain
+//!   arrays, which the writers and the adapters copy).
 //! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
+//!
+//! The formulas, their seed sections and the seeds' corrections: `docs/math.md`.
 //!
 //! This crate has no `unsafe` code, no FFI and no command-line dependencies (the compiler enforces
 //! the first: `forbid(unsafe_code)`). The other layers are crates of their own in this workspace:

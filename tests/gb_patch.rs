@@ -1,4 +1,4 @@
-//! GB patch basis and evaluation (seed 000 §2.7, eq. 2.22–2.25; MATH-NOTES).
+//! GB patch basis and evaluation (seed 000 §2.7, eq. 2.22–2.25; docs/math.md#gb).
 
 use gbsurf::assert_near;
 use gbsurf::bezier::bernstein::bernstein_all_d2;
@@ -48,7 +48,7 @@ fn random_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     }
 }
 
-/// Random patch with the connected-structure sharing of MATH-NOTES: (i, j, k) with j < l is
+/// Random patch with the connected-structure sharing of docs/math.md#sharing: (i, j, k) with j < l is
 /// (i−1, d−k, j).
 fn shared_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     let mut p = random_patch(n, d, seed);

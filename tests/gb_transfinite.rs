@@ -1,5 +1,5 @@
 //! Agreement with the public `transfinite` library (P. Salvi), the reference GB evaluator whose
-//! `.gbp` format and domain convention gbsurf follows (MATH-NOTES).
+//! `.gbp` format and domain convention gbsurf follows (docs/math.md#transfinite).
 //!
 //! `Tf` below re-implements, literally and slowly, what that library does for a GB patch, read from
 //! its sources (salvipeter/transfinite, `src/transfinite/`):

@@ -19,7 +19,7 @@ fn sample_patch(n: usize, d: usize) -> GbPatch {
     .unwrap()
 }
 
-/// The sharing rule exactly as MATH-NOTES states it.
+/// The sharing rule exactly as docs/math.md#sharing states it.
 fn assert_sharing_rule(p: &GbPatch) {
     let n = p.ribbons.len();
     let d = p.ribbons[0].degree;

@@ -168,7 +168,7 @@ def test_display_switches_the_active_colour():
     assert any(n.type == 'VERTEX_COLOR' for n in mat.node_tree.nodes)
 
 
-# --- review findings (issue 5) ------------------------------------------------------------------
+# --- review findings ----------------------------------------------------------------------------
 
 def test_result_keeps_the_source_parent():
     # A parented source: the result gets the same parent relation, so it stays on the source when

@@ -1,4 +1,4 @@
-//! Direction blends for G1 twists (seed 000 §4.3–4.4, corrected: see MATH-NOTES).
+//! Direction blends for G1 twists (seed 000 §4.3–4.4, corrected: see docs/math.md#direction-blends).
 //!
 //! Along a boundary curve C(s) (cubic, tangent T(s) = C'(s), quadratic with Bernstein
 //! coefficients t_j = 3(C_{j+1} − C_j)) shared by patches A and B, both ribbons' cross-derivatives
@@ -19,7 +19,7 @@
 //! the same 2×2 system; here it is solved by the normal equations, which are exact when X lies in
 //! span(D, T) and a least-squares fit otherwise).
 //!
-//! The middle constraint D_{0.5} is a VECTOR (eq. 4.29 prints a position; MATH-NOTES):
+//! The middle constraint D_{0.5} is a VECTOR (eq. 4.29 prints a position; docs/math.md#mid-constraint):
 //! - [`BlendKind::Approx`] (eq. 4.16): D(u) = (1−u)² D0 + 2u(1−u) D_{0.5} + u² D1, i.e. D_{0.5} is
 //!   the middle Bernstein coefficient (approximated, D(½) = (D0 + 2D_{0.5} + D1)/4).
 //! - [`BlendKind::Interp`] (eq. 4.24): D(u) = (2u²−3u+1) D0 + 4u(1−u) D_{0.5} + (2u²−u) D1, i.e.

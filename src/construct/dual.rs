@@ -7,7 +7,7 @@
 //!   projected onto it (F' = F − n·(F − c_f) n), so all tangents at c_f lie in one plane (§4.4.4).
 //! - curve of an interior edge e (faces f on its right, g on its left, seen along the half-edge
 //!   2e): C0 = c_f, C1 = κ c_f + (1−κ) F'_f, C2 = κ c_g + (1−κ) F'_g, C3 = c_g (eq. 2.2 with
-//!   the typo corrected: C2 uses C3, see MATH-NOTES).
+//!   the typo corrected: C2 uses C3, see docs/math.md#dual).
 //! - patch of vertex V with outgoing half-edges h_0..h_{n−1} (CCW): corner i is the centroid of
 //!   face(h_i), side i crosses edge h_i; the central control point is V (§2.4.1).
 //! - first-approximation twist at corner f (eq. 2.11): T = κ² c_f + κ(1−κ)(F'_1 + F'_2) + (1−κ)² V,

@@ -1,7 +1,7 @@
 //! The classic connected GB control net (seed 000 §2.7, seed 002 "control structure"), where the
 //! corner blocks of adjacent ribbons are shared points.
 //!
-//! Sharing rule (MATH-NOTES, and the `transfinite` library's `setControlPoint`): with
+//! Sharing rule (docs/math.md#sharing, and the `transfinite` library's `setControlPoint`): with
 //! l = ⌈d/2⌉ layers, point (i, j, k) with j < l is the same point as (i−1, d−k, j); a point with
 //! d−j < l is the same as (i+1, k, d−j). The *listed* points — row k, columns j = k..d−k−1 of
 //! every side — are independent; every other point of a ribbon equals exactly one listed point.

@@ -2,7 +2,7 @@
 //! parameters (s_i, h_i), all with exact first and second derivatives in (u, v)
 //! (seed 000 §2.5–2.6, eq. 2.12–2.21; seed 002 "Domén és paraméterezés").
 //!
-//! Conventions (MATH-NOTES): vertex i at (cos 2πi/n, sin 2πi/n); side i runs from vertex i−1 to
+//! Conventions (docs/math.md#domain): vertex i at (cos 2πi/n, sin 2πi/n); side i runs from vertex i−1 to
 //! vertex i; for n = 4 the square (1,1), (−1,1), (−1,−1), (1,−1) in this order.
 
 use super::derivs::Jet2;

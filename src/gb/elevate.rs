@@ -4,7 +4,7 @@
 //! Each ribbon is elevated as the tensor-product Bézier net it is a part of:
 //! P'_{j,k} = Σ_{a,b∈{0,1}} c_a(j) c_b(k) G(j−a, k−b) with c_1(m) = m/(d+1), c_0(m) = 1 − m/(d+1),
 //! where G(j, k) is the side's own point for k < l; for k = l (only when d is even, l' = l+1)
-//! the point is taken by the connected-structure sharing rules of MATH-NOTES:
+//! the point is taken by the connected-structure sharing rules (docs/math.md#sharing):
 //! j < l → side i−1, row j, column d−k; d−j < l → side i+1, row d−j, column k; else the centre.
 //! Rows 0 and 1 of the result depend only on rows 0 and 1, so the boundary (row 0 elevated) and
 //! the cross-derivative d(row1 − row0) are reproduced exactly. The new central point keeps the

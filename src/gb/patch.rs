@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-/// Form of the correction weights μ (see MATH-NOTES): squared α_i = h_{i−1}²/(h_{i−1}²+h_i²)
+/// Form of the correction weights μ (docs/math.md#correction-weights): squared α_i = h_{i−1}²/(h_{i−1}²+h_i²)
 /// (default, keeps G1 with independent corner blocks) or linear α_i = h_{i−1}/(h_{i−1}+h_i)
 /// (kept for comparison only).
 #[derive(

@@ -1,5 +1,5 @@
 //! Blending functions of the GB patch: correction weights μ (seed 000 eq. 2.23, generalized to
-//! any degree as in MATH-NOTES), ribbon weights μ·B^d_j(s_i)·B^d_k(h_i) (eq. 2.22) and the
+//! any degree as in docs/math.md#correction-weights), ribbon weights μ·B^d_j(s_i)·B^d_k(h_i) (eq. 2.22) and the
 //! central weight B0 = 1 − Σ μ B B (eq. 2.25), each with first and second derivatives in (u, v).
 //!
 //! Flat control-point order (used by [`GbBasis`] and `GbPatch::control_points_flat`):
@@ -38,7 +38,7 @@ pub fn layers_for_degree(d: usize) -> usize {
     d.div_ceil(2)
 }
 
-/// The five cases of the correction weight μ^i_{j,k} (MATH-NOTES, any degree d):
+/// The five cases of the correction weight μ^i_{j,k} (docs/math.md#correction-weights, any degree d):
 /// k < 2 and j < 2 → α_i; k < 2 and j > d−2 → β_i; otherwise j = k or j = d−k → ½;
 /// otherwise j < k or j > d−k → 0; otherwise 1.
 /// One exception: for d = 2 the middle boundary point (k = 0, j = 1) belongs to side i alone

@@ -1,6 +1,6 @@
 //! Polygon meshes: plain face lists ([`PolyMesh`]), triangle output ([`TriMesh`]) and the
-//! [`MeshSink`] trait through which algorithms emit triangles; half-edge topology, validation and
-//! file I/O live in submodules.
+//! [`MeshSink`] trait through which single-patch tessellation emits triangles; half-edge topology,
+//! validation and file I/O live in submodules.
 
 use glam::DVec3;
 use std::io::Write;
@@ -22,9 +22,10 @@ impl PolyMesh {
     }
 }
 
-/// Receives an output triangle mesh piece by piece. Algorithms write through this trait and never
-/// own the output format (OBJ/PLY/STL writers, C ABI buffers, OpenMesh, Blender all implement it
-/// or consume a [`TriMesh`]).
+/// Receives a triangle mesh piece by piece (vertices with normals, then triangles). Single-patch
+/// tessellation emits through it; the whole-surface output is a plain-array mesh that the
+/// writers, the C ABI, the OpenMesh bridge and the Blender add-on copy (none of them implements
+/// this trait).
 pub trait MeshSink {
     /// Adds a vertex with its unit normal and returns its index.
     fn add_vertex(&mut self, position: DVec3, normal: DVec3) -> u32;

@@ -1,8 +1,8 @@
-//! The conversion report (issue 3): written as JSON by `gbsurf convert --report`.
+//! The conversion report: written as JSON by `gbsurf convert --report`.
 
 use std::collections::BTreeMap;
 
-/// What a conversion produced and how good it is. All keys of issue 3 plus a few extras.
+/// What a conversion produced and how good it is.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Report {
     /// `dual`, `topology`, `doo-sabin` or `catmull-clark`.

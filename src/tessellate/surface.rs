@@ -54,7 +54,7 @@ pub trait PatchEvaluator: Sync {
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>);
 }
 
-/// The welded triangle mesh of a surface, with the per-vertex quality data of issue 3.
+/// The welded triangle mesh of a surface, with per-vertex quality data (docs/math.md#welding).
 /// Plain arrays (one entry per vertex or per triangle), ready for FFI buffers.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceMesh {
@@ -596,7 +596,7 @@ enum Evaluation {
 /// CGB patches), one per (kind, n, degrees, r, weight form), shared through their caches; every
 /// patch is then a tile-wise SIMD weighted sum over its control points (seed 000 eq. 2.24 for
 /// GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
-/// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
+/// [`crate::gb::Domain::regular`] (for n = 4 the square of docs/math.md#domain).
 pub struct GbSurfaceEvaluator {
     evaluations: Vec<Evaluation>,
     /// Per patch: its entry of `evaluations`.
