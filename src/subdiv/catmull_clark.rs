@@ -1,5 +1,5 @@
 //! One level of Catmull–Clark subdivision (seed 000 §1.2.1.2, eq. 1.1–1.2) with the usual
-//! boundary rules; the rules and the output order are documented on [`super::catmull_clark`].
+//! boundary rules; the rules and the output order are documented on [`super::catmull_clark()`].
 
 use super::{check_size, first_halfedge, Corners, Level, LevelOutput, SubdivError};
 use crate::mesh::PolyMesh;

@@ -1,6 +1,6 @@
 //! One level of Doo–Sabin subdivision (seed 000 §1.2.1.1) with the original Doo–Sabin weights
 //! and a Chaikin boundary rule for open meshes; the rules and the output order are documented on
-//! [`super::doo_sabin`].
+//! [`super::doo_sabin()`].
 
 use super::{check_size, first_halfedge, Corners, Level, LevelOutput, SubdivError};
 use crate::mesh::PolyMesh;
