@@ -326,50 +326,16 @@ fn build_surface(he: &crate::mesh::HalfEdgeMesh, options: &ConvertOptions) -> Re
 /// Normals: area-weighted; curvatures: [`crate::quality::discrete_curvature`]; G1 deviation 0;
 /// patch index (per vertex: the smallest over its triangles) = input face.
 fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Result<(SurfaceMesh, Vec<Vec<u32>>), ConvertError> {
-    let sub_err = |e: crate::subdiv::SubdivError| ConvertError::Subdiv(e.to_string());
-    let mut current = mesh.clone();
-    let mut ancestor: Vec<u32> = (0..mesh.faces.len() as u32).collect();
-    if options.levels == 0 {
-        crate::subdiv::catmull_clark(&current, 0).map_err(sub_err)?;
-    }
-    for _ in 0..options.levels {
-        let next = match options.method {
-            Method::CatmullClark => {
-                let next = crate::subdiv::catmull_clark(&current, 1).map_err(sub_err)?;
-                let mut anc = Vec::with_capacity(next.faces.len());
-                for (f, face) in current.faces.iter().enumerate() {
-                    anc.extend(std::iter::repeat(ancestor[f]).take(face.len()));
-                }
-                ancestor = anc;
-                next
-            }
-            _ => {
-                let next = crate::subdiv::doo_sabin(&current, 1).map_err(sub_err)?;
-                // Corner c of old face f is new vertex c (faces in order, corners in order).
-                let mut corner_face = Vec::new();
-                for (f, face) in current.faces.iter().enumerate() {
-                    corner_face.extend(std::iter::repeat(f as u32).take(face.len()));
-                }
-                ancestor = next
-                    .faces
-                    .iter()
-                    .map(|face| {
-                        let c = face.iter().find(|&&v| (v as usize) < corner_face.len()).copied().unwrap_or(0);
-                        ancestor[corner_face.get(c as usize).copied().unwrap_or(0) as usize]
-                    })
-                    .collect();
-                next
-            }
-        };
-        if ancestor.len() != next.faces.len() {
-            return Err(ConvertError::Subdiv(format!(
-                "face ancestry mismatch after subdivision: {} faces, {} ancestors",
-                next.faces.len(),
-                ancestor.len()
-            )));
+    use crate::subdiv::{subdivide, Subdivided, SubdivisionScheme};
+    let scheme = match options.method {
+        Method::CatmullClark => SubdivisionScheme::CatmullClark,
+        Method::DooSabin => SubdivisionScheme::DooSabin,
+        m @ (Method::Dual | Method::Topology) => {
+            return Err(ConvertError::Subdiv(format!("{m} is not a subdivision method")));
         }
-        current = next;
-    }
+    };
+    let Subdivided { mesh: current, face_ancestor: ancestor } =
+        subdivide(mesh, scheme, options.levels).map_err(|e| ConvertError::Subdiv(e.to_string()))?;
     let (convex, piece_face) = crate::mesh::geometry::convexify(&current);
     let nv = current.positions.len();
     let mut out = SurfaceMesh { positions: current.positions.clone(), ..Default::default() };

@@ -1,9 +1,11 @@
 //! Catmull–Clark and Doo–Sabin subdivision (seed 000 §1.2.1, §6.4): hand-computed first levels
 //! on the cube and the open saddle grid, counts, closedness, Euler characteristic, boundary
-//! rules, invalid input, and affine invariance as a property.
+//! rules, face ancestry, the half-edge input, invalid input, and affine invariance as a property.
 
-use gbsurf::mesh::PolyMesh;
-use gbsurf::subdiv::{catmull_clark, doo_sabin, subdivide, SubdivError, SubdivisionScheme};
+use gbsurf::mesh::{HalfEdgeMesh, MeshError, PolyMesh};
+use gbsurf::subdiv::{
+    catmull_clark, doo_sabin, subdivide, SubdivError, Subdivided, SubdivisionScheme,
+};
 use gbsurf::{assert_near, DVec3};
 use proptest::prelude::*;
 use std::collections::HashMap;
@@ -264,11 +266,11 @@ fn closed_stays_closed_and_euler_is_kept_on_all_models() {
         let sum: usize = m.faces.iter().map(Vec::len).sum();
         for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
             for levels in 1..=2 {
-                let s = subdivide(&m, scheme, levels).unwrap();
+                let s = subdivide(&m, scheme, levels).unwrap().mesh;
                 assert_eq!(edge_stats(&s).1, 0, "{name} {scheme:?} {levels}: open");
                 assert_eq!(euler(&s), chi, "{name} {scheme:?} {levels}: Euler");
             }
-            let s = subdivide(&m, scheme, 1).unwrap();
+            let s = subdivide(&m, scheme, 1).unwrap().mesh;
             let (v, f) = (m.positions.len(), m.faces.len());
             match scheme {
                 SubdivisionScheme::CatmullClark => {
@@ -375,40 +377,146 @@ fn doo_sabin_open_grid_boundary_rules() {
     assert_eq!(edge_stats(&s2).1, 64);
 }
 
+// ---------------------------------------------------------------- face ancestry, half-edge input
+
+/// Doo–Sabin's rule, recomputed from one level's output: a face descends from the old face of
+/// its first new corner point (points `0..Σ|f|` are the corners, faces in order).
+fn doo_sabin_parents(old: &PolyMesh, new: &PolyMesh) -> Vec<u32> {
+    let corner_face: Vec<u32> = old
+        .faces
+        .iter()
+        .enumerate()
+        .flat_map(|(f, face)| std::iter::repeat(f as u32).take(face.len()))
+        .collect();
+    new.faces
+        .iter()
+        .map(|face| {
+            let c = face
+                .iter()
+                .find(|&&v| (v as usize) < corner_face.len())
+                .unwrap();
+            corner_face[*c as usize]
+        })
+        .collect()
+}
+
+#[test]
+fn face_ancestry_over_levels() {
+    for name in [
+        "house.obj",
+        "grid_open.obj",
+        "torus.obj",
+        "bad/isolated_vertex.obj",
+    ] {
+        let m = load(name);
+        for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
+            let zero = subdivide(&m, scheme, 0).unwrap();
+            assert_eq!(zero.mesh, m);
+            assert_eq!(
+                zero.face_ancestor,
+                (0..m.faces.len() as u32).collect::<Vec<_>>()
+            );
+            let mut prev = m.clone();
+            let mut expected: Vec<u32> = (0..m.faces.len() as u32).collect();
+            for levels in 1..=3 {
+                let s = subdivide(&m, scheme, levels).unwrap();
+                let one = subdivide(&prev, scheme, 1).unwrap();
+                assert_eq!(s.mesh, one.mesh, "{name} {scheme:?} {levels}");
+                let parents: Vec<u32> = match scheme {
+                    // Children of a face are consecutive, one per corner.
+                    SubdivisionScheme::CatmullClark => prev
+                        .faces
+                        .iter()
+                        .enumerate()
+                        .flat_map(|(f, face)| std::iter::repeat(f as u32).take(face.len()))
+                        .collect(),
+                    SubdivisionScheme::DooSabin => doo_sabin_parents(&prev, &s.mesh),
+                };
+                assert_eq!(one.face_ancestor, parents, "{name} {scheme:?} {levels}");
+                expected = parents.iter().map(|&f| expected[f as usize]).collect();
+                assert_eq!(s.face_ancestor, expected, "{name} {scheme:?} {levels}");
+                prev = s.mesh;
+            }
+        }
+    }
+}
+
+#[test]
+fn half_edge_input_equals_face_list_input() {
+    for name in ["cube.obj", "house.obj", "grid_open.obj", "torus.obj"] {
+        let m = load(name);
+        let he = HalfEdgeMesh::from_polymesh(&m).unwrap();
+        for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
+            for levels in 0..=2 {
+                assert_eq!(
+                    subdivide(&he, scheme, levels).unwrap(),
+                    subdivide(&m, scheme, levels).unwrap(),
+                    "{name} {scheme:?} {levels}"
+                );
+            }
+        }
+    }
+    // A half-edge mesh has no unused vertices: its numbering is the cleaned one.
+    let m = load("bad/isolated_vertex.obj");
+    let he = HalfEdgeMesh::from_polymesh(&m).unwrap();
+    let s = catmull_clark(&he, 1).unwrap();
+    assert_eq!(s, catmull_clark(&he.to_polymesh(), 1).unwrap());
+    assert_eq!(s.positions.len(), 8 + 12 + 6);
+}
+
 // ---------------------------------------------------------------- invalid input
+
+/// The mesh validator's error, as subdivision reports it.
+fn mesh_err(e: MeshError) -> SubdivError {
+    SubdivError::Mesh(e)
+}
 
 #[test]
 fn invalid_input_is_a_typed_error() {
+    // The input is checked by the mesh layer's validator; errors name the element.
     let cube = load("cube.obj");
     let cases: Vec<(PolyMesh, SubdivError)> = vec![
         (
             load("bad/index_out_of_range.obj"),
-            SubdivError::IndexOutOfRange {
+            mesh_err(MeshError::IndexOutOfRange {
                 face: 5,
-                vertex: 41,
-                count: 8,
-            },
+                corner: 3,
+                index: 41,
+                n_vertices: 8,
+                line: None,
+            }),
         ),
         (
             load("bad/flipped_face.obj"),
-            SubdivError::DuplicateDirectedEdge {
-                a: 5,
-                b: 7,
-                first: 1,
-                second: 5,
-            },
+            mesh_err(MeshError::InconsistentOrientation {
+                edge: (5, 7),
+                faces: (1, 5),
+                line: None,
+            }),
         ),
         (
             load("bad/bowtie_vertex.obj"),
-            SubdivError::NonManifoldVertex { vertex: 0 },
+            mesh_err(MeshError::NonManifoldVertex {
+                vertex: 0,
+                fans: 2,
+                line: None,
+            }),
         ),
         (
             PolyMesh::new(cube.positions.clone(), vec![vec![0, 1]]),
-            SubdivError::FaceTooSmall { face: 0, len: 2 },
+            mesh_err(MeshError::FaceTooSmall {
+                face: 0,
+                len: 2,
+                line: None,
+            }),
         ),
         (
             PolyMesh::new(cube.positions.clone(), vec![vec![0, 1, 2], vec![3, 4, 3]]),
-            SubdivError::RepeatedVertex { face: 1, vertex: 3 },
+            mesh_err(MeshError::RepeatedIndex {
+                face: 1,
+                vertex: 3,
+                line: None,
+            }),
         ),
         (
             {
@@ -416,7 +524,12 @@ fn invalid_input_is_a_typed_error() {
                 m.positions[3].y = f64::NAN;
                 m
             },
-            SubdivError::NonFinitePosition { vertex: 3 },
+            mesh_err(MeshError::NonFiniteCoordinate {
+                vertex: 3,
+                axis: 1,
+                value: f64::NAN,
+                line: None,
+            }),
         ),
         (
             {
@@ -424,39 +537,86 @@ fn invalid_input_is_a_typed_error() {
                 m.positions[6].z = f64::INFINITY;
                 m
             },
-            SubdivError::NonFinitePosition { vertex: 6 },
+            mesh_err(MeshError::NonFiniteCoordinate {
+                vertex: 6,
+                axis: 2,
+                value: f64::INFINITY,
+                line: None,
+            }),
         ),
     ];
     for (m, err) in cases {
         for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
             for levels in 0..=1 {
+                // Debug text compares every field, NaN included.
                 assert_eq!(
-                    subdivide(&m, scheme, levels),
-                    Err(err.clone()),
+                    format!("{:?}", subdivide(&m, scheme, levels)),
+                    format!("{:?}", Err::<Subdivided, _>(err.clone())),
                     "{scheme:?} {levels}"
                 );
             }
         }
     }
     let e = load("bad/nonmanifold_edge.obj");
-    assert!(matches!(
+    assert_eq!(
         catmull_clark(&e, 1),
-        Err(SubdivError::DuplicateDirectedEdge { .. })
-    ));
-    // Two triangles glued along all three edges: every vertex interior with valence 2.
+        Err(mesh_err(MeshError::NonManifoldEdge {
+            edge: (0, 1),
+            faces: vec![0, 2, 6, 7],
+            line: None,
+        }))
+    );
+    // Two triangles glued along all three edges: the same face twice, rejected by the validator.
     let pillow = PolyMesh::new(
         cube.positions[..3].to_vec(),
         vec![vec![0, 1, 2], vec![0, 2, 1]],
     );
+    for scheme in [SubdivisionScheme::CatmullClark, SubdivisionScheme::DooSabin] {
+        assert_eq!(
+            subdivide(&pillow, scheme, 1),
+            Err(mesh_err(MeshError::DuplicateFace {
+                face: 1,
+                first: 0,
+                line: None,
+            }))
+        );
+    }
+    // A valid mesh with an interior vertex of valence 2: the cube with its edge 1–3 split by
+    // vertex 8 (the two faces at that edge become pentagons). Catmull–Clark handles it,
+    // Doo–Sabin cannot (its V-face would have two sides).
+    let mut split = cube.clone();
+    let (a, b) = (split.positions[1], split.positions[3]);
+    split.positions.push(0.5 * (a + b));
+    for face in &mut split.faces {
+        for i in 0..face.len() {
+            let (p, q) = (face[i], face[(i + 1) % face.len()]);
+            if (p, q) == (1, 3) || (p, q) == (3, 1) {
+                face.insert(i + 1, 8);
+                break;
+            }
+        }
+    }
+    assert_eq!(split.faces.iter().filter(|f| f.len() == 5).count(), 2);
     assert_eq!(
-        doo_sabin(&pillow, 1),
-        Err(SubdivError::InteriorValenceTwo { vertex: 0 })
+        doo_sabin(&split, 1),
+        Err(SubdivError::InteriorValenceTwo { vertex: 8 })
     );
-    assert_eq!(euler(&catmull_clark(&pillow, 1).unwrap()), 2);
-    // Messages name the element.
+    let cc = catmull_clark(&split, 1).unwrap();
+    assert_eq!(euler(&cc), 2);
+    assert_eq!(edge_stats(&cc).1, 0);
+    // Messages name the element; validator errors pass through unchanged.
     assert_eq!(
-        SubdivError::NonManifoldVertex { vertex: 7 }.to_string(),
-        "vertex 7 is non-manifold: its faces do not form a single fan"
+        mesh_err(MeshError::NonManifoldVertex {
+            vertex: 7,
+            fans: 2,
+            line: None
+        })
+        .to_string(),
+        "vertex 7 is non-manifold: its faces form 2 separate fans"
+    );
+    assert_eq!(
+        SubdivError::InteriorValenceTwo { vertex: 8 }.to_string(),
+        "vertex 8 is an interior vertex of valence 2; Doo–Sabin would make a two-sided face"
     );
 }
 
@@ -502,8 +662,8 @@ proptest! {
             *p += DVec3::new(jitter[k], jitter[k + 1], jitter[k + 2]);
         }
         let scheme = if ds { SubdivisionScheme::DooSabin } else { SubdivisionScheme::CatmullClark };
-        let s1 = affine(&subdivide(&m, scheme, 1).unwrap(), a, t);
-        let s2 = subdivide(&affine(&m, a, t), scheme, 1).unwrap();
+        let s1 = affine(&subdivide(&m, scheme, 1).unwrap().mesh, a, t);
+        let s2 = subdivide(&affine(&m, a, t), scheme, 1).unwrap().mesh;
         prop_assert_eq!(&s1.faces, &s2.faces);
         let d = gbsurf::tol::Near::dist(&s1.positions, &s2.positions);
         prop_assert!(d < 1e-11, "distance {}", d);

@@ -22,8 +22,7 @@
 //! and corners are not kept fixed. (An isolated vertex counts as a boundary vertex there and
 //! moves to V/3.)
 
-use gbsurf::mesh::{PolyMesh, TriMesh};
-use gbsurf::subdiv::SubdivError;
+use gbsurf::mesh::{HalfEdgeMesh, MeshError, PolyMesh, TriMesh};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
@@ -54,7 +53,7 @@ pub enum OpenMeshError {
     #[error("STL holds triangles only, but face {face} has {len} vertices")]
     NotTriangles { face: usize, len: usize },
     #[error("invalid mesh: {0}")]
-    InvalidMesh(#[from] SubdivError),
+    InvalidMesh(#[from] MeshError),
     #[error("the result would have {count} vertices, more than OpenMesh's int handles allow")]
     TooLarge { count: u64 },
     #[error("OpenMesh returned malformed data: {0}")]
@@ -173,12 +172,13 @@ fn write(
 
 /// OpenMesh's uniform Catmull–Clark subdivider (`CatmullClarkT`), `levels` times: the reference
 /// for [`gbsurf::subdiv::catmull_clark`] (equal on closed meshes; boundary rules differ, see the
-/// module docs). The mesh is validated first with the same rules as [`gbsurf::subdiv`].
+/// module docs). The mesh is validated first with the same validator as [`gbsurf::subdiv`]
+/// ([`HalfEdgeMesh::from_polymesh`]).
 /// Output order: old vertices, then edge points, then face points (OpenMesh's own order).
 pub fn openmesh_catmull_clark(mesh: &PolyMesh, levels: u32) -> Result<PolyMesh, OpenMeshError> {
     // Counts per level (S = Σ|f|): V' = V + E + F, E' = 2E + S, F' = S, S' = 4S.
     let mut v = mesh.positions.len() as u64;
-    let mut e = gbsurf::subdiv::edge_count(mesh)? as u64;
+    let mut e = HalfEdgeMesh::from_polymesh(mesh)?.n_edges() as u64;
     let mut f = mesh.faces.len() as u64;
     let mut s = mesh.faces.iter().map(|f| f.len() as u64).sum::<u64>();
     for _ in 0..levels {

@@ -7,7 +7,8 @@ use gbsurf::mesh::{PolyMesh, TriMesh};
 use gbsurf_openmesh::{
     openmesh_catmull_clark, read_mesh, write_mesh, write_mesh_binary, write_tri_mesh, OpenMeshError,
 };
-use gbsurf::subdiv::{catmull_clark, SubdivError};
+use gbsurf::mesh::MeshError;
+use gbsurf::subdiv::catmull_clark;
 use gbsurf::{assert_near, DVec3};
 use std::path::PathBuf;
 
@@ -334,9 +335,9 @@ fn failures_are_errors_not_aborts() {
     }
     assert!(matches!(
         openmesh_catmull_clark(&bad, 1),
-        Err(OpenMeshError::InvalidMesh(SubdivError::IndexOutOfRange {
+        Err(OpenMeshError::InvalidMesh(MeshError::IndexOutOfRange {
             face: 5,
-            vertex: 41,
+            index: 41,
             ..
         }))
     ));
@@ -348,7 +349,7 @@ fn failures_are_errors_not_aborts() {
     assert!(matches!(
         openmesh_catmull_clark(&flipped, 1),
         Err(OpenMeshError::InvalidMesh(
-            SubdivError::DuplicateDirectedEdge { .. }
+            MeshError::InconsistentOrientation { .. }
         ))
     ));
     assert!(matches!(

@@ -86,6 +86,14 @@ impl HalfEdgeMesh {
     /// half-edge structure. Errors name elements in the input numbering.
     pub fn from_polymesh(mesh: &PolyMesh) -> Result<Self, MeshError> {
         check_polymesh(mesh)?;
+        Self::from_checked_polymesh(mesh)
+    }
+
+    /// Builds the half-edge structure of a mesh whose faces are valid by construction (indices in
+    /// range, each directed edge used once, no face repeated), skipping the checks of
+    /// [`check_polymesh`] but not the single-fan check. Used for subdivision levels, whose
+    /// topology follows from a validated input.
+    pub(crate) fn from_checked_polymesh(mesh: &PolyMesh) -> Result<Self, MeshError> {
         let (clean, original_vertex, warnings) = drop_isolated(mesh);
         let nv = clean.positions.len();
         let n_corners: usize = clean.faces.iter().map(Vec::len).sum();
