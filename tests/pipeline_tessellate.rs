@@ -5,7 +5,7 @@
 use gbsurf::construct::{Patch, PatchSource, SideRef, Surface};
 use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
 use gbsurf::quality::check_mesh;
-use gbsurf::tessellate::patch::SampleLayout;
+use gbsurf::gb::SampleLayout;
 use gbsurf::tessellate::{tessellate_surface, TessellateError};
 use gbsurf::DVec3;
 

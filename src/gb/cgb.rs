@@ -25,7 +25,7 @@ pub struct CgbBasisEvaluator {
 }
 
 impl CgbBasisEvaluator {
-    /// Evaluator for sides with degrees `degrees[i]` (2..=[`super::weights::MAX_DEGREE`]) and `layers[i]` rows (1..=d_i+1).
+    /// Evaluator for sides with degrees `degrees[i]` (2..=[`crate::limits::MAX_DEGREE`]) and `layers[i]` rows (1..=d_i+1).
     pub fn new(degrees: &[usize], layers: &[usize]) -> Result<Self, GbError> {
         let n = degrees.len();
         let domain = Domain::regular(n)?;
@@ -180,7 +180,7 @@ impl CgbPatch {
         if self.n() < 3 {
             return Err(GbError::TooFewSides(self.n()));
         }
-        validate_ribbons(&self.ribbons, |i, r| {
+        validate_ribbons(&self.ribbons, true, |i, r| {
             let l = r.rows.len();
             if l == 0 || l > r.degree + 1 {
                 return Err(GbError::LayerCount {

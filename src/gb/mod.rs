@@ -8,6 +8,7 @@ pub mod domain;
 pub mod elevate;
 pub mod error;
 pub mod gbp;
+pub mod layout;
 pub mod eval;
 pub mod patch;
 pub mod weights;
@@ -15,8 +16,9 @@ pub mod weights;
 pub mod table;
 
 pub use cgb::CgbBasisEvaluator;
-pub use derivs::{Curvature, Jet2, SurfaceDerivs};
+pub use derivs::{angle_deg, Curvature, Jet2, SurfaceDerivs};
 pub use domain::{Domain, LocalParam};
 pub use error::GbError;
+pub use layout::{LayoutError, SampleLayout};
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
 pub use weights::{gb_basis, layers_for_degree, GbBasis, GbBasisEvaluator};
