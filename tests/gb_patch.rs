@@ -1,5 +1,6 @@
 //! GB patch basis and evaluation (seed 000 §2.7, eq. 2.22–2.25; MATH-NOTES).
 
+use gbsurf::gb::Evaluate;
 use gbsurf::assert_near;
 use gbsurf::bezier::bernstein::bernstein_all_d2;
 use gbsurf::gb::{

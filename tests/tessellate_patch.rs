@@ -1,5 +1,6 @@
 //! Single-patch sampling layout and tessellation (tessellate::patch).
 
+use gbsurf::gb::Evaluate;
 use gbsurf::mesh::TriMesh;
 use gbsurf::gb::{LayoutError, SampleLayout};
 use gbsurf::tessellate::patch::{emit_patch, tessellate_with};

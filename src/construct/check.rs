@@ -9,7 +9,7 @@
 
 use super::surface::{Patch, Surface};
 use crate::bezier::bernstein::bernstein_all_d2;
-use crate::gb::{angle_deg, Ribbon};
+use crate::gb::{angle_deg, Evaluate, Ribbon};
 use glam::DVec3;
 
 /// Worst value found and where: (patch, side, s).
@@ -118,10 +118,12 @@ pub struct JoinReport {
 }
 
 /// Point, first and second derivatives of any patch at a domain point.
-pub fn patch_derivs(p: &Patch, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
-    match p {
-        Patch::Gb(g) => g.eval_derivs(uv, form),
-        Patch::Cgb(c) => c.eval_derivs(uv, form),
+impl Evaluate for Patch {
+    fn eval_derivs(&self, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
+        match self {
+            Patch::Gb(g) => g.eval_derivs(uv, form),
+            Patch::Cgb(c) => c.eval_derivs(uv, form),
+        }
     }
 }
 
@@ -151,8 +153,8 @@ pub fn join_report(surface: &Surface, samples: usize, form: crate::gb::WeightFor
         };
         r.sides += 1;
         for &t in &ts {
-            let a = patch_derivs(&surface.patches[p], da.side_point(i, t), form);
-            let b = patch_derivs(&surface.patches[n.patch], db.side_point(n.side, 1.0 - t), form);
+            let a = surface.patches[p].eval_derivs(da.side_point(i, t), form);
+            let b = surface.patches[n.patch].eval_derivs(db.side_point(n.side, 1.0 - t), form);
             r.gap.update(a.p.distance(b.p), p, i, t);
             match (a.normal(), b.normal()) {
                 (Some(na), Some(nb)) => r.angle_deg.update(angle_deg(na, nb), p, i, t),
@@ -181,7 +183,7 @@ pub fn corner_plane_angle(
         for i in 0..n {
             let Some(node) = corner_node(p, i) else { continue };
             let uv = d.vertex(i) * (1.0 - 1e-9);
-            match patch_derivs(patch, uv, form).normal() {
+            match patch.eval_derivs(uv, form).normal() {
                 Some(nn) => {
                     let a = angle_deg(nn, node_normals[node]);
                     w.update(a.min(180.0 - a), p, i, 1.0);
@@ -245,7 +247,7 @@ pub fn fold_report(surface: &Surface, level: usize, form: crate::gb::WeightForm)
             continue;
         };
         let tri: Vec<Vec<crate::gb::SurfaceDerivs>> = (0..d.n())
-            .map(|i| fold_sample_points(&d, i, level).iter().map(|&uv| patch_derivs(patch, uv, form)).collect())
+            .map(|i| fold_sample_points(&d, i, level).iter().map(|&uv| patch.eval_derivs(uv, form)).collect())
             .collect();
         let mut avg = DVec3::ZERO;
         let mut mean_jac = 0.0;

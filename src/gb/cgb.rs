@@ -3,10 +3,10 @@
 //! B^{d_i}_k(h_i) P^i_{j,k} and B_sum the sum of all these weights; no central point.
 //! Derivatives by the quotient rule, exact.
 
-use super::derivs::{Curvature, Jet2, SurfaceDerivs};
+use super::derivs::{Jet2, SurfaceDerivs};
 use super::domain::{Domain, LocalParam};
 use super::error::GbError;
-use super::eval::validate_ribbons;
+use super::eval::{validate_ribbons, Evaluate};
 use super::patch::{CgbPatch, WeightForm};
 use super::weights::{check_degree, corner_weight, mu_kind, BernsteinBuf, MuKind};
 use glam::{DVec2, DVec3};
@@ -233,26 +233,14 @@ impl CgbPatch {
         vector_quotient(&num, &sum)
     }
 
-    /// S(u, v) with derivatives (allocates an evaluator; an invalid patch gives zeros).
-    pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+}
+
+impl Evaluate for CgbPatch {
+    /// For an invalid patch: zeros.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
         match self.evaluator() {
             Ok(mut ev) => self.eval_derivs_with(&mut ev, uv, form),
             Err(_) => SurfaceDerivs::default(),
         }
-    }
-
-    /// S(u, v).
-    pub fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
-        self.eval_derivs(uv, form).p
-    }
-
-    /// Unit normal, None where degenerate.
-    pub fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
-        self.eval_derivs(uv, form).normal()
-    }
-
-    /// Curvatures (see [`Curvature`]).
-    pub fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
-        self.eval_derivs(uv, form).curvature()
     }
 }

@@ -184,9 +184,35 @@ impl GbPatch {
         out
     }
 
-    /// S(u, v) with its first and second derivatives (allocates an evaluator; for a patch with
-    /// n < 3 or d < 2 returns the central point with zero derivatives).
-    pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+}
+
+/// Point evaluation shared by the patch types (GB, CGB, and any patch of a constructed
+/// surface): each gives S(u, v) with its derivatives, the rest follows from
+/// [`SurfaceDerivs`]. Each call allocates an evaluator; for many points use the patch's
+/// `evaluator()` and `eval_derivs_with…`, or a weight table.
+pub trait Evaluate {
+    /// S(u, v) with its first and second derivatives.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs;
+
+    /// S(u, v) (seed 000 eq. 2.24 for GB, eq. 3.8 for CGB).
+    fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
+        self.eval_derivs(uv, form).p
+    }
+
+    /// Unit normal at (u, v), None where S_u × S_v vanishes.
+    fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
+        self.eval_derivs(uv, form).normal()
+    }
+
+    /// Mean / Gaussian / principal curvatures at (u, v) (see [`Curvature`] for signs).
+    fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
+        self.eval_derivs(uv, form).curvature()
+    }
+}
+
+impl Evaluate for GbPatch {
+    /// For a patch with n < 3 or d < 2: the central point with zero derivatives.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
         match self.evaluator() {
             Ok(mut ev) => self.eval_derivs_with_form(&mut ev, uv, form),
             Err(_) => SurfaceDerivs {
@@ -194,21 +220,6 @@ impl GbPatch {
                 ..Default::default()
             },
         }
-    }
-
-    /// S(u, v) (seed 000 eq. 2.24).
-    pub fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
-        self.eval_derivs(uv, form).p
-    }
-
-    /// Unit normal at (u, v), None where S_u × S_v vanishes.
-    pub fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
-        self.eval_derivs(uv, form).normal()
-    }
-
-    /// Mean / Gaussian / principal curvatures at (u, v) (see [`Curvature`] for signs).
-    pub fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
-        self.eval_derivs(uv, form).curvature()
     }
 }
 

@@ -19,6 +19,7 @@ pub use cgb::CgbBasisEvaluator;
 pub use derivs::{angle_deg, Curvature, Jet2, SurfaceDerivs};
 pub use domain::{Domain, LocalParam};
 pub use error::GbError;
+pub use eval::Evaluate;
 pub use layout::{LayoutError, SampleLayout};
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
 pub use weights::{gb_basis, layers_for_degree, GbBasis, GbBasisEvaluator};

@@ -618,6 +618,7 @@ impl CgbTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gb::Evaluate;
 
     #[test]
     fn table_sizes_and_errors() {
