@@ -254,6 +254,7 @@ impl Rows {
         (self.first.len() + self.second.as_ref().map_or(0, |s| s.len())) * std::mem::size_of::<f64>()
     }
 
+    #[cfg(test)]
     fn weight(&self, s: usize, c: usize) -> [f64; 3] {
         let at = ((s / TILE) * self.controls + c) * 3 * TILE + s % TILE;
         [self.first[at], self.first[at + TILE], self.first[at + 2 * TILE]]
@@ -371,8 +372,9 @@ impl WeightTable {
         self.rows.second.is_some()
     }
 
-    /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
-    pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
+    /// The weight, u- and v-derivative of flat control point `c` at sample `s` (tests only).
+    #[cfg(test)]
+    fn weight(&self, s: usize, c: usize) -> [f64; 3] {
         self.rows.weight(s, c)
     }
 

@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
 
-/// The welded triangle mesh of a surface, with the per-vertex quality data of issue 3.
+/// The welded triangle mesh of a surface, with per-vertex quality data.
 /// Plain arrays (one entry per vertex or per triangle), ready for FFI buffers.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceMesh {
