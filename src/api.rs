@@ -87,10 +87,7 @@ impl FromStr for Twist {
     }
 }
 
-/// Largest accepted resolution (samples per patch side).
-pub const MAX_RESOLUTION: usize = 1024;
-/// Largest accepted subdivision level count.
-pub const MAX_LEVELS: u32 = 8;
+use crate::limits::{MAX_LEVELS, MAX_RESOLUTION};
 
 /// Options of [`convert`]. Every field has a default ([`ConvertOptions::default`]); values are
 /// checked by [`ConvertOptions::validate`].
@@ -258,7 +255,7 @@ fn convert_valid(
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
         let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;
         for p in &surface.patches {
-            report.count_sides(crate::tessellate::surface::patch_sides(p));
+            report.count_sides(p.sides());
         }
         report.patches = surface.patches.len();
         report.resolution = options.resolution;

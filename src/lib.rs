@@ -5,7 +5,8 @@
 //! surfaces (Pythagorean-hodograph curves, Pythagorean-normal surfaces).
 //!
 //! Layers, each depending only on the ones above it in this list:
-//! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers.
+//! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers; [`limits`]: every
+//!   bound on input sizes.
 //! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed 001).
 //! - [`gb`]: the n-sided domain, Wachspress coordinates, the GB patch and its ribbon-only (CGB)
 //!   variant, degree elevation, the `.gbp` format, per-(n, d, r) weight tables (seeds 000, 002).
@@ -33,6 +34,7 @@ pub mod api;
 pub mod bezier;
 pub mod construct;
 pub mod gb;
+pub mod limits;
 pub mod mesh;
 pub mod offset;
 pub mod quality;

@@ -1,7 +1,7 @@
 //! Dual structure (seed 000 §2, §4) on the shared models, checked at ribbon level (no evaluator):
 //! node tangent planes, corner blocks, and G1 of the ribbons along every shared side.
 
-use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap, ribbons};
+use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap};
 use gbsurf::construct::{build_dual, convex_mesh, dual_network, ConstructOptions, Patch, TwistMode};
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh};
 
@@ -26,7 +26,7 @@ fn patch_per_vertex_with_valence_sides() {
         let s = build_dual(&m, &opts(TwistMode::Interp)).unwrap();
         assert_eq!(s.patches.len(), m.n_vertices(), "{name}");
         for v in m.vertices() {
-            let n = ribbons(&s.patches[v.idx()]).len();
+            let n = s.patches[v.idx()].ribbons().len();
             let (cm, _) = convex_mesh(&m).unwrap();
             let expect = cm.valence(v) + usize::from(m.is_boundary_vertex(v));
             assert_eq!(n, expect, "{name} vertex {}", v.idx());

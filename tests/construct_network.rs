@@ -1,7 +1,7 @@
 //! Assembly of a hand-made curve network: corner blocks, and G1 of the direction-blend twists
 //! along a shared curve between two triangles with arbitrary node tangent planes.
 
-use gbsurf::construct::check::{corner_block_defect, ribbon_frame, ribbon_g1_angle, ribbons};
+use gbsurf::construct::check::{corner_block_defect, ribbon_frame, ribbon_g1_angle};
 use gbsurf::construct::{
     assemble, ConstructError, ConstructOptions, CurveNetwork, PatchLayout, PatchSource, SideUse, TwistMode,
 };
@@ -88,8 +88,8 @@ proptest! {
             let g = ribbon_g1_angle(&s, 33);
             prop_assert!(g.value < 1e-8, "{:?}: {:?}", mode, g);
             // det(T, X_A, X_B) relative to the sizes, at many s.
-            let ra = &ribbons(&s.patches[0])[0];
-            let rb = &ribbons(&s.patches[1])[0];
+            let ra = &s.patches[0].ribbons()[0];
+            let rb = &s.patches[1].ribbons()[0];
             for k in 0..=40 {
                 let u = k as f64 / 40.0;
                 let (pa, ta, xa) = ribbon_frame(ra, u);
@@ -108,7 +108,7 @@ fn interp_blend_reproduces_mid_direction() {
     let mid = DVec3::new(0.3, 1.7, 0.4);
     let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], mid);
     let s = assemble(&net, &opts(TwistMode::Interp)).unwrap();
-    let (_, t, x) = ribbon_frame(&ribbons(&s.patches[0])[0], 0.5);
+    let (_, t, x) = ribbon_frame(&s.patches[0].ribbons()[0], 0.5);
     let n = t.cross(x).normalize();
     assert!(n.dot(mid).abs() < 1e-12, "{}", n.dot(mid));
 }
@@ -117,7 +117,7 @@ fn interp_blend_reproduces_mid_direction() {
 fn none_mode_uses_corner_twists_and_is_not_g1_here() {
     let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
     let s = assemble(&net, &opts(TwistMode::None)).unwrap();
-    let r = &ribbons(&s.patches[0])[0];
+    let r = &s.patches[0].ribbons()[0];
     assert_eq!(r.rows[1][1], net.patches[0].corner_twists[2]);
     assert_eq!(r.rows[1][2], net.patches[0].corner_twists[0]);
     assert!(ribbon_g1_angle(&s, 17).value > 0.01);
@@ -129,7 +129,7 @@ fn none_mode_uses_corner_twists_and_is_not_g1_here() {
 fn open_sides_adopt_shared_twists() {
     let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
     let s = assemble(&net, &opts(TwistMode::Interp)).unwrap();
-    let r = ribbons(&s.patches[0]);
+    let r = s.patches[0].ribbons();
     // Side 1 starts at corner 0 (end of shared side 0).
     assert_eq!(r[1].rows[1][1], r[0].rows[1][2]);
     assert_eq!(r[2].rows[1][2], r[0].rows[1][1]);

@@ -1,7 +1,7 @@
 //! Topology-preserving structure (seed 000 §3, §4) on the shared models, ribbon level: tiles,
 //! node tangent planes, corner blocks, G1 of the blend twists.
 
-use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap, ribbons};
+use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap};
 use gbsurf::construct::{
     build_topology, convex_mesh, tiles, topology_network, ConstructOptions, Patch, PatchSource, TwistMode,
 };
@@ -119,7 +119,7 @@ fn tile_vertex_twists_report_g1_error() {
         let s = build_topology(&load(name), &opts(TwistMode::None)).unwrap();
         let g = ribbon_g1_angle(&s, 17);
         assert!(g.value > 0.01, "{name}: {g:?}");
-        let r = ribbons(&s.patches[0]);
+        let r = s.patches[0].ribbons();
         assert_eq!(r[0].rows[1][2], r[1].rows[1][1], "{name}: twists shared at corners");
     }
     // Valence 4 everywhere with planar faces (square tiles): the tile-vertex twists are C1 across.
@@ -177,7 +177,7 @@ fn face_sizes_and_valences_3_to_64() {
                     assert_eq!(corner_block_defect(&s).value, 0.0);
                     let g = ribbon_g1_angle(&s, 33);
                     assert!(g.value < 1e-8, "n = {n} {mode:?}: {g:?}");
-                    max_sides = max_sides.max(s.patches.iter().map(|p| ribbons(p).len()).max().unwrap());
+                    max_sides = max_sides.max(s.patches.iter().map(|p| p.sides()).max().unwrap());
                 }
                 // Prism: n-gon faces (topology); bipyramid: valence-n apices (dual).
                 assert_eq!(max_sides, n.max(4));

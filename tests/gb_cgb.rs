@@ -3,6 +3,7 @@
 mod common_gb;
 
 use common_gb::{fd_derivs, random_ribbons, Rng};
+use gbsurf::gb::Evaluate;
 use gbsurf::assert_near;
 use gbsurf::gb::{CgbPatch, Domain, WeightForm};
 use gbsurf::{DVec2, DVec3};

@@ -4,6 +4,7 @@
 mod common_gb;
 
 use common_gb::{random_patch, Rng};
+use gbsurf::gb::Evaluate;
 use gbsurf::assert_near;
 use gbsurf::bezier::reduce::BaseDisplacement;
 use gbsurf::bezier::BezierCurve;

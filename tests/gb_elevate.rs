@@ -3,6 +3,7 @@
 mod common_gb;
 
 use common_gb::random_patch;
+use gbsurf::gb::Evaluate;
 use gbsurf::assert_near;
 use gbsurf::gb::{layers_for_degree, Domain, GbPatch, Ribbon, WeightForm};
 use gbsurf::{DVec2, DVec3};

@@ -29,6 +29,7 @@
 // The reference is a line-by-line transcription of C++ loops (index loops, `(d + 1) / 2`).
 #![allow(clippy::needless_range_loop, clippy::manual_div_ceil)]
 
+use gbsurf::gb::Evaluate;
 use gbsurf::gb::gbp::{parse_gbp, to_gbp_string};
 use gbsurf::gb::{layers_for_degree, GbPatch, Ribbon, WeightForm};
 use gbsurf::{DVec2, DVec3};

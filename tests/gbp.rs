@@ -1,8 +1,8 @@
 //! The connected GB net (gb::connected) and the `.gbp` format (gb::gbp).
 
-use gbsurf::gb::connected::{layers, listed_point_count, listed_positions, ShapeError};
+use gbsurf::gb::connected::{listed_point_count, listed_positions};
 use gbsurf::gb::gbp::{load_gbp, parse_gbp, read_gbp, to_gbp_string, write_gbp, GbpError};
-use gbsurf::gb::GbPatch;
+use gbsurf::gb::{layers_for_degree as layers, GbError, GbPatch};
 use gbsurf::DVec3;
 use proptest::prelude::*;
 
@@ -84,28 +84,28 @@ fn listing_order_is_row_side_column() {
 fn shape_errors_are_reported() {
     assert_eq!(
         GbPatch::from_connected(2, 3, DVec3::ZERO, |_, _, _| DVec3::ZERO),
-        Err(ShapeError::TooFewSides { n: 2 })
+        Err(GbError::TooFewSides(2))
     );
     assert_eq!(
         GbPatch::from_connected(4, 0, DVec3::ZERO, |_, _, _| DVec3::ZERO),
-        Err(ShapeError::ZeroDegree { degree: 0 })
+        Err(GbError::DegreeTooLow { side: 0, degree: 0 })
     );
     assert_eq!(
         GbPatch::from_connected_listing(5, 3, &[DVec3::ZERO; 20]),
-        Err(ShapeError::ListingLength {
-            got: 20,
-            expected: 21
+        Err(GbError::ListingLength {
+            expected: 21,
+            found: 20
         })
     );
     let mut p = sample_patch(4, 3);
     p.ribbons[2].rows[1].pop();
     assert_eq!(
         p.check_shape(),
-        Err(ShapeError::RowLength {
+        Err(GbError::RowLength {
             side: 2,
             row: 1,
-            len: 3,
-            expected: 4
+            expected: 4,
+            found: 3
         })
     );
     assert!(!p.is_connected(1.0));
@@ -113,7 +113,7 @@ fn shape_errors_are_reported() {
     p.ribbons[3].degree = 4;
     assert!(matches!(
         p.check_shape(),
-        Err(ShapeError::MixedDegree { side: 3, .. })
+        Err(GbError::DegreeMismatch { side: 3, .. })
     ));
 }
 

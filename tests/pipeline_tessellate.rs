@@ -2,10 +2,11 @@
 //! a closed "pillow" of two n-sided patches glued along all their sides, single open patches,
 //! and malformed adjacency.
 
+use gbsurf::gb::Evaluate;
 use gbsurf::construct::{Patch, PatchSource, SideRef, Surface};
 use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
 use gbsurf::quality::check_mesh;
-use gbsurf::tessellate::patch::SampleLayout;
+use gbsurf::gb::SampleLayout;
 use gbsurf::tessellate::{tessellate_surface, TessellateError};
 use gbsurf::DVec3;
 

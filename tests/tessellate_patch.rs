@@ -1,7 +1,9 @@
 //! Single-patch sampling layout and tessellation (tessellate::patch).
 
+use gbsurf::gb::Evaluate;
 use gbsurf::mesh::TriMesh;
-use gbsurf::tessellate::patch::{emit_patch, tessellate_with, LayoutError, SampleLayout};
+use gbsurf::gb::{LayoutError, SampleLayout};
+use gbsurf::tessellate::patch::{emit_patch, tessellate_with};
 use gbsurf::{DVec2, DVec3};
 use proptest::prelude::*;
 use std::collections::HashMap;
@@ -289,7 +291,9 @@ proptest! {
 
 use gbsurf::gb::table::{GbTable, TableError};
 use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
-use gbsurf::tessellate::patch::{tessellate_gb, TessellateError, MAX_RESOLUTION};
+use gbsurf::limits::MAX_RESOLUTION;
+use gbsurf::tessellate::patch::{tessellate_gb, tessellate_table};
+use gbsurf::tessellate::TessellateError;
 
 /// A GB patch with independent (not shared) ribbon points on a wavy dome.
 fn wavy_patch(n: usize, d: usize, seed: f64) -> GbPatch {
@@ -396,8 +400,8 @@ fn gb_tessellation_interpolates_boundary_and_matches_table() {
     ))
     .unwrap();
     let mesh = tessellate_gb(&patch, r, WeightForm::Squared).unwrap();
-    let table = GbTable::cached(n, 3, r, WeightForm::Squared).unwrap();
-    let via_table = table.tessellate(&patch).unwrap();
+    let table = GbTable::new(n, 3, r, WeightForm::Squared).unwrap();
+    let via_table = tessellate_table(&table, &patch).unwrap();
     assert_eq!(mesh.triangles, via_table.triangles);
     assert_near!(mesh.positions, via_table.positions, 1e-12);
     assert_near!(mesh.normals, via_table.normals, 1e-10);
@@ -424,9 +428,10 @@ fn gb_tessellation_interpolates_boundary_and_matches_table() {
     );
     assert_eq!(
         tessellate_gb(&patch, 0, WeightForm::Squared),
-        Err(TessellateError::Layout(LayoutError::ZeroResolution {
-            r: 0
-        }))
+        Err(TessellateError::Layout {
+            patch: 0,
+            source: LayoutError::ZeroResolution { r: 0 }
+        })
     );
     assert_eq!(
         tessellate_gb(&patch, MAX_RESOLUTION + 1, WeightForm::Squared),

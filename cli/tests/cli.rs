@@ -1,5 +1,6 @@
 //! End-to-end tests of the `gbsurf` binary.
 
+use gbsurf::gb::Evaluate;
 use gbsurf::gb::gbp::load_gbp;
 use gbsurf::gb::WeightForm;
 use gbsurf::{assert_near, DVec2, DVec3};

@@ -113,16 +113,6 @@ pub fn cross_derivative_coeffs(
     [x0, qa[1] + qb[1], qa[2] + qb[2], x1]
 }
 
-/// Angle in degrees between two vectors (0 when either vanishes).
-pub fn angle_deg(a: DVec3, b: DVec3) -> f64 {
-    let la = a.length();
-    let lb = b.length();
-    if la == 0.0 || lb == 0.0 {
-        return 0.0;
-    }
-    // atan2 form: accurate for tiny angles.
-    a.cross(b).length().atan2(a.dot(b)).to_degrees()
-}
 
 #[cfg(test)]
 mod tests {

@@ -7,10 +7,9 @@
 //! weights reproduces each ribbon's cross-derivative along its side, so these angles are the
 //! patches' normal angles along the side.
 
-use super::blend::angle_deg;
 use super::surface::{Patch, Surface};
 use crate::bezier::bernstein::bernstein_all_d2;
-use crate::gb::Ribbon;
+use crate::gb::{angle_deg, Evaluate, Ribbon};
 use glam::DVec3;
 
 /// Worst value found and where: (patch, side, s).
@@ -27,14 +26,6 @@ impl Worst {
         if value > self.value || value.is_nan() {
             *self = Worst { value, patch, side, s };
         }
-    }
-}
-
-/// The ribbons of a patch.
-pub fn ribbons(p: &Patch) -> &[Ribbon] {
-    match p {
-        Patch::Gb(g) => &g.ribbons,
-        Patch::Cgb(c) => &c.ribbons,
     }
 }
 
@@ -58,20 +49,14 @@ pub fn ribbon_frame(r: &Ribbon, s: f64) -> (DVec3, DVec3, DVec3) {
 pub fn ribbon_g1_angle(surface: &Surface, samples: usize) -> Worst {
     let mut w = Worst::default();
     let samples = samples.max(2);
-    for (p, nb) in surface.neighbors.iter().enumerate() {
-        for (i, n) in nb.iter().enumerate() {
-            let Some(n) = n else { continue };
-            if (n.patch, n.side) < (p, i) {
-                continue;
-            }
-            let ra = &ribbons(&surface.patches[p])[i];
-            let rb = &ribbons(&surface.patches[n.patch])[n.side];
-            for k in 0..samples {
-                let s = k as f64 / (samples - 1) as f64;
-                let (_, ta, xa) = ribbon_frame(ra, s);
-                let (_, tb, xb) = ribbon_frame(rb, 1.0 - s);
-                w.update(angle_deg(ta.cross(xa), tb.cross(xb)), p, i, s);
-            }
+    for (p, i, n) in surface.shared_sides() {
+        let ra = &surface.patches[p].ribbons()[i];
+        let rb = &surface.patches[n.patch].ribbons()[n.side];
+        for k in 0..samples {
+            let s = k as f64 / (samples - 1) as f64;
+            let (_, ta, xa) = ribbon_frame(ra, s);
+            let (_, tb, xb) = ribbon_frame(rb, 1.0 - s);
+            w.update(angle_deg(ta.cross(xa), tb.cross(xb)), p, i, s);
         }
     }
     w
@@ -85,8 +70,8 @@ pub fn ribbon_gap(surface: &Surface, samples: usize) -> Worst {
     for (p, nb) in surface.neighbors.iter().enumerate() {
         for (i, n) in nb.iter().enumerate() {
             let Some(n) = n else { continue };
-            let ra = &ribbons(&surface.patches[p])[i];
-            let rb = &ribbons(&surface.patches[n.patch])[n.side];
+            let ra = &surface.patches[p].ribbons()[i];
+            let rb = &surface.patches[n.patch].ribbons()[n.side];
             for k in 0..samples {
                 let s = k as f64 / (samples - 1) as f64;
                 let (pa, _, _) = ribbon_frame(ra, s);
@@ -104,7 +89,7 @@ pub fn ribbon_gap(surface: &Surface, samples: usize) -> Worst {
 pub fn corner_block_defect(surface: &Surface) -> Worst {
     let mut w = Worst::default();
     for (p, patch) in surface.patches.iter().enumerate() {
-        let rs = ribbons(patch);
+        let rs = patch.ribbons();
         let n = rs.len();
         for i in 0..n {
             let prev = &rs[(i + n - 1) % n];
@@ -133,10 +118,12 @@ pub struct JoinReport {
 }
 
 /// Point, first and second derivatives of any patch at a domain point.
-pub fn patch_derivs(p: &Patch, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
-    match p {
-        Patch::Gb(g) => g.eval_derivs(uv, form),
-        Patch::Cgb(c) => c.eval_derivs(uv, form),
+impl Evaluate for Patch {
+    fn eval_derivs(&self, uv: glam::DVec2, form: crate::gb::WeightForm) -> crate::gb::SurfaceDerivs {
+        match self {
+            Patch::Gb(g) => g.eval_derivs(uv, form),
+            Patch::Cgb(c) => c.eval_derivs(uv, form),
+        }
     }
 }
 
@@ -157,27 +144,21 @@ pub fn join_report(surface: &Surface, samples: usize, form: crate::gb::WeightFor
     use crate::gb::Domain;
     let mut r = JoinReport::default();
     let domains: Vec<Option<Domain>> =
-        surface.patches.iter().map(|p| Domain::regular(ribbons(p).len()).ok()).collect();
+        surface.patches.iter().map(|p| Domain::regular(p.sides()).ok()).collect();
     let ts = side_params(samples);
-    for (p, nb) in surface.neighbors.iter().enumerate() {
-        for (i, n) in nb.iter().enumerate() {
-            let Some(n) = n else { continue };
-            if (n.patch, n.side) < (p, i) {
-                continue;
-            }
-            let (Some(da), Some(db)) = (&domains[p], &domains[n.patch]) else {
-                r.degenerate += 1;
-                continue;
-            };
-            r.sides += 1;
-            for &t in &ts {
-                let a = patch_derivs(&surface.patches[p], da.side_point(i, t), form);
-                let b = patch_derivs(&surface.patches[n.patch], db.side_point(n.side, 1.0 - t), form);
-                r.gap.update(a.p.distance(b.p), p, i, t);
-                match (a.normal(), b.normal()) {
-                    (Some(na), Some(nb)) => r.angle_deg.update(angle_deg(na, nb), p, i, t),
-                    _ => r.degenerate += 1,
-                }
+    for (p, i, n) in surface.shared_sides() {
+        let (Some(da), Some(db)) = (&domains[p], &domains[n.patch]) else {
+            r.degenerate += 1;
+            continue;
+        };
+        r.sides += 1;
+        for &t in &ts {
+            let a = surface.patches[p].eval_derivs(da.side_point(i, t), form);
+            let b = surface.patches[n.patch].eval_derivs(db.side_point(n.side, 1.0 - t), form);
+            r.gap.update(a.p.distance(b.p), p, i, t);
+            match (a.normal(), b.normal()) {
+                (Some(na), Some(nb)) => r.angle_deg.update(angle_deg(na, nb), p, i, t),
+                _ => r.degenerate += 1,
             }
         }
     }
@@ -197,12 +178,12 @@ pub fn corner_plane_angle(
     use crate::gb::Domain;
     let mut w = Worst::default();
     for (p, patch) in surface.patches.iter().enumerate() {
-        let n = ribbons(patch).len();
+        let n = patch.sides();
         let Ok(d) = Domain::regular(n) else { continue };
         for i in 0..n {
             let Some(node) = corner_node(p, i) else { continue };
             let uv = d.vertex(i) * (1.0 - 1e-9);
-            match patch_derivs(patch, uv, form).normal() {
+            match patch.eval_derivs(uv, form).normal() {
                 Some(nn) => {
                     let a = angle_deg(nn, node_normals[node]);
                     w.update(a.min(180.0 - a), p, i, 1.0);
@@ -261,12 +242,12 @@ pub fn fold_report(surface: &Surface, level: usize, form: crate::gb::WeightForm)
     // Index of (a, b) in a triangle's grid.
     let idx = |a: usize, b: usize| (0..a).map(|q| level - q + 1).sum::<usize>() + b;
     for (p, patch) in surface.patches.iter().enumerate() {
-        let Ok(d) = Domain::regular(ribbons(patch).len()) else {
+        let Ok(d) = Domain::regular(patch.sides()) else {
             r.degenerate += 1;
             continue;
         };
         let tri: Vec<Vec<crate::gb::SurfaceDerivs>> = (0..d.n())
-            .map(|i| fold_sample_points(&d, i, level).iter().map(|&uv| patch_derivs(patch, uv, form)).collect())
+            .map(|i| fold_sample_points(&d, i, level).iter().map(|&uv| patch.eval_derivs(uv, form)).collect())
             .collect();
         let mut avg = DVec3::ZERO;
         let mut mean_jac = 0.0;

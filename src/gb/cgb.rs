@@ -3,10 +3,10 @@
 //! B^{d_i}_k(h_i) P^i_{j,k} and B_sum the sum of all these weights; no central point.
 //! Derivatives by the quotient rule, exact.
 
-use super::derivs::{Curvature, Jet2, SurfaceDerivs};
+use super::derivs::{Jet2, SurfaceDerivs};
 use super::domain::{Domain, LocalParam};
 use super::error::GbError;
-use super::eval::validate_ribbons;
+use super::eval::{validate_ribbons, Evaluate};
 use super::patch::{CgbPatch, WeightForm};
 use super::weights::{check_degree, corner_weight, mu_kind, BernsteinBuf, MuKind};
 use glam::{DVec2, DVec3};
@@ -25,7 +25,7 @@ pub struct CgbBasisEvaluator {
 }
 
 impl CgbBasisEvaluator {
-    /// Evaluator for sides with degrees `degrees[i]` (2..=[`super::weights::MAX_DEGREE`]) and `layers[i]` rows (1..=d_i+1).
+    /// Evaluator for sides with degrees `degrees[i]` (2..=[`crate::limits::MAX_DEGREE`]) and `layers[i]` rows (1..=d_i+1).
     pub fn new(degrees: &[usize], layers: &[usize]) -> Result<Self, GbError> {
         let n = degrees.len();
         let domain = Domain::regular(n)?;
@@ -180,7 +180,7 @@ impl CgbPatch {
         if self.n() < 3 {
             return Err(GbError::TooFewSides(self.n()));
         }
-        validate_ribbons(&self.ribbons, |i, r| {
+        validate_ribbons(&self.ribbons, true, |i, r| {
             let l = r.rows.len();
             if l == 0 || l > r.degree + 1 {
                 return Err(GbError::LayerCount {
@@ -233,26 +233,14 @@ impl CgbPatch {
         vector_quotient(&num, &sum)
     }
 
-    /// S(u, v) with derivatives (allocates an evaluator; an invalid patch gives zeros).
-    pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+}
+
+impl Evaluate for CgbPatch {
+    /// For an invalid patch: zeros.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
         match self.evaluator() {
             Ok(mut ev) => self.eval_derivs_with(&mut ev, uv, form),
             Err(_) => SurfaceDerivs::default(),
         }
-    }
-
-    /// S(u, v).
-    pub fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
-        self.eval_derivs(uv, form).p
-    }
-
-    /// Unit normal, None where degenerate.
-    pub fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
-        self.eval_derivs(uv, form).normal()
-    }
-
-    /// Curvatures (see [`Curvature`]).
-    pub fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
-        self.eval_derivs(uv, form).curvature()
     }
 }

@@ -7,13 +7,10 @@
 //! every side — are independent; every other point of a ribbon equals exactly one listed point.
 //! The listing order (row k, then side i, then column j) is the `.gbp` order.
 
+use super::error::GbError;
 use super::patch::{GbPatch, Ribbon};
+use super::weights::layers_for_degree as layers;
 use glam::DVec3;
-
-/// Number of control rows (layers) of a degree-d ribbon: l = ⌈d/2⌉.
-pub fn layers(degree: usize) -> usize {
-    degree.div_ceil(2)
-}
 
 /// Number of independent (listed) ribbon points of a connected net, without the central point:
 /// n · Σ_{k<l} (d − 2k) = n · l · (⌊d/2⌋ + 1).
@@ -50,90 +47,18 @@ pub fn listed_representative(
 /// A control-point position (side i, column j, row k).
 pub type Position = (usize, usize, usize);
 
-/// A malformed patch shape or control listing.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ShapeError {
-    /// Fewer than 3 sides.
-    #[error("a GB patch needs at least 3 sides, got {n}")]
-    TooFewSides { n: usize },
-    /// Degree 0.
-    #[error("ribbon degree must be at least 1, got {degree}")]
-    ZeroDegree { degree: usize },
-    /// A ribbon whose degree differs from side 0's.
-    #[error("ribbon {side} has degree {degree}, side 0 has degree {expected}")]
-    MixedDegree {
-        side: usize,
-        degree: usize,
-        expected: usize,
-    },
-    /// A ribbon with the wrong number of rows.
-    #[error("ribbon {side} has {rows} rows, expected l = {expected}")]
-    RowCount {
-        side: usize,
-        rows: usize,
-        expected: usize,
-    },
-    /// A row with the wrong number of points.
-    #[error("ribbon {side} row {row} has {len} points, expected d + 1 = {expected}")]
-    RowLength {
-        side: usize,
-        row: usize,
-        len: usize,
-        expected: usize,
-    },
-    /// A listing whose length is not 1 + listed_point_count(n, d) (central point first).
-    #[error("connected listing has {got} points, expected {expected}")]
-    ListingLength { got: usize, expected: usize },
-}
-
-/// Checks n ≥ 3 and d ≥ 1.
-fn check_nd(n: usize, degree: usize) -> Result<(), ShapeError> {
+/// Checks n ≥ 3 and d ≥ 1 (the errors of [`GbPatch::check_shape`]).
+fn check_nd(n: usize, degree: usize) -> Result<(), GbError> {
     if n < 3 {
-        return Err(ShapeError::TooFewSides { n });
+        return Err(GbError::TooFewSides(n));
     }
     if degree < 1 {
-        return Err(ShapeError::ZeroDegree { degree });
+        return Err(GbError::DegreeTooLow { side: 0, degree });
     }
     Ok(())
 }
 
 impl GbPatch {
-    /// Checks the shape of a GB patch: n ≥ 3 ribbons of one degree d ≥ 1, each with
-    /// l = ⌈d/2⌉ rows of d + 1 points. Returns d.
-    pub fn check_shape(&self) -> Result<usize, ShapeError> {
-        let n = self.ribbons.len();
-        let degree = self.ribbons.first().map_or(0, |r| r.degree);
-        check_nd(n, degree)?;
-        let l = layers(degree);
-        for (side, r) in self.ribbons.iter().enumerate() {
-            if r.degree != degree {
-                return Err(ShapeError::MixedDegree {
-                    side,
-                    degree: r.degree,
-                    expected: degree,
-                });
-            }
-            if r.rows.len() != l {
-                return Err(ShapeError::RowCount {
-                    side,
-                    rows: r.rows.len(),
-                    expected: l,
-                });
-            }
-            for (row, pts) in r.rows.iter().enumerate() {
-                if pts.len() != degree + 1 {
-                    return Err(ShapeError::RowLength {
-                        side,
-                        row,
-                        len: pts.len(),
-                        expected: degree + 1,
-                    });
-                }
-            }
-        }
-        Ok(degree)
-    }
-
     /// The classic connected GB net (seed 000 §2.7): `unique(i, j, k)` is called once for every
     /// listed position (row k, columns j = k..d−k−1 of side i, in `.gbp` order); all other
     /// ribbon points are copies of their listed representative ([`listed_representative`]).
@@ -142,7 +67,7 @@ impl GbPatch {
         degree: usize,
         center: DVec3,
         mut unique: impl FnMut(usize, usize, usize) -> DVec3,
-    ) -> Result<Self, ShapeError> {
+    ) -> Result<Self, GbError> {
         check_nd(n, degree)?;
         let l = layers(degree);
         let mut ribbons: Vec<Ribbon> = (0..n)
@@ -173,13 +98,13 @@ impl GbPatch {
         n: usize,
         degree: usize,
         points: &[DVec3],
-    ) -> Result<Self, ShapeError> {
+    ) -> Result<Self, GbError> {
         check_nd(n, degree)?;
         let expected = 1 + listed_point_count(n, degree);
         if points.len() != expected {
-            return Err(ShapeError::ListingLength {
-                got: points.len(),
+            return Err(GbError::ListingLength {
                 expected,
+                found: points.len(),
             });
         }
         let mut it = points[1..].iter();
@@ -191,7 +116,7 @@ impl GbPatch {
 
     /// The listing in `.gbp` order (central point, then the listed points). For a patch that is
     /// not connected this reads the listed positions only; check [`GbPatch::is_connected`].
-    pub fn connected_listing(&self) -> Result<Vec<DVec3>, ShapeError> {
+    pub fn connected_listing(&self) -> Result<Vec<DVec3>, GbError> {
         let degree = self.check_shape()?;
         let n = self.n();
         let mut out = Vec::with_capacity(1 + listed_point_count(n, degree));
@@ -202,7 +127,7 @@ impl GbPatch {
 
     /// The largest distance between a ribbon point and its listed representative, with the
     /// position (side, column, row) where it occurs; (0, None) for a connected net.
-    pub fn connection_defect(&self) -> Result<(f64, Option<Position>), ShapeError> {
+    pub fn connection_defect(&self) -> Result<(f64, Option<Position>), GbError> {
         let degree = self.check_shape()?;
         let n = self.n();
         let mut worst = (0.0, None);

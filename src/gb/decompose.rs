@@ -27,7 +27,7 @@
 
 use super::error::GbError;
 use super::patch::{GbPatch, Ribbon};
-use super::weights::MAX_DEGREE;
+use crate::limits::MAX_DEGREE;
 use crate::bezier::reduce::hermite_cubic;
 use crate::bezier::BezierCurve;
 use glam::DVec3;

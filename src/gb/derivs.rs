@@ -232,25 +232,41 @@ impl SurfaceDerivs {
     /// Mean, Gaussian and principal curvatures from the fundamental forms (see [`Curvature`]),
     /// or `None` where the normal is undefined.
     pub fn curvature(&self) -> Option<Curvature> {
-        let (e, f, g) = self.first_fundamental_form();
-        let (l, m, n) = self.second_fundamental_form()?;
-        let det = e * g - f * f;
-        if !(det > 0.0) {
-            return None;
-        }
-        let mean = (l * g - 2.0 * m * f + n * e) / (2.0 * det);
-        let gaussian = (l * n - m * m) / det;
+        let (mean, gaussian) = self.mean_and_gaussian(self.normal()?)?;
         let disc = (mean * mean - gaussian).max(0.0).sqrt();
-        let c = Curvature {
+        Some(Curvature {
             mean,
             gaussian,
             k1: mean + disc,
             k2: mean - disc,
-        };
-        if c.mean.is_finite() && c.gaussian.is_finite() {
-            Some(c)
-        } else {
-            None
-        }
+        })
     }
+
+    /// Mean and Gaussian curvature H = (L G − 2 M F + N E) / (2 (E G − F²)),
+    /// K = (L N − M²) / (E G − F²) with the second fundamental form taken along the unit normal
+    /// `n` (normally [`Self::normal`], passed in when the caller has it already); `None` where
+    /// E G − F² ≤ 0 or a result is not finite. The one curvature formula of the crate.
+    #[inline]
+    pub fn mean_and_gaussian(&self, n: DVec3) -> Option<(f64, f64)> {
+        let (e, f, g) = self.first_fundamental_form();
+        let (l, m, nn) = (self.suu.dot(n), self.suv.dot(n), self.svv.dot(n));
+        let det = e * g - f * f;
+        if !(det > 0.0) {
+            return None;
+        }
+        let mean = (l * g - 2.0 * m * f + nn * e) / (2.0 * det);
+        let gaussian = (l * nn - m * m) / det;
+        (mean.is_finite() && gaussian.is_finite()).then_some((mean, gaussian))
+    }
+}
+
+/// Angle in degrees between two vectors (0 when either vanishes), e.g. between two patches'
+/// normals. The atan2 of |a × b| and a · b is accurate also for tiny angles.
+pub fn angle_deg(a: DVec3, b: DVec3) -> f64 {
+    let la = a.length();
+    let lb = b.length();
+    if la == 0.0 || lb == 0.0 {
+        return 0.0;
+    }
+    a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }

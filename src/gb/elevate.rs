@@ -12,6 +12,7 @@
 //! For n = 4 with shared corner blocks this is the exact tensor-product elevation.
 
 use super::error::GbError;
+use super::eval::Evaluate;
 use super::patch::{GbPatch, Ribbon, WeightForm};
 use super::weights::{layers_for_degree, GbBasisEvaluator};
 use glam::{DVec2, DVec3};

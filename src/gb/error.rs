@@ -11,7 +11,7 @@ pub enum GbError {
     /// Degree below 2 (the correction weights μ need d ≥ 2).
     #[error("side {side}: degree {degree} is below the minimum 2")]
     DegreeTooLow { side: usize, degree: usize },
-    /// Degree above [`crate::gb::weights::MAX_DEGREE`] (also guards allocations against
+    /// Degree above [`crate::limits::MAX_DEGREE`] (also guards allocations against
     /// absurd degrees coming from files or the C ABI).
     #[error("side {side}: degree {degree} is above the supported maximum {max}")]
     DegreeTooHigh {
@@ -48,6 +48,10 @@ pub enum GbError {
         row: usize,
         col: usize,
     },
+    /// A connected-net listing whose length is not 1 + the listed point count (central point
+    /// first, see [`crate::gb::connected`]).
+    #[error("connected listing has {found} points, expected {expected}")]
+    ListingLength { expected: usize, found: usize },
     /// An output buffer of the wrong length was passed.
     #[error("buffer of length {found}, expected {expected}")]
     BufferLength { expected: usize, found: usize },

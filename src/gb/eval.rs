@@ -4,7 +4,7 @@
 use super::derivs::{Curvature, SurfaceDerivs};
 use super::error::GbError;
 use super::patch::{GbPatch, Ribbon, WeightForm};
-use super::weights::{layers_for_degree, GbBasisEvaluator};
+use super::weights::{layers_for_degree, GbBasis, GbBasisEvaluator};
 use crate::bezier::bernstein::bernstein_all_into;
 use glam::{DVec2, DVec3};
 
@@ -81,15 +81,31 @@ impl GbPatch {
         layers_for_degree(self.degree())
     }
 
-    /// Checks n ≥ 3, one degree 2 ≤ d ≤ [`super::weights::MAX_DEGREE`] on every side, l = ⌈d/2⌉ rows of d+1 points per side and
-    /// finite coordinates everywhere.
+    /// Checks n ≥ 3, one degree 2 ≤ d ≤ [`crate::limits::MAX_DEGREE`] on every side, l = ⌈d/2⌉
+    /// rows of d+1 points per side and finite coordinates everywhere: what evaluation needs.
     pub fn validate(&self) -> Result<(), GbError> {
+        self.check(true).map(|_| ())
+    }
+
+    /// The shape part of [`Self::validate`] alone: n ≥ 3 ribbons of one degree d ≥ 1, each with
+    /// l = ⌈d/2⌉ rows of d + 1 points. Returns d. Enough to list or copy the points of a
+    /// connected net ([`crate::gb::connected`]), which is also defined for d = 1.
+    pub fn check_shape(&self) -> Result<usize, GbError> {
+        self.check(false)
+    }
+
+    /// The one GB patch validator: the shape, and with `evaluable` also the degree range and
+    /// finiteness. Returns d.
+    fn check(&self, evaluable: bool) -> Result<usize, GbError> {
         let n = self.n();
         if n < 3 {
             return Err(GbError::TooFewSides(n));
         }
         let d = self.degree();
-        validate_ribbons(&self.ribbons, |i, r| {
+        if !evaluable && d < 1 {
+            return Err(GbError::DegreeTooLow { side: 0, degree: d });
+        }
+        validate_ribbons(&self.ribbons, evaluable, |i, r| {
             if r.degree != d {
                 return Err(GbError::DegreeMismatch {
                     side: i,
@@ -106,20 +122,20 @@ impl GbPatch {
             }
             Ok(())
         })?;
-        if !self.center.is_finite() {
+        if evaluable && !self.center.is_finite() {
             return Err(GbError::NonFinite {
                 side: None,
                 row: 0,
                 col: 0,
             });
         }
-        Ok(())
+        Ok(d)
     }
 
     /// Control points in the flat basis order: central point, then side i, row k, column j
     /// (see [`crate::gb::weights`]). Meaningful for a valid patch.
     pub fn control_points_flat(&self) -> Vec<DVec3> {
-        let mut out = Vec::with_capacity(1 + self.n() * self.layers() * (self.degree() + 1));
+        let mut out = Vec::with_capacity(GbBasis::len_for(self.n(), self.degree()));
         out.push(self.center);
         for r in &self.ribbons {
             for row in &r.rows {
@@ -168,9 +184,35 @@ impl GbPatch {
         out
     }
 
-    /// S(u, v) with its first and second derivatives (allocates an evaluator; for a patch with
-    /// n < 3 or d < 2 returns the central point with zero derivatives).
-    pub fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
+}
+
+/// Point evaluation shared by the patch types (GB, CGB, and any patch of a constructed
+/// surface): each gives S(u, v) with its derivatives, the rest follows from
+/// [`SurfaceDerivs`]. Each call allocates an evaluator; for many points use the patch's
+/// `evaluator()` and `eval_derivs_with…`, or a weight table.
+pub trait Evaluate {
+    /// S(u, v) with its first and second derivatives.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs;
+
+    /// S(u, v) (seed 000 eq. 2.24 for GB, eq. 3.8 for CGB).
+    fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
+        self.eval_derivs(uv, form).p
+    }
+
+    /// Unit normal at (u, v), None where S_u × S_v vanishes.
+    fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
+        self.eval_derivs(uv, form).normal()
+    }
+
+    /// Mean / Gaussian / principal curvatures at (u, v) (see [`Curvature`] for signs).
+    fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
+        self.eval_derivs(uv, form).curvature()
+    }
+}
+
+impl Evaluate for GbPatch {
+    /// For a patch with n < 3 or d < 2: the central point with zero derivatives.
+    fn eval_derivs(&self, uv: DVec2, form: WeightForm) -> SurfaceDerivs {
         match self.evaluator() {
             Ok(mut ev) => self.eval_derivs_with_form(&mut ev, uv, form),
             Err(_) => SurfaceDerivs {
@@ -179,30 +221,19 @@ impl GbPatch {
             },
         }
     }
-
-    /// S(u, v) (seed 000 eq. 2.24).
-    pub fn eval(&self, uv: DVec2, form: WeightForm) -> DVec3 {
-        self.eval_derivs(uv, form).p
-    }
-
-    /// Unit normal at (u, v), None where S_u × S_v vanishes.
-    pub fn normal(&self, uv: DVec2, form: WeightForm) -> Option<DVec3> {
-        self.eval_derivs(uv, form).normal()
-    }
-
-    /// Mean / Gaussian / principal curvatures at (u, v) (see [`Curvature`] for signs).
-    pub fn curvature(&self, uv: DVec2, form: WeightForm) -> Option<Curvature> {
-        self.eval_derivs(uv, form).curvature()
-    }
 }
 
-/// Shared row-shape and finiteness checks; `extra(i, ribbon)` adds per-patch rules.
+/// Shared row-shape checks, with `evaluable` also the degree range and finiteness;
+/// `extra(i, ribbon)` adds per-patch rules (checked after the degree range, before the rows).
 pub(crate) fn validate_ribbons(
     ribbons: &[super::patch::Ribbon],
+    evaluable: bool,
     mut extra: impl FnMut(usize, &super::patch::Ribbon) -> Result<(), GbError>,
 ) -> Result<(), GbError> {
     for (i, r) in ribbons.iter().enumerate() {
-        super::weights::check_degree(i, r.degree)?;
+        if evaluable {
+            super::weights::check_degree(i, r.degree)?;
+        }
         extra(i, r)?;
         for (k, row) in r.rows.iter().enumerate() {
             if row.len() != r.degree + 1 {
@@ -212,6 +243,9 @@ pub(crate) fn validate_ribbons(
                     expected: r.degree + 1,
                     found: row.len(),
                 });
+            }
+            if !evaluable {
+                continue;
             }
             if let Some(j) = row.iter().position(|p| !p.is_finite()) {
                 return Err(GbError::NonFinite {

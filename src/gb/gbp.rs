@@ -12,16 +12,15 @@
 //! Like that reader (C++ `operator>>`), numbers are separated by any whitespace, so a point may
 //! be split over lines; the writer puts one point per line, with 17 significant digits.
 
-use super::connected::{layers, listed_point_count, ShapeError};
+use super::connected::listed_point_count;
+use super::error::GbError;
+use super::weights::layers_for_degree as layers;
 use super::patch::GbPatch;
 use glam::DVec3;
 use std::io::{Read, Write};
 use std::path::Path;
 
-/// Largest number of sides accepted from a file.
-pub const MAX_SIDES: usize = 1024;
-/// Largest degree accepted from a file.
-pub const MAX_DEGREE: usize = 40;
+use crate::limits::{MAX_GBP_DEGREE, MAX_GBP_SIDES};
 
 /// Errors reading or writing `.gbp`. Lines are 1-based.
 #[derive(Debug, thiserror::Error)]
@@ -45,13 +44,13 @@ pub enum GbpError {
     /// Fewer than 3 sides.
     #[error("line {line}: a GB patch needs at least 3 sides, got n = {n}")]
     TooFewSides { line: usize, n: usize },
-    /// More than [`MAX_SIDES`] sides.
-    #[error("line {line}: n = {n} sides is more than the supported {MAX_SIDES}")]
+    /// More than [`MAX_GBP_SIDES`] sides.
+    #[error("line {line}: n = {n} sides is more than the supported {MAX_GBP_SIDES}")]
     TooManySides { line: usize, n: usize },
-    /// Degree below 2 or above [`MAX_DEGREE`]. (`transfinite` reads d = 1 files, but a GB patch
+    /// Degree below 2 or above [`MAX_GBP_DEGREE`]. (`transfinite` reads d = 1 files, but a GB patch
     /// needs d ≥ 2 for its correction weights μ; gbsurf does not evaluate such a patch, so it
     /// rejects the file instead of returning a patch that cannot be evaluated.)
-    #[error("line {line}: degree d = {d} is outside the supported range 2..={MAX_DEGREE}")]
+    #[error("line {line}: degree d = {d} is outside the supported range 2..={MAX_GBP_DEGREE}")]
     BadDegree { line: usize, d: usize },
     /// A coordinate that is not a number.
     #[error("line {line}: coordinate {coord} of control point {point}: `{token}` is not a number")]
@@ -78,7 +77,7 @@ pub enum GbpError {
     },
     /// The patch to write has a malformed shape.
     #[error("cannot write .gbp: {0}")]
-    Shape(#[from] ShapeError),
+    Shape(#[from] GbError),
     /// The patch to write is not a connected net, so `.gbp` cannot represent it.
     #[error(
         "cannot write .gbp: the patch is not a connected net (side {side}, column {column}, \
@@ -90,8 +89,8 @@ pub enum GbpError {
         row: usize,
         distance: f64,
     },
-    /// The patch to write has a degree outside 2..=[`MAX_DEGREE`], which the reader rejects.
-    #[error("cannot write .gbp: degree d = {d} is outside the supported range 2..={MAX_DEGREE}")]
+    /// The patch to write has a degree outside 2..=[`MAX_GBP_DEGREE`], which the reader rejects.
+    #[error("cannot write .gbp: degree d = {d} is outside the supported range 2..={MAX_GBP_DEGREE}")]
     DegreeOutput { d: usize },
     /// A coordinate to write is NaN or infinite.
     #[error("cannot write .gbp: control point {point} has a non-finite coordinate")]
@@ -151,10 +150,10 @@ pub fn parse_gbp(text: &str) -> Result<GbPatch, GbpError> {
     if n < 3 {
         return Err(GbpError::TooFewSides { line: n_line, n });
     }
-    if n > MAX_SIDES {
+    if n > MAX_GBP_SIDES {
         return Err(GbpError::TooManySides { line: n_line, n });
     }
-    if !(2..=MAX_DEGREE).contains(&d) {
+    if !(2..=MAX_GBP_DEGREE).contains(&d) {
         return Err(GbpError::BadDegree { line: d_line, d });
     }
     let count = 1 + listed_point_count(n, d);
@@ -227,7 +226,7 @@ pub fn load_gbp(path: impl AsRef<Path>) -> Result<GbPatch, GbpError> {
 pub fn write_gbp<W: Write>(patch: &GbPatch, mut w: W) -> Result<(), GbpError> {
     let listing = patch.connected_listing()?;
     let degree = patch.ribbons[0].degree;
-    if !(2..=MAX_DEGREE).contains(&degree) {
+    if !(2..=MAX_GBP_DEGREE).contains(&degree) {
         return Err(GbpError::DegreeOutput { d: degree });
     }
     if let Some(point) = listing.iter().position(|p| !p.is_finite()) {

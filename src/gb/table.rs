@@ -12,7 +12,10 @@
 //! tile (inner loop over control points, contiguous memory), broadcasting each control
 //! coordinate and updating 9 accumulators that each hold the TILE samples as SIMD lanes: no
 //! horizontal sums, no shuffles, no allocation.
-//! Tables are shared between patches through [`GbTable::cached`].
+//! A table is a pure kernel, like a stencil table: weights × control points → samples. It knows
+//! the domain points it was built for ([`SampleLayout`]) but nothing of meshes; emitting samples
+//! as triangles and keeping tables between patches or conversions belong to
+//! [`crate::tessellate`].
 //!
 //! Optionally a table also holds the second derivatives ∂_uu w, ∂_uv w, ∂_vv w (same layout, a
 //! second array), for curvature: [`GbTable::with_second_derivatives`]. [`CgbTable`] is the same
@@ -20,18 +23,16 @@
 //! l_i), the normalized CGB weights w / B_sum (seed 000 eq. 3.8) are constants, so a CGB patch
 //! is linear in its control points exactly like a GB patch.
 
-use super::connected::layers;
+use super::cgb::CgbBasisEvaluator;
 use super::derivs::SurfaceDerivs;
 use super::error::GbError;
-use super::cgb::CgbBasisEvaluator;
+use super::layout::{LayoutError, SampleLayout};
 use super::patch::{CgbPatch, GbPatch, WeightForm};
-use super::weights::GbBasisEvaluator;
+use super::weights::{GbBasis, GbBasisEvaluator};
 use super::Jet2;
-use crate::mesh::{MeshSink, TriMesh};
-use crate::tessellate::patch::{emit_patch, LayoutError, SampleLayout};
+use crate::limits::MAX_TABLE_BYTES;
 use glam::{DVec2, DVec3};
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::ops::Deref;
 
 /// Samples per tile: the SIMD lanes of the kernel (`wide::f64x2` / `f64x4`). 2 × f64 fills an
 /// SSE2 register (the 9 accumulators then fit the 16 registers of x86-64); when the build
@@ -87,25 +88,6 @@ pub enum TableError {
     /// A weight of the basis came out non-finite.
     #[error("basis weight of control point {control} at sample {sample} is not finite")]
     NonFiniteWeight { sample: usize, control: usize },
-}
-
-/// Largest weight table built (bytes): 1 GiB.
-pub const MAX_TABLE_BYTES: u128 = 1 << 30;
-
-/// Number of flat control points of an n-sided degree-d GB patch: 1 + n·l·(d+1).
-pub fn flat_control_count(n: usize, degree: usize) -> usize {
-    1 + n * layers(degree) * (degree + 1)
-}
-
-/// Key of the table cache.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TableKey {
-    pub sides: usize,
-    pub degree: usize,
-    pub resolution: usize,
-    pub form: WeightForm,
-    /// Whether the table holds second derivatives.
-    pub second_derivatives: bool,
 }
 
 /// The control points of one patch as padded SoA coordinate arrays, in flat basis order.
@@ -272,6 +254,7 @@ impl Rows {
         (self.first.len() + self.second.as_ref().map_or(0, |s| s.len())) * std::mem::size_of::<f64>()
     }
 
+    #[cfg(test)]
     fn weight(&self, s: usize, c: usize) -> [f64; 3] {
         let at = ((s / TILE) * self.controls + c) * 3 * TILE + s % TILE;
         [self.first[at], self.first[at + TILE], self.first[at + 2 * TILE]]
@@ -353,135 +336,17 @@ impl Rows {
     }
 }
 
-/// Dense weight table of one (n, d, r, weight form); see the module doc.
+/// The part every weight table shares: the samples it was built for and the tiled weight rows
+/// of its control points. [`GbTable`] and [`CgbTable`] add what the rows are the basis of and
+/// dereference to this.
 #[derive(Clone, Debug)]
-pub struct GbTable {
-    /// Number of sides n.
-    pub sides: usize,
-    /// Degree d.
-    pub degree: usize,
-    /// Weight form of the correction weights μ.
-    pub form: WeightForm,
+pub struct WeightTable {
     /// Samples and triangles.
     pub layout: SampleLayout,
     rows: Rows,
 }
 
-impl GbTable {
-    /// The table of the GB basis ([`GbBasisEvaluator`]) of n sides, degree d and weight form
-    /// `form` at the samples of [`SampleLayout::for_domain`] at resolution r.
-    pub fn new(
-        sides: usize,
-        degree: usize,
-        resolution: usize,
-        form: WeightForm,
-    ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution, form, false)
-    }
-
-    /// As [`GbTable::new`], also with the second derivatives of the weights (for
-    /// [`GbTable::eval_tile_derivs`]: curvature). Twice the memory.
-    pub fn with_second_derivatives(
-        sides: usize,
-        degree: usize,
-        resolution: usize,
-        form: WeightForm,
-    ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution, form, true)
-    }
-
-    /// The bytes a table of (n, d, r) needs (with or without second derivatives).
-    pub fn bytes_needed(sides: usize, degree: usize, resolution: usize, second: bool) -> u128 {
-        let controls = flat_control_count(sides, degree) as u128;
-        rows_bytes(SampleLayout::sample_count(sides, resolution) as u128, controls, second)
-    }
-
-    fn build(
-        sides: usize,
-        degree: usize,
-        resolution: usize,
-        form: WeightForm,
-        second: bool,
-    ) -> Result<Self, TableError> {
-        let mut ev = GbBasisEvaluator::new(sides, degree)?;
-        let bytes = Self::bytes_needed(sides, degree, resolution, second);
-        if bytes > MAX_TABLE_BYTES {
-            return Err(TableError::TooLarge {
-                n: sides,
-                d: degree,
-                r: resolution,
-                bytes,
-            });
-        }
-        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
-        let controls = ev.len();
-        let rows = Rows::from_jets(&layout, controls, second, |uv, jets| {
-            // `jets` has the evaluator's length, so this cannot fail.
-            let _ = ev.eval_into(uv, form, jets);
-        })?;
-        Ok(GbTable {
-            sides,
-            degree,
-            form,
-            layout,
-            rows,
-        })
-    }
-
-    /// The shared table of (n, d, r, form) from the process-wide cache (built on first use).
-    pub fn cached(
-        sides: usize,
-        degree: usize,
-        resolution: usize,
-        form: WeightForm,
-    ) -> Result<Arc<GbTable>, TableError> {
-        let key = TableKey {
-            sides,
-            degree,
-            resolution,
-            form,
-            second_derivatives: false,
-        };
-        Self::cached_with(key, || GbTable::new(sides, degree, resolution, form))
-    }
-
-    /// The shared table of (n, d, r, form) with second derivatives, from the process-wide cache.
-    pub fn cached_with_second_derivatives(
-        sides: usize,
-        degree: usize,
-        resolution: usize,
-        form: WeightForm,
-    ) -> Result<Arc<GbTable>, TableError> {
-        let key = TableKey {
-            sides,
-            degree,
-            resolution,
-            form,
-            second_derivatives: true,
-        };
-        Self::cached_with(key, || GbTable::with_second_derivatives(sides, degree, resolution, form))
-    }
-
-    /// Builds a table from a basis function: `basis(uv, w, w_u, w_v)` fills the weights and
-    /// their u, v derivatives of the `controls` flat control points (slices of that length).
-    pub fn from_basis(
-        sides: usize,
-        degree: usize,
-        form: WeightForm,
-        layout: SampleLayout,
-        mut basis: impl FnMut(DVec2, &mut [f64], &mut [f64], &mut [f64]),
-    ) -> Result<Self, TableError> {
-        let controls = flat_control_count(sides, degree);
-        let rows = Rows::build(&layout, controls, false, |uv, [w, wu, wv, _, _, _]| basis(uv, w, wu, wv))?;
-        Ok(GbTable {
-            sides,
-            degree,
-            form,
-            layout,
-            rows,
-        })
-    }
-
+impl WeightTable {
     /// Number of flat control points N.
     pub fn control_count(&self) -> usize {
         self.rows.controls
@@ -507,43 +372,28 @@ impl GbTable {
         self.rows.second.is_some()
     }
 
-    /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
-    pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
+    /// The weight, u- and v-derivative of flat control point `c` at sample `s` (tests only).
+    #[cfg(test)]
+    fn weight(&self, s: usize, c: usize) -> [f64; 3] {
         self.rows.weight(s, c)
     }
 
-    /// The SoA control vector of a patch of this table's n and d.
-    pub fn controls_of(&self, patch: &GbPatch) -> Result<ControlSoa, TableError> {
-        patch.validate()?;
-        let pts = patch.control_points_flat();
-        let (n, d) = (patch.n(), patch.degree());
-        if n != self.sides || d != self.degree {
-            return Err(TableError::Mismatch {
-                n,
-                d,
-                table_n: self.sides,
-                table_d: self.degree,
-            });
-        }
-        Ok(ControlSoa::from_points(&pts))
-    }
-
     /// Position and derivatives at the [`TILE`] samples of tile `t` (samples t·TILE..; lanes
-    /// past the last sample are zero). `ctrl` must come from [`GbTable::controls_of`].
+    /// past the last sample are zero). `ctrl` must come from the table's `controls_of`.
     #[inline]
     pub fn eval_tile(&self, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
         self.rows.tile(t, ctrl)
     }
 
     /// Position with first and second derivatives at the samples of tile `t` (second
-    /// derivatives zero unless the table has them, see [`GbTable::with_second_derivatives`]).
+    /// derivatives zero unless the table has them).
     #[inline]
     pub fn eval_tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
         self.rows.tile_derivs(t, ctrl)
     }
 
-    /// Position and derivatives at sample `s` alone. `ctrl` must come from
-    /// [`GbTable::controls_of`]. For all samples use [`GbTable::eval_all`] (tile-wise, faster).
+    /// Position and derivatives at sample `s` alone. For all samples use
+    /// [`WeightTable::eval_all`] (tile-wise, faster).
     pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
         self.rows.sample(s, ctrl)
     }
@@ -600,34 +450,101 @@ impl GbTable {
             }
         }
     }
+}
 
-    /// Emits a patch through `sink` (see [`emit_patch`]); `existing` names sink vertices to
-    /// reuse (shared boundary samples). Returns the sink index of every sample.
-    pub fn emit<S: MeshSink + ?Sized>(
-        &self,
-        patch: &GbPatch,
-        existing: impl FnMut(usize) -> Option<u32>,
-        sink: &mut S,
-    ) -> Result<Vec<u32>, TableError> {
-        let ctrl = self.controls_of(patch)?;
-        Ok(emit_patch(
-            &self.layout,
-            |s, _| {
-                let f = self.eval_sample(s, &ctrl);
-                (f.position, f.normal().unwrap_or(DVec3::ZERO))
-            },
-            existing,
-            sink,
-        ))
+/// Dense weight table of one (n, d, r, weight form); see the module doc.
+#[derive(Clone, Debug)]
+pub struct GbTable {
+    /// Number of sides n.
+    pub sides: usize,
+    /// Degree d.
+    pub degree: usize,
+    /// Weight form of the correction weights μ.
+    pub form: WeightForm,
+    table: WeightTable,
+}
+
+impl Deref for GbTable {
+    type Target = WeightTable;
+    fn deref(&self) -> &WeightTable {
+        &self.table
+    }
+}
+
+impl GbTable {
+    /// The table of the GB basis ([`GbBasisEvaluator`]) of n sides, degree d and weight form
+    /// `form` at the samples of [`SampleLayout::for_domain`] at resolution r.
+    pub fn new(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Self, TableError> {
+        Self::build(sides, degree, resolution, form, false)
     }
 
-    /// One patch as a triangle mesh with normals (sample i is vertex i).
-    pub fn tessellate(&self, patch: &GbPatch) -> Result<TriMesh, TableError> {
-        let ctrl = self.controls_of(patch)?;
-        let mut mesh = TriMesh::default();
-        self.eval_all(&ctrl, &mut mesh.positions, &mut mesh.normals);
-        mesh.triangles = self.layout.triangles.clone();
-        Ok(mesh)
+    /// As [`GbTable::new`], also with the second derivatives of the weights (for
+    /// [`WeightTable::eval_tile_derivs`]: curvature). Twice the memory.
+    pub fn with_second_derivatives(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+    ) -> Result<Self, TableError> {
+        Self::build(sides, degree, resolution, form, true)
+    }
+
+    /// The bytes a table of (n, d, r) needs (with or without second derivatives).
+    pub fn bytes_needed(sides: usize, degree: usize, resolution: usize, second: bool) -> u128 {
+        let controls = GbBasis::len_for(sides, degree) as u128;
+        rows_bytes(SampleLayout::sample_count(sides, resolution) as u128, controls, second)
+    }
+
+    fn build(
+        sides: usize,
+        degree: usize,
+        resolution: usize,
+        form: WeightForm,
+        second: bool,
+    ) -> Result<Self, TableError> {
+        let mut ev = GbBasisEvaluator::new(sides, degree)?;
+        let bytes = Self::bytes_needed(sides, degree, resolution, second);
+        if bytes > MAX_TABLE_BYTES {
+            return Err(TableError::TooLarge {
+                n: sides,
+                d: degree,
+                r: resolution,
+                bytes,
+            });
+        }
+        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+        let controls = ev.len();
+        let rows = Rows::from_jets(&layout, controls, second, |uv, jets| {
+            // `jets` has the evaluator's length, so this cannot fail.
+            let _ = ev.eval_into(uv, form, jets);
+        })?;
+        Ok(GbTable {
+            sides,
+            degree,
+            form,
+            table: WeightTable { layout, rows },
+        })
+    }
+
+    /// The SoA control vector of a patch of this table's n and d.
+    pub fn controls_of(&self, patch: &GbPatch) -> Result<ControlSoa, TableError> {
+        patch.validate()?;
+        let pts = patch.control_points_flat();
+        let (n, d) = (patch.n(), patch.degree());
+        if n != self.sides || d != self.degree {
+            return Err(TableError::Mismatch {
+                n,
+                d,
+                table_n: self.sides,
+                table_d: self.degree,
+            });
+        }
+        Ok(ControlSoa::from_points(&pts))
     }
 }
 
@@ -641,17 +558,14 @@ pub struct CgbTable {
     pub sides: Vec<(usize, usize)>,
     /// Weight form of the correction weights μ.
     pub form: WeightForm,
-    /// Samples and triangles.
-    pub layout: SampleLayout,
-    rows: Rows,
+    table: WeightTable,
 }
 
-/// Key of the CGB table cache.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-struct CgbKey {
-    sides: Vec<(usize, usize)>,
-    resolution: usize,
-    form: WeightForm,
+impl Deref for CgbTable {
+    type Target = WeightTable;
+    fn deref(&self) -> &WeightTable {
+        &self.table
+    }
 }
 
 impl CgbTable {
@@ -683,56 +597,8 @@ impl CgbTable {
         Ok(CgbTable {
             sides: sides.to_vec(),
             form,
-            layout,
-            rows,
+            table: WeightTable { layout, rows },
         })
-    }
-
-    /// The shared table from the process-wide cache (built on first use).
-    pub fn cached(sides: &[(usize, usize)], resolution: usize, form: WeightForm) -> Result<Arc<CgbTable>, TableError> {
-        type CgbCache = Mutex<HashMap<CgbKey, Arc<CgbTable>>>;
-        static CACHE: OnceLock<CgbCache> = OnceLock::new();
-        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-        let key = CgbKey {
-            sides: sides.to_vec(),
-            resolution,
-            form,
-        };
-        if let Ok(c) = cache.lock() {
-            if let Some(t) = c.get(&key) {
-                return Ok(Arc::clone(t));
-            }
-        }
-        let table = Arc::new(CgbTable::new(sides, resolution, form)?);
-        if let Ok(mut c) = cache.lock() {
-            return Ok(Arc::clone(c.entry(key).or_insert(table)));
-        }
-        Ok(table)
-    }
-
-    /// Number of flat control points Σ l_i (d_i + 1).
-    pub fn control_count(&self) -> usize {
-        self.rows.controls
-    }
-
-    /// Memory held by the weights, in bytes.
-    pub fn memory_bytes(&self) -> usize {
-        self.rows.memory_bytes()
-    }
-
-    /// Number of samples.
-    pub fn sample_count(&self) -> usize {
-        self.layout.uv.len()
-    }
-
-    /// Number of tiles of [`TILE`] samples.
-    pub fn tile_count(&self) -> usize {
-        self.rows.tiles
-    }
-
-    /// The weight, u- and v-derivative of flat control point `c` at sample `s`.
-    pub fn weight(&self, s: usize, c: usize) -> [f64; 3] {
-        self.rows.weight(s, c)
     }
 
     /// The SoA control vector of a patch with this table's sides.
@@ -749,65 +615,21 @@ impl CgbTable {
         c.fill_cgb(patch);
         Ok(c)
     }
-
-    /// Position with first and second derivatives at the [`TILE`] samples of tile `t`.
-    #[inline]
-    pub fn eval_tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
-        self.rows.tile_derivs(t, ctrl)
-    }
-}
-
-type Cache = Mutex<HashMap<TableKey, Arc<GbTable>>>;
-
-fn cache() -> &'static Cache {
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
-}
-
-/// Drops all cached tables (tables still in use stay alive through their `Arc`s).
-pub fn clear_table_cache() {
-    if let Ok(mut c) = cache().lock() {
-        c.clear();
-    }
-}
-
-impl GbTable {
-    /// The shared table for `key`, built on first use with `build` (held in a process-wide
-    /// cache until [`clear_table_cache`]).
-    pub fn cached_with(
-        key: TableKey,
-        build: impl FnOnce() -> Result<GbTable, TableError>,
-    ) -> Result<Arc<GbTable>, TableError> {
-        if let Ok(c) = cache().lock() {
-            if let Some(t) = c.get(&key) {
-                return Ok(Arc::clone(t));
-            }
-        }
-        // Built outside the lock: two threads may build the same table once each.
-        let table = Arc::new(build()?);
-        if let Ok(mut c) = cache().lock() {
-            return Ok(Arc::clone(c.entry(key).or_insert(table)));
-        }
-        Ok(table)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gb::Evaluate;
 
     #[test]
-    fn cache_shares_tables_per_key() {
-        let a = GbTable::cached(5, 3, 4, WeightForm::Squared).unwrap();
-        let b = GbTable::cached(5, 3, 4, WeightForm::Squared).unwrap();
-        let c = GbTable::cached(5, 3, 4, WeightForm::Linear).unwrap();
-        assert!(Arc::ptr_eq(&a, &b));
-        assert!(!Arc::ptr_eq(&a, &c));
+    fn table_sizes_and_errors() {
+        let a = GbTable::new(5, 3, 4, WeightForm::Squared).unwrap();
         assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
         let tiles = SampleLayout::sample_count(5, 4).div_ceil(TILE);
         assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles);
-        let s = GbTable::cached_with_second_derivatives(5, 3, 4, WeightForm::Squared).unwrap();
-        assert!(!Arc::ptr_eq(&a, &s) && s.has_second_derivatives() && !a.has_second_derivatives());
+        let s = GbTable::with_second_derivatives(5, 3, 4, WeightForm::Squared).unwrap();
+        assert!(s.has_second_derivatives() && !a.has_second_derivatives());
         assert_eq!(s.memory_bytes(), 2 * a.memory_bytes());
         assert!(matches!(
             GbTable::new(2, 3, 4, WeightForm::Squared),
@@ -886,8 +708,7 @@ mod tests {
     fn cgb_table_matches_direct_cgb_evaluation() {
         let (degrees, layers) = ([3, 4, 3, 5], [2, 2, 1, 3]);
         let sides: Vec<(usize, usize)> = degrees.iter().copied().zip(layers).collect();
-        let t = CgbTable::cached(&sides, 5, WeightForm::Squared).unwrap();
-        assert!(Arc::ptr_eq(&t, &CgbTable::cached(&sides, 5, WeightForm::Squared).unwrap()));
+        let t = CgbTable::new(&sides, 5, WeightForm::Squared).unwrap();
         assert_eq!(t.control_count(), 8 + 10 + 4 + 18);
         let patch = CgbPatch { ribbons: ribbons(&degrees, &layers) };
         let ctrl = t.controls_of(&patch).unwrap();

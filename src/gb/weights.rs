@@ -13,10 +13,7 @@ use super::patch::WeightForm;
 use crate::bezier::bernstein::bernstein_all_into;
 use glam::DVec2;
 
-/// Largest ribbon degree the evaluators accept (Bernstein weights of higher degree are
-/// numerically meaningless for surfaces; the bound also keeps malformed input from allocating
-/// or overflowing).
-pub const MAX_DEGREE: usize = 128;
+use crate::limits::MAX_DEGREE;
 
 /// Err unless 2 ≤ d ≤ [`MAX_DEGREE`] (`side` names the ribbon in the error).
 pub(crate) fn check_degree(side: usize, d: usize) -> Result<(), GbError> {
@@ -188,8 +185,7 @@ impl GbBasis {
     }
 
     /// Flat index of control point (side i, row k, column j).
-    pub fn index_for(n: usize, d: usize, i: usize, k: usize, j: usize) -> usize {
-        let _ = n;
+    pub fn index_for(d: usize, i: usize, k: usize, j: usize) -> usize {
         1 + (i * layers_for_degree(d) + k) * (d + 1) + j
     }
 
@@ -276,7 +272,7 @@ impl GbBasisEvaluator {
 
     /// Number of control points / weights 1 + n·l·(d+1).
     pub fn len(&self) -> usize {
-        1 + self.n() * self.layers * (self.degree + 1)
+        GbBasis::len_for(self.n(), self.degree)
     }
 
     /// Always false.

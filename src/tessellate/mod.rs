@@ -1,6 +1,18 @@
-//! Watertight tessellation of patch collections; output goes through sink builders.
+//! Watertight tessellation of patch collections.
+//!
+//! - [`patch`]: one patch, its samples emitted through a mesh sink.
+//! - [`surface`]: a whole surface, step by step: layouts, the welding map ([`weld`]), parallel
+//!   evaluation into per-patch pieces of the output, the joins (module `measure`: welding of
+//!   shared samples, boundary gaps, G1) and the normal fallback.
+//! - [`evaluator`]: the patch evaluators and the weight tables they own ([`TableCache`]).
 
+pub mod error;
+pub mod evaluator;
+mod measure;
 pub mod patch;
 pub mod surface;
+pub mod weld;
 
-pub use surface::{tessellate_surface, tessellate_surface_with, GbSurfaceEvaluator, PatchEvaluator, SurfaceMesh, SurfacePoint, TessellateError, WeldStats};
+pub use error::TessellateError;
+pub use evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint, TableCache};
+pub use surface::{tessellate_surface, tessellate_surface_with, SurfaceMesh, WeldStats};

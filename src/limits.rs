@@ -1,0 +1,31 @@
+//! The crate's limits, in one place. Every bound on input sizes (degrees, sides, resolutions,
+//! subdivision levels, table memory) is defined here and used by name everywhere else.
+//!
+//! Two degree limits exist on purpose and mean different things:
+//! - [`MAX_DEGREE`] bounds what the evaluators accept (any patch built in memory, from the C ABI
+//!   or by degree elevation). Bernstein weights of higher degree are numerically meaningless for
+//!   surfaces; the bound also keeps malformed input from allocating or overflowing.
+//! - [`MAX_GBP_DEGREE`] bounds what the `.gbp` reader accepts from a file and what the writer
+//!   emits. A file is untrusted text: its header alone decides how many points are read, so it
+//!   gets the tighter bound, still far above the degrees the interchange format is used for.
+//!   Every patch read from a file is thus also below [`MAX_DEGREE`].
+
+/// Largest ribbon degree the evaluators accept (GB and CGB patches, degree elevation).
+pub const MAX_DEGREE: usize = 128;
+
+/// Largest degree the `.gbp` reader accepts and the writer emits (see the module doc).
+pub const MAX_GBP_DEGREE: usize = 40;
+
+/// Largest number of sides the `.gbp` reader accepts.
+pub const MAX_GBP_SIDES: usize = 1024;
+
+/// Largest tessellation resolution (samples per patch side; n·r² triangles per patch).
+pub const MAX_RESOLUTION: usize = 1024;
+
+/// Largest subdivision level count.
+pub const MAX_LEVELS: u32 = 8;
+
+/// Largest weight table built, in bytes (1 GiB).
+pub const MAX_TABLE_BYTES: u128 = 1 << 30;
+
+const _: () = assert!(MAX_GBP_DEGREE <= MAX_DEGREE);

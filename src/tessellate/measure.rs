@@ -1,0 +1,182 @@
+//! After evaluation: the welding of the samples that did not create their vertex (their normals
+//! and curvatures are added to the welded vertex), the boundary gap and G1 measurements along
+//! shared sides, and the normal fallback (see the [`super::surface`] module doc).
+
+use super::surface::{SurfaceMesh, WeldStats};
+use super::weld::WeldMap;
+use super::SurfacePoint;
+use crate::construct::Surface;
+use crate::gb::{angle_deg, SampleLayout};
+use glam::DVec3;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The boundary samples of every patch, in ring order, kept from evaluation for welding and
+/// measurements: patch p's are `samples[start[p]..start[p + 1]]`.
+pub(crate) struct BoundarySamples {
+    pub samples: Vec<SurfacePoint>,
+    pub start: Vec<usize>,
+    /// Per side count n: the first boundary sample of its layout.
+    first: Vec<usize>,
+}
+
+impl BoundarySamples {
+    /// Room for the boundary samples of every patch (n·r each), zeroed.
+    pub fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize) -> Self {
+        let mut start = Vec::with_capacity(surface.patches.len() + 1);
+        let mut nb = 0usize;
+        for patch in &surface.patches {
+            start.push(nb);
+            nb += patch.sides() * r;
+        }
+        start.push(nb);
+        let mut first = vec![0usize; layouts.keys().max().map_or(0, |&n| n + 1)];
+        for (&n, l) in layouts {
+            first[n] = l.ring_index(r, 0, 0);
+        }
+        BoundarySamples { samples: super::surface::zeroed(nb), start, first }
+    }
+
+    /// Sample `s` (a boundary sample of its layout) of patch `p` with `n` sides.
+    #[inline]
+    fn at(&self, p: usize, n: usize, s: usize) -> &SurfacePoint {
+        &self.samples[self.start[p] + s - self.first[n]]
+    }
+}
+
+/// True for a sample with a usable normal.
+fn valid(sp: &SurfacePoint) -> bool {
+    sp.normal != DVec3::ZERO && sp.normal.is_finite()
+}
+
+/// Adds a sample's normal and curvatures to a welded vertex and counts it.
+fn add(sp: &SurfacePoint, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16) {
+    *n += sp.normal;
+    if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
+        *h += sp.mean_curvature;
+        *k += sp.gaussian_curvature;
+    }
+    *w = w.saturating_add(1);
+}
+
+/// The larger gap, NaN as soon as one gap is NaN.
+fn max_gap(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// Welds the non-owner samples into `mesh` and measures gaps and G1 along every shared side,
+/// each side pair once, from its smaller (patch, side), which also created the pair's inner
+/// vertices. So the inner samples run in parallel per patch, writing only that patch's
+/// vertices; the corners (nodes shared by any number of patches) follow serially in patch
+/// order. `weight[v]` counts the patches that gave vertex v a normal; curvatures end up averaged
+/// over them.
+pub(crate) fn join_shared_sides(
+    surface: &Surface,
+    layouts: &HashMap<usize, SampleLayout>,
+    map: &WeldMap,
+    r: usize,
+    boundary: &BoundarySamples,
+    mesh: &mut SurfaceMesh,
+    weight: &mut [u16],
+) -> WeldStats {
+    let np = surface.patches.len();
+    let nv = map.vertex_count;
+    let sides_of = |p: usize| surface.patches[p].sides();
+    let sample = |p: usize, s: usize| boundary.at(p, sides_of(p), s);
+    let mut shared = vec![false; nv];
+    let mut stats = WeldStats::default();
+    {
+        let vstart = &map.vstart;
+        let parts = super::surface::split_by(&mut mesh.normals, vstart)
+            .into_iter()
+            .zip(super::surface::split_by(&mut mesh.mean_curvature, vstart))
+            .zip(super::surface::split_by(&mut mesh.gaussian_curvature, vstart))
+            .zip(super::surface::split_by(&mut mesh.g1_deviation_deg, vstart))
+            .zip(super::surface::split_by(&mut shared, vstart))
+            .zip(super::surface::split_by(weight, vstart))
+            .enumerate()
+            .collect::<Vec<_>>();
+        stats.max_boundary_gap = parts
+            .into_par_iter()
+            .with_min_len(64)
+            .map(|(p, (((((nrm, h), k), g1), sh), w))| {
+                let lp = &layouts[&sides_of(p)];
+                let mut gap_max = 0.0;
+                for (i, nb) in surface.shared_sides_of(p) {
+                    let lq = &layouts[&sides_of(nb.patch)];
+                    for t in 1..r {
+                        let sa = lp.boundary_index(i, t);
+                        let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                        let v = map.ids[map.offsets[p] + sa] as usize - vstart[p];
+                        if valid(b) {
+                            add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                        }
+                        gap_max = max_gap(gap_max, a.position.distance(b.position));
+                        g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
+                        sh[v] = true;
+                    }
+                }
+                gap_max
+            })
+            .reduce(|| 0.0, max_gap);
+    }
+    for p in 0..np {
+        let n = sides_of(p);
+        let lp = &layouts[&n];
+        for i in 0..n {
+            let s = lp.boundary_index(i, 0);
+            let kk = map.offsets[p] + s;
+            let sp = sample(p, s);
+            if !map.owner[kk] && valid(sp) {
+                let v = map.ids[kk] as usize;
+                add(sp, &mut mesh.normals[v], &mut mesh.mean_curvature[v], &mut mesh.gaussian_curvature[v], &mut weight[v]);
+            }
+        }
+        for (i, nb) in surface.shared_sides_of(p) {
+            let lq = &layouts[&sides_of(nb.patch)];
+            for t in [0, r] {
+                let sa = lp.boundary_index(i, t);
+                let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
+                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.position.distance(b.position));
+                let v = map.ids[map.offsets[p] + sa] as usize;
+                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.normal, b.normal));
+                shared[v] = true;
+            }
+        }
+    }
+    mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
+        if w > 1 {
+            *h /= w as f64;
+            *k /= w as f64;
+        }
+    });
+    let (count, sum, max) = shared
+        .par_iter()
+        .zip(mesh.g1_deviation_deg.par_iter())
+        .filter(|(&s, _)| s)
+        .map(|(_, &g)| (1usize, g, g))
+        .reduce(|| (0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+    stats.shared_vertices = count;
+    stats.max_g1_deg = max;
+    if count > 0 {
+        stats.mean_g1_deg = sum / count as f64;
+    }
+    stats
+}
+
+/// Normalizes the normals; vertices without any analytic normal (`weight` 0) take the
+/// area-weighted normal of their triangles.
+pub(crate) fn finish_normals(mesh: &mut SurfaceMesh, weight: &[u16]) {
+    let missing: Vec<usize> = (0..mesh.positions.len()).into_par_iter().filter(|&v| weight[v] == 0).collect();
+    if !missing.is_empty() {
+        let fallback = crate::quality::vertex_normals(&mesh.positions, &mesh.triangles);
+        for v in missing {
+            mesh.normals[v] = fallback[v];
+        }
+    }
+    mesh.normals.par_iter_mut().for_each(|n| *n = n.normalize_or_zero());
+}
