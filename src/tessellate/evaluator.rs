@@ -189,7 +189,7 @@ enum Evaluation {
 /// CGB patches), one per (kind, n, degrees, r, weight form), owned by the evaluator; every
 /// patch is then a tile-wise SIMD weighted sum over its control points (seed 000 eq. 2.24 for
 /// GB, eq. 3.8 for CGB, with the weight form of [`crate::gb::WeightForm`]). The domain is
-/// [`crate::gb::Domain::regular`] (for n = 4 the square of MATH-NOTES).
+/// [`crate::gb::Domain::regular`] (for n = 4 the square of docs/math.md#domain).
 pub struct GbSurfaceEvaluator {
     evaluations: Vec<Evaluation>,
     /// Per patch: its entry of `evaluations`.
