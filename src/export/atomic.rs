@@ -14,9 +14,10 @@ use tempfile::NamedTempFile;
 /// - Temporaries never survive: they are deleted when dropped (an error, a panic, or a failed
 ///   rename in `commit`).
 /// - A rename is atomic per file (a reader sees the old or the new content, never a part), but
-///   the set is not: if a rename in `commit` fails (rare, as everything is already written in the
-///   same directory; e.g. the target is a directory), the targets renamed before it already hold
-///   their new content and the later ones keep their old content.
+///   the set is not: if a rename in `commit` fails (rare: everything is already written in the
+///   same directory, and targets that are directories are refused before the first rename), the
+///   targets renamed before it already hold their new content and the later ones keep their old
+///   content.
 #[derive(Debug, Default)]
 pub struct AtomicFiles {
     staged: Vec<(PathBuf, NamedTempFile)>,
