@@ -29,11 +29,6 @@ impl AtomicFiles {
         Self::default()
     }
 
-    /// The targets added so far, in order.
-    pub fn targets(&self) -> impl Iterator<Item = &Path> {
-        self.staged.iter().map(|(p, _)| p.as_path())
-    }
-
     /// Adds `bytes` as the new content of `path`.
     pub fn add(&mut self, path: impl Into<PathBuf>, bytes: &[u8]) -> Result<(), ExportError> {
         self.add_with(path, |w| w.write_all(bytes))
@@ -120,15 +115,6 @@ pub fn write_atomic(path: impl AsRef<Path>, write: impl FnOnce(&mut dyn Write) -
     files.commit()
 }
 
-/// Writes several files with [`AtomicFiles`]: all are written to temporaries first, then renamed.
-pub fn write_files_atomic(files: &[(PathBuf, Vec<u8>)]) -> Result<(), ExportError> {
-    let mut set = AtomicFiles::new();
-    for (path, bytes) in files {
-        set.add(path.clone(), bytes)?;
-    }
-    set.commit()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,8 +149,10 @@ mod tests {
     #[test]
     fn all_files_appear_on_commit_and_no_temporary_remains() {
         let d = dir("ok");
-        let files = vec![(d.join("a.txt"), b"1".to_vec()), (d.join("b.om"), b"2".to_vec())];
-        write_files_atomic(&files).unwrap();
+        let mut set = AtomicFiles::new();
+        set.add(d.join("a.txt"), b"1").unwrap();
+        set.add(d.join("b.om"), b"2").unwrap();
+        set.commit().unwrap();
         assert_eq!(names(&d), ["a.txt", "b.om"]);
         let mut set = AtomicFiles::new();
         set.add_by_path(d.join("c.om"), |p: &Path| {
@@ -177,8 +165,10 @@ mod tests {
         assert_eq!(std::fs::read_to_string(d.join("c.om")).unwrap(), "3");
         // A target that is a directory: nothing is renamed, no temporary remains.
         std::fs::create_dir(d.join("sub")).unwrap();
-        let files = vec![(d.join("sub"), b"x".to_vec()), (d.join("d.txt"), b"4".to_vec())];
-        assert!(write_files_atomic(&files).is_err());
+        let mut set = AtomicFiles::new();
+        set.add(d.join("d.txt"), b"4").unwrap();
+        set.add(d.join("sub"), b"x").unwrap();
+        assert!(set.commit().is_err());
         assert_eq!(names(&d), ["a.txt", "b.om", "c.om", "sub"]);
         let _ = std::fs::remove_dir_all(&d);
     }

@@ -14,7 +14,7 @@ mod ply;
 mod stl;
 mod surface;
 
-pub use atomic::{write_atomic, write_files_atomic, AtomicFiles};
+pub use atomic::{write_atomic, AtomicFiles};
 pub use mesh::{encode_mesh, WriteMesh};
 pub use obj::{curves_obj, nets_obj, slices_obj};
 pub use ply::{write_isophotes_ply, write_ply, PlyFormat, VertexScalar};
