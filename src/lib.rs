@@ -10,6 +10,7 @@
 //! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed 001).
 //! - [`gb`]: the n-sided domain, Wachspress coordinates, the GB patch and its ribbon-only (CGB)
 //!   variant, degree elevation, the `.gbp` format, per-(n, d, r) weight tables (seeds 000, 002).
+//! - [`options`]: [`ConvertOptions`] and its enums, the one definition of the conversion options.
 //! - [`mesh`]: polygon meshes, half-edge topology, validation and file I/O.
 //! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
@@ -17,6 +18,8 @@
 //!   arrays, which the writers and the adapters copy).
 //! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
 //! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
+//! - [`api`]: the pipeline (read, validate, construct or subdivide, tessellate, check).
+//! - [`export`]: every writer (OBJ, PLY, STL, JSON, `.gbp`) and the one atomic writer.
 //!
 //! The formulas, their seed sections and the seeds' corrections: `docs/math.md`.
 //!
@@ -33,13 +36,16 @@ pub mod tol;
 pub mod api;
 pub mod bezier;
 pub mod construct;
+pub mod export;
 pub mod gb;
 pub mod limits;
 pub mod mesh;
 pub mod offset;
+pub mod options;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;
 
-pub use api::{convert, convert_file, read_mesh, Conversion, ConvertError, ConvertOptions, Method, Twist};
+pub use api::{convert, convert_file, read_mesh, Conversion, ConvertError};
+pub use options::{ConvertOptions, Method, Twist};
 pub use glam::{DVec2, DVec3};

@@ -2,7 +2,8 @@
 //! node tangent planes, corner blocks, and G1 of the ribbons along every shared side.
 
 use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap};
-use gbsurf::construct::{build_dual, convex_mesh, dual_network, ConstructOptions, Patch, TwistMode};
+use gbsurf::construct::{build_dual, convex_mesh, dual_network, Patch, TwistMode};
+use gbsurf::ConvertOptions;
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh};
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
@@ -15,8 +16,8 @@ fn load(name: &str) -> HalfEdgeMesh {
     read_mesh(format!("{MODELS}/{name}.obj")).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn opts(t: TwistMode) -> ConstructOptions {
-    ConstructOptions { twist: t, ..Default::default() }
+fn opts(t: TwistMode) -> ConvertOptions {
+    ConvertOptions { twist: t, ..Default::default() }
 }
 
 #[test]

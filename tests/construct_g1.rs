@@ -4,8 +4,9 @@
 
 use gbsurf::construct::check::{corner_plane_angle, join_report};
 use gbsurf::construct::{
-    build_dual, build_topology, convex_mesh, dual_network, topology_network, ConstructOptions, Surface, TwistMode,
+    build_dual, build_topology, convex_mesh, dual_network, topology_network, Surface, TwistMode,
 };
+use gbsurf::ConvertOptions;
 use gbsurf::gb::WeightForm;
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh};
 
@@ -20,8 +21,8 @@ fn load(name: &str) -> HalfEdgeMesh {
     read_mesh(format!("{MODELS}/{name}.obj")).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn opts(t: TwistMode) -> ConstructOptions {
-    ConstructOptions { twist: t, ..Default::default() }
+fn opts(t: TwistMode) -> ConvertOptions {
+    ConvertOptions { twist: t, ..Default::default() }
 }
 
 fn build(structure: &str, m: &HalfEdgeMesh, mode: TwistMode) -> Surface {

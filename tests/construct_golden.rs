@@ -4,7 +4,8 @@
 //! validation hash maps. Any change of patch order, half-edge numbering or a single bit of a
 //! control point changes a hash.
 
-use gbsurf::construct::{build_dual, build_topology, ConstructOptions};
+use gbsurf::construct::{build_dual, build_topology};
+use gbsurf::ConvertOptions;
 use gbsurf::mesh::generate::torus;
 use gbsurf::mesh::halfedge::HalfEdgeMesh;
 
@@ -34,14 +35,14 @@ fn halfedge_numbering_golden() {
 
 #[test]
 fn dual_surface_golden() {
-    let s = build_dual(&mesh(), &ConstructOptions::default()).unwrap();
+    let s = build_dual(&mesh(), &ConvertOptions::default()).unwrap();
     let h = fnv(serde_json::to_string(&s).unwrap().as_bytes());
     assert_eq!(h, GOLDEN_DUAL, "hash {h:#x}");
 }
 
 #[test]
 fn topology_surface_golden() {
-    let s = build_topology(&mesh(), &ConstructOptions::default()).unwrap();
+    let s = build_topology(&mesh(), &ConvertOptions::default()).unwrap();
     let h = fnv(serde_json::to_string(&s).unwrap().as_bytes());
     assert_eq!(h, GOLDEN_TOPO, "hash {h:#x}");
 }

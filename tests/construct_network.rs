@@ -3,8 +3,9 @@
 
 use gbsurf::construct::check::{corner_block_defect, ribbon_frame, ribbon_g1_angle};
 use gbsurf::construct::{
-    assemble, ConstructError, ConstructOptions, CurveNetwork, PatchLayout, PatchSource, SideUse, TwistMode,
+    assemble, ConstructError, CurveNetwork, PatchLayout, PatchSource, SideUse, TwistMode,
 };
+use gbsurf::ConvertOptions;
 use gbsurf::DVec3;
 use proptest::prelude::*;
 
@@ -64,8 +65,8 @@ fn two_triangles(n0: DVec3, n3: DVec3, q: [f64; 6], th: [f64; 4], mid: DVec3) ->
     }
 }
 
-fn opts(t: TwistMode) -> ConstructOptions {
-    ConstructOptions { twist: t, ..Default::default() }
+fn opts(t: TwistMode) -> ConvertOptions {
+    ConvertOptions { twist: t, ..Default::default() }
 }
 
 proptest! {
@@ -82,7 +83,7 @@ proptest! {
             DVec3::new(mid.0, mid.1, mid.2),
         );
         for mode in [TwistMode::Approx, TwistMode::Interp] {
-            let o = ConstructOptions { mid_scale: scale, ..opts(mode) };
+            let o = ConvertOptions { mid_scale: scale, ..opts(mode) };
             let s = assemble(&net, &o).unwrap();
             prop_assert_eq!(corner_block_defect(&s).value, 0.0);
             let g = ribbon_g1_angle(&s, 33);
@@ -138,9 +139,9 @@ fn open_sides_adopt_shared_twists() {
 #[test]
 fn orientation_and_option_errors() {
     let mut net = two_triangles(DVec3::Z, DVec3::Z, [1.0; 6], [1.2; 4], DVec3::Y);
-    let bad = ConstructOptions { fullness: 1.0, ..Default::default() };
+    let bad = ConvertOptions { fullness: 1.0, ..Default::default() };
     assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
-    let bad = ConstructOptions { tile_depth: 2.0, ..Default::default() };
+    let bad = ConvertOptions { tile_depth: 2.0, ..Default::default() };
     assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
     net.patches[1].sides[0].reversed = false;
     assert!(assemble(&net, &opts(TwistMode::Interp)).is_err());

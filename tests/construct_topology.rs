@@ -3,8 +3,9 @@
 
 use gbsurf::construct::check::{corner_block_defect, ribbon_g1_angle, ribbon_gap};
 use gbsurf::construct::{
-    build_topology, convex_mesh, tiles, topology_network, ConstructOptions, Patch, PatchSource, TwistMode,
+    build_topology, convex_mesh, tiles, topology_network, Patch, PatchSource, TwistMode,
 };
+use gbsurf::ConvertOptions;
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh, PolyMesh};
 use gbsurf::{assert_near, DVec3};
 
@@ -18,8 +19,8 @@ fn load(name: &str) -> HalfEdgeMesh {
     read_mesh(format!("{MODELS}/{name}.obj")).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn opts(t: TwistMode) -> ConstructOptions {
-    ConstructOptions { twist: t, ..Default::default() }
+fn opts(t: TwistMode) -> ConvertOptions {
+    ConvertOptions { twist: t, ..Default::default() }
 }
 
 #[test]
@@ -28,7 +29,7 @@ fn cube_tiles_are_doo_sabin_points() {
     // neighbours of p); centre of the triangular tile = p + (Σ neighbours − 3p)·2/(3w).
     let m = load("cube");
     for w in [2.5, 3.0, 7.0] {
-        let t = tiles(&m, &ConstructOptions { tile_depth: w, ..Default::default() }).unwrap();
+        let t = tiles(&m, &ConvertOptions { tile_depth: w, ..Default::default() }).unwrap();
         for h in m.halfedges() {
             let p = m.position(m.origin(h));
             let q = m.position(m.target(h));
@@ -60,7 +61,7 @@ fn flat_grid_gives_uniform_straight_curves() {
         }
     }
     let m = HalfEdgeMesh::from_polymesh(&PolyMesh::new(pos, faces)).unwrap();
-    let net = topology_network(&m, &ConstructOptions::default()).unwrap();
+    let net = topology_network(&m, &ConvertOptions::default()).unwrap();
     let interior = |p: DVec3| p.x > 0.5 && p.x < 2.5 && p.y > 0.5 && p.y < 2.5;
     let mut n = 0;
     for c in &net.curves {
@@ -101,7 +102,7 @@ fn blend_twists_are_g1_on_every_model() {
         let m = load(name);
         for mode in [TwistMode::Approx, TwistMode::Interp] {
             for w in [2.5, 3.0, 6.0] {
-                let o = ConstructOptions { tile_depth: w, ..opts(mode) };
+                let o = ConvertOptions { tile_depth: w, ..opts(mode) };
                 let s = build_topology(&m, &o).unwrap();
                 assert_eq!(corner_block_defect(&s).value, 0.0, "{name}");
                 assert!(ribbon_gap(&s, 17).value < 1e-14, "{name}");
@@ -225,7 +226,7 @@ fn cone_apex_tile_depth() {
     faces.push((1..=n as u32).rev().collect());
     let m = HalfEdgeMesh::from_polymesh(&PolyMesh { positions, faces }).unwrap();
     for w in [2.5, 3.0, 4.0, 7.0] {
-        let o = ConstructOptions { tile_depth: w, ..Default::default() };
+        let o = ConvertOptions { tile_depth: w, ..Default::default() };
         let t = tiles(&m, &o).unwrap();
         for h in m.halfedges().filter(|&h| m.face(h).is_some_and(|f| m.face_size(f) == 3)) {
             let (p0, p1, p2) =

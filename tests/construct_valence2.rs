@@ -4,8 +4,9 @@
 
 use gbsurf::construct::check::join_report;
 use gbsurf::construct::{
-    build_dual, build_topology, dissolve_valence2, ConstructError, ConstructOptions, PatchSource, Surface, TwistMode,
+    build_dual, build_topology, dissolve_valence2, ConstructError, PatchSource, Surface, TwistMode,
 };
+use gbsurf::ConvertOptions;
 use gbsurf::gb::WeightForm;
 use gbsurf::mesh::generate::torus;
 use gbsurf::mesh::{read_mesh, HalfEdgeMesh, PolyMesh};
@@ -48,7 +49,7 @@ fn he(pm: &PolyMesh) -> HalfEdgeMesh {
 }
 
 fn build(structure: &str, m: &HalfEdgeMesh, mode: TwistMode) -> Result<Surface, ConstructError> {
-    let o = ConstructOptions { twist: mode, ..Default::default() };
+    let o = ConvertOptions { twist: mode, ..Default::default() };
     match structure {
         "dual" => build_dual(m, &o),
         _ => build_topology(m, &o),

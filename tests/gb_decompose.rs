@@ -9,7 +9,8 @@ use gbsurf::assert_near;
 use gbsurf::bezier::reduce::BaseDisplacement;
 use gbsurf::bezier::BezierCurve;
 use gbsurf::construct::check::join_report;
-use gbsurf::construct::{build_dual, ConstructOptions, Patch, Surface};
+use gbsurf::construct::{build_dual, Patch, Surface};
+use gbsurf::ConvertOptions;
 use gbsurf::gb::decompose::{
     base_patch, common_degree, decompose, max_degree, CommonDegreeError, DecomposeError,
 };
@@ -461,7 +462,7 @@ fn constructed_surface_with_mixed_degrees_keeps_its_joins() {
     // dual (GB) surfaces: give the patches degrees 3, 4, 5, 6 in turn, then one common degree;
     // every patch keeps its boundary points and normals (1e-9), so the joins are as before.
     for (name, mesh) in meshes() {
-        let s = build_dual(&mesh, &ConstructOptions::default()).unwrap();
+        let s = build_dual(&mesh, &ConvertOptions::default()).unwrap();
         let gb: Vec<GbPatch> = s
             .patches
             .iter()

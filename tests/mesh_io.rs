@@ -1,5 +1,6 @@
 //! File I/O: OBJ/OFF/PLY/STL reading, writers and round trips.
 
+use gbsurf::export::{ExportError, PlyFormat, VertexScalar};
 use gbsurf::mesh::io::*;
 use gbsurf::mesh::{read_mesh, read_polymesh, MeshError, PolyMesh, TriMesh};
 use gbsurf::DVec3;
@@ -170,8 +171,8 @@ fn files_atomic_and_dispatch() {
         if ext != "stl" {
             assert_eq!(back.to_polymesh(), m, "{ext}");
         }
-        // no temporary left behind
-        let left: Vec<_> = std::fs::read_dir(path.parent().unwrap()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().ends_with(".tmp")).collect();
+        // no temporary (a hidden file beside the target) left behind
+        let left: Vec<_> = std::fs::read_dir(path.parent().unwrap()).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
         assert!(left.is_empty());
     }
     let t = tri_mesh();
@@ -179,7 +180,8 @@ fn files_atomic_and_dispatch() {
     t.write_file(&path).unwrap();
     assert_eq!(read_mesh(&path).unwrap().n_faces(), 8);
     // unwritable target: error, not panic
-    assert!(matches!(m.write_file("/nonexistent_dir_gbsurf/x.obj"), Err(MeshError::Io { .. })));
+    assert!(matches!(m.write_file("/nonexistent_dir_gbsurf/x.obj"), Err(ExportError::Io { .. })));
+    assert!(matches!(m.write_file(tmp("x.xyz")), Err(ExportError::UnknownFormat { .. })));
     assert!(matches!(read_mesh("/nonexistent_dir_gbsurf/x.obj"), Err(MeshError::Io { .. })));
     assert!(matches!(read_polymesh(tmp("x.xyz")), Err(MeshError::Io { .. }) | Err(MeshError::Parse { .. })));
     let _ = std::fs::remove_dir_all(path.parent().unwrap());

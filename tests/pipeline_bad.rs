@@ -124,7 +124,7 @@ fn invalid_options_name_the_option() {
         (ConvertOptions { levels: 9, ..Default::default() }, "levels"),
     ];
     for (o, name) in cases {
-        match o.validate() {
+        match o.validate().map_err(ConvertError::from) {
             Err(ConvertError::InvalidOption { name: n, .. }) => assert_eq!(n, name),
             r => panic!("{name}: {r:?}"),
         }

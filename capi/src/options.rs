@@ -1,8 +1,8 @@
 //! The options struct of the C ABI and the report figures.
 
 use super::*;
-use gbsurf::api::{ConvertError, ConvertOptions, Method, Twist};
-use gbsurf::gb::WeightForm;
+use gbsurf::api::ConvertError;
+use gbsurf::options::{ConvertOptions, Method, OptionValue, Twist, WeightForm};
 
 /// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 pub const GBSURF_METHOD_DUAL: u32 = 0;
@@ -57,32 +57,63 @@ pub struct GbsurfOptions {
 
 const OPTIONS_SIZE: u32 = std::mem::size_of::<GbsurfOptions>() as u32;
 
+/// The one mapping between the core's option enums and the `GBSURF_*` codes: the code of every
+/// value (an exhaustive match); the value of a code is found through [`OptionValue::ALL`].
+trait Code: OptionValue {
+    fn code(self) -> u32;
+    /// The value with code `c`, if any.
+    fn from_code(c: u32) -> Option<Self> {
+        Self::ALL.iter().copied().find(|v| v.code() == c)
+    }
+}
+
+impl Code for Method {
+    fn code(self) -> u32 {
+        match self {
+            Method::Dual => GBSURF_METHOD_DUAL,
+            Method::Topology => GBSURF_METHOD_TOPOLOGY,
+            Method::DooSabin => GBSURF_METHOD_DOO_SABIN,
+            Method::CatmullClark => GBSURF_METHOD_CATMULL_CLARK,
+        }
+    }
+}
+
+impl Code for Twist {
+    fn code(self) -> u32 {
+        match self {
+            Twist::None => GBSURF_TWIST_NONE,
+            Twist::Approx => GBSURF_TWIST_APPROX,
+            Twist::Interp => GBSURF_TWIST_INTERP,
+        }
+    }
+}
+
+impl Code for WeightForm {
+    fn code(self) -> u32 {
+        match self {
+            WeightForm::Squared => GBSURF_WEIGHTS_SQUARED,
+            WeightForm::Linear => GBSURF_WEIGHTS_LINEAR,
+        }
+    }
+}
+
 impl From<&ConvertOptions> for GbsurfOptions {
+    /// The C struct of `o` (`gbsurf_options_init` passes `ConvertOptions::default()`).
     fn from(o: &ConvertOptions) -> Self {
+        // No `..`: a new option is a compile error here until the struct has it.
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
-            method: match o.method {
-                Method::Dual => GBSURF_METHOD_DUAL,
-                Method::Topology => GBSURF_METHOD_TOPOLOGY,
-                Method::DooSabin => GBSURF_METHOD_DOO_SABIN,
-                Method::CatmullClark => GBSURF_METHOD_CATMULL_CLARK,
-            },
-            resolution: u32::try_from(o.resolution).unwrap_or(u32::MAX),
-            twist: match o.twist {
-                Twist::None => GBSURF_TWIST_NONE,
-                Twist::Approx => GBSURF_TWIST_APPROX,
-                Twist::Interp => GBSURF_TWIST_INTERP,
-            },
-            weights: match o.weights {
-                WeightForm::Squared => GBSURF_WEIGHTS_SQUARED,
-                WeightForm::Linear => GBSURF_WEIGHTS_LINEAR,
-            },
-            levels: o.levels,
-            best_plane: o.best_plane as u32,
+            method: method.code(),
+            resolution: u32::try_from(resolution).unwrap_or(u32::MAX),
+            twist: twist.code(),
+            weights: weights.code(),
+            levels,
+            best_plane: best_plane as u32,
             reserved: 0,
-            fullness: o.fullness,
-            tile_depth: o.tile_depth,
-            mid_scale: o.mid_scale,
+            fullness,
+            tile_depth,
+            mid_scale,
         }
     }
 }
@@ -106,30 +137,12 @@ impl GbsurfOptions {
                 ),
             ));
         }
-        let method = match self.method {
-            GBSURF_METHOD_DUAL => Method::Dual,
-            GBSURF_METHOD_TOPOLOGY => Method::Topology,
-            GBSURF_METHOD_DOO_SABIN => Method::DooSabin,
-            GBSURF_METHOD_CATMULL_CLARK => Method::CatmullClark,
-            m => return Err(bad_option("method", m, "expected GBSURF_METHOD_* (0..=3)")),
-        };
-        let twist = match self.twist {
-            GBSURF_TWIST_NONE => Twist::None,
-            GBSURF_TWIST_APPROX => Twist::Approx,
-            GBSURF_TWIST_INTERP => Twist::Interp,
-            t => return Err(bad_option("twist", t, "expected GBSURF_TWIST_* (0..=2)")),
-        };
-        let weights = match self.weights {
-            GBSURF_WEIGHTS_SQUARED => WeightForm::Squared,
-            GBSURF_WEIGHTS_LINEAR => WeightForm::Linear,
-            w => {
-                return Err(bad_option(
-                    "weights",
-                    w,
-                    "expected GBSURF_WEIGHTS_* (0..=1)",
-                ))
-            }
-        };
+        let method = Method::from_code(self.method)
+            .ok_or_else(|| bad_option("method", self.method, "expected GBSURF_METHOD_* (0..=3)"))?;
+        let twist = Twist::from_code(self.twist)
+            .ok_or_else(|| bad_option("twist", self.twist, "expected GBSURF_TWIST_* (0..=2)"))?;
+        let weights = WeightForm::from_code(self.weights)
+            .ok_or_else(|| bad_option("weights", self.weights, "expected GBSURF_WEIGHTS_* (0..=1)"))?;
         let best_plane = match self.best_plane {
             0 => false,
             1 => true,

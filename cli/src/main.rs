@@ -6,7 +6,14 @@
 //! `mean_curvature`, `gaussian_curvature`, `g1_deviation`). Optional outputs: `--curves` (the
 //! curve network as OBJ polylines of the Bézier control polygons), `--nets` (the control nets as
 //! OBJ), `--patches FILE.json` (exact description; `.gbp` files beside it for GB patches that have
-//! one), `--report FILE.json`. All outputs are written together or not at all.
+//! one), `--report FILE.json`. Every output is written completely to a temporary file beside its
+//! target before any target is replaced, so a failed conversion or a failed write leaves all
+//! targets untouched; only a failing rename at the very end (see `gbsurf::export::AtomicFiles`)
+//! can leave the earlier targets replaced and the later ones not.
+//!
+//! The conversion flags are those of `gbsurf::ConvertOptions`: their values are parsed by the
+//! core's `FromStr` impls, and an absent flag keeps the value of `ConvertOptions::default()`
+//! (shown in `--help`).
 //!
 //! `gbsurf eval-gbp FILE.gbp [--weights squared|linear]`: reads `u v` lines on stdin (domain
 //! coordinates inside the domain polygon of `gbsurf::gb::Domain`; blank lines are skipped) and
@@ -18,11 +25,14 @@
 //!
 //! Errors print one line and exit with status 1 (2 for usage errors).
 
-use clap::{Parser, Subcommand, ValueEnum};
-use gbsurf::api::{self, ConvertOptions, Method, Twist};
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+use gbsurf::api::{self, ConvertError};
+use gbsurf::export::{self, AtomicFiles, MeshFormat, WriteMesh};
 use gbsurf::gb::gbp::load_gbp;
-use gbsurf::gb::{GbPatch, WeightForm};
+use gbsurf::gb::GbPatch;
 use gbsurf::limits::MAX_RESOLUTION;
+use gbsurf::options::{ConvertOptions, Method, OptionValue, Twist, WeightForm};
 use gbsurf::tessellate::patch::tessellate_gb;
 use gbsurf::DVec2;
 use std::io::{BufRead, BufWriter, Write};
@@ -45,8 +55,8 @@ enum Command {
         /// The patch (.gbp, format of the `transfinite` library).
         file: PathBuf,
         /// Correction-weight form.
-        #[arg(long, value_enum, default_value = "squared")]
-        weights: WeightsArg,
+        #[arg(long, value_parser = choice::<WeightForm>())]
+        weights: Option<WeightForm>,
     },
     /// Tessellate a .gbp patch into a triangle mesh (OBJ with normals).
     TessellateGbp {
@@ -59,45 +69,123 @@ enum Command {
         #[arg(short, long, default_value_t = 16)]
         resolution: usize,
         /// Correction-weight form.
-        #[arg(long, value_enum, default_value = "squared")]
-        weights: WeightsArg,
+        #[arg(long, value_parser = choice::<WeightForm>())]
+        weights: Option<WeightForm>,
     },
 }
 
-impl From<WeightsArg> for WeightForm {
-    fn from(w: WeightsArg) -> Self {
-        match w {
-            WeightsArg::Squared => WeightForm::Squared,
-            WeightsArg::Linear => WeightForm::Linear,
-        }
+/// The values of an option enum of the core as possible values, parsed by its `FromStr`.
+fn choice<T: OptionValue + Send + Sync>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::ALL.iter().map(|v| v.name())).try_map(|s| s.parse::<T>())
+}
+
+/// `on` / `off` as a bool.
+fn on_off() -> impl TypedValueParser<Value = bool> {
+    PossibleValuesParser::new(["on", "off"]).map(|s| s == "on")
+}
+
+fn on_off_name(b: bool) -> &'static str {
+    if b {
+        "on"
+    } else {
+        "off"
     }
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum MethodArg {
-    Dual,
-    Topology,
-    DooSabin,
-    CatmullClark,
+/// The flags of [`ConvertOptions`]: a flag that is not given keeps the value of
+/// `ConvertOptions::default()`.
+#[derive(clap::Args)]
+struct OptionFlags {
+    /// Surface structure: dual (patch per vertex), topology (patch per face), or a subdivision
+    /// scheme for comparison.
+    #[arg(long, value_parser = choice::<Method>())]
+    method: Option<Method>,
+    /// Samples per patch side (an n-sided patch gets n·N² triangles).
+    #[arg(long)]
+    resolution: Option<usize>,
+    /// Fullness κ ∈ [0, 1) of the dual curves.
+    #[arg(long)]
+    fullness: Option<f64>,
+    /// Tile split ratio w > 2 (topology structure).
+    #[arg(long)]
+    tile_depth: Option<f64>,
+    /// Twist construction.
+    #[arg(long, value_parser = choice::<Twist>())]
+    twist: Option<Twist>,
+    /// Factor on the middle constraint of the direction blends.
+    #[arg(long)]
+    mid_scale: Option<f64>,
+    /// Project onto best-fit planes.
+    #[arg(long, value_parser = on_off())]
+    best_plane: Option<bool>,
+    /// Correction weights of the GB patches.
+    #[arg(long, value_parser = choice::<WeightForm>())]
+    weights: Option<WeightForm>,
+    /// Subdivision levels (doo-sabin, catmull-clark).
+    #[arg(long)]
+    levels: Option<u32>,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum TwistArg {
-    None,
-    Approx,
-    Interp,
+impl OptionFlags {
+    /// `options` with every given flag applied.
+    fn apply(&self, mut options: ConvertOptions) -> ConvertOptions {
+        fn set<T: Copy>(slot: &mut T, flag: Option<T>) {
+            if let Some(v) = flag {
+                *slot = v;
+            }
+        }
+        // No `..`: a new option is a compile error here until it has a flag.
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = &mut options;
+        set(method, self.method);
+        set(resolution, self.resolution);
+        set(fullness, self.fullness);
+        set(tile_depth, self.tile_depth);
+        set(twist, self.twist);
+        set(mid_scale, self.mid_scale);
+        set(best_plane, self.best_plane);
+        set(weights, self.weights);
+        set(levels, self.levels);
+        options
+    }
+
+    /// `(argument id, value)` of every flag for `options`, for the defaults shown in `--help`.
+    fn shown(options: &ConvertOptions) -> [(&'static str, String); 9] {
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = *options;
+        [
+            ("method", method.to_string()),
+            ("resolution", resolution.to_string()),
+            ("fullness", fullness.to_string()),
+            ("tile_depth", tile_depth.to_string()),
+            ("twist", twist.to_string()),
+            ("mid_scale", mid_scale.to_string()),
+            ("best_plane", on_off_name(best_plane).to_string()),
+            ("weights", weights.to_string()),
+            ("levels", levels.to_string()),
+        ]
+    }
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum OnOff {
-    On,
-    Off,
+/// Appends `[default: value]` to the help of argument `id` (the value is not set: the flag stays
+/// absent and the core's default applies).
+fn show_default(cmd: clap::Command, id: &str, value: &str) -> clap::Command {
+    cmd.mut_arg(id, |a| {
+        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        a.help(format!("{help} [default: {value}]"))
+    })
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum WeightsArg {
-    Squared,
-    Linear,
+/// The command line with the defaults of the core shown in the help.
+fn command() -> clap::Command {
+    let weights = WeightForm::default().to_string();
+    Cli::command()
+        .mut_subcommand("convert", |mut c| {
+            for (id, value) in OptionFlags::shown(&ConvertOptions::default()) {
+                c = show_default(c, id, &value);
+            }
+            c
+        })
+        .mut_subcommand("eval-gbp", |c| show_default(c, "weights", &weights))
+        .mut_subcommand("tessellate-gbp", |c| show_default(c, "weights", &weights))
 }
 
 #[derive(clap::Args)]
@@ -107,34 +195,8 @@ struct ConvertArgs {
     /// Output triangle mesh (.obj, .ply, .stl).
     #[arg(short, long)]
     output: PathBuf,
-    /// Surface structure: dual (patch per vertex), topology (patch per face), or a subdivision
-    /// scheme for comparison.
-    #[arg(long, value_enum, default_value = "dual")]
-    method: MethodArg,
-    /// Samples per patch side (an n-sided patch gets n·N² triangles).
-    #[arg(long, default_value_t = 8)]
-    resolution: usize,
-    /// Fullness κ ∈ [0, 1) of the dual curves.
-    #[arg(long, default_value_t = 1.0 / 3.0)]
-    fullness: f64,
-    /// Tile split ratio w > 2 (topology structure).
-    #[arg(long, default_value_t = 3.0)]
-    tile_depth: f64,
-    /// Twist construction.
-    #[arg(long, value_enum, default_value = "interp")]
-    twist: TwistArg,
-    /// Factor on the middle constraint of the direction blends.
-    #[arg(long, default_value_t = 1.0)]
-    mid_scale: f64,
-    /// Project onto best-fit planes.
-    #[arg(long, value_enum, default_value = "on")]
-    best_plane: OnOff,
-    /// Correction weights of the GB patches.
-    #[arg(long, value_enum, default_value = "squared")]
-    weights: WeightsArg,
-    /// Subdivision levels (doo-sabin, catmull-clark).
-    #[arg(long, default_value_t = 3)]
-    levels: u32,
+    #[command(flatten)]
+    options: OptionFlags,
     /// Write the curve network (OBJ polylines of the Bézier control polygons).
     #[arg(long)]
     curves: Option<PathBuf>,
@@ -171,41 +233,11 @@ struct ConvertArgs {
     quiet: bool,
 }
 
-impl ConvertArgs {
-    fn options(&self) -> ConvertOptions {
-        ConvertOptions {
-            method: match self.method {
-                MethodArg::Dual => Method::Dual,
-                MethodArg::Topology => Method::Topology,
-                MethodArg::DooSabin => Method::DooSabin,
-                MethodArg::CatmullClark => Method::CatmullClark,
-            },
-            resolution: self.resolution,
-            fullness: self.fullness,
-            tile_depth: self.tile_depth,
-            twist: match self.twist {
-                TwistArg::None => Twist::None,
-                TwistArg::Approx => Twist::Approx,
-                TwistArg::Interp => Twist::Interp,
-            },
-            mid_scale: self.mid_scale,
-            best_plane: matches!(self.best_plane, OnOff::On),
-            weights: match self.weights {
-                WeightsArg::Squared => WeightForm::Squared,
-                WeightsArg::Linear => WeightForm::Linear,
-            },
-            levels: self.levels,
-        }
-    }
-}
-
-fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
-    let options = args.options();
+fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
+    let options = args.options.apply(ConvertOptions::default());
     options.validate()?;
     // Check the output extension before doing any work.
-    if !openmesh_io::handles(&args.output) {
-        api::encode_mesh(&Default::default(), &args.output)?;
-    }
+    let format = if openmesh_io::handles(&args.output) { None } else { Some(MeshFormat::of(&args.output)?) };
     let bar = (!args.quiet).then(|| {
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
@@ -231,56 +263,41 @@ fn run_convert(args: &ConvertArgs) -> Result<(), api::ConvertError> {
     }
     let conv = result?;
 
-    let surface_bytes = if openmesh_io::handles(&args.output) {
-        openmesh_io::encode(&conv.mesh, &args.output)?
-    } else {
-        api::encode_mesh(&conv.mesh, &args.output)?
-    };
-    let mut files: Vec<(PathBuf, Vec<u8>)> = vec![(args.output.clone(), surface_bytes)];
-    let need_surface = |what: &str| -> Result<&gbsurf::construct::Surface, api::ConvertError> {
-        conv.surface.as_ref().ok_or_else(|| api::ConvertError::InvalidOption {
+    let need_surface = |what: &str| -> Result<&gbsurf::construct::Surface, ConvertError> {
+        conv.surface.as_ref().ok_or_else(|| ConvertError::InvalidOption {
             name: "method",
             value: options.method.to_string(),
             reason: format!("--{what} needs a patch method (dual or topology)"),
         })
     };
+    // All outputs go to temporaries first; dropping `files` on an error removes them.
+    let mut files = AtomicFiles::new();
+    match format {
+        Some(format) => files.add_with(&args.output, |w| conv.mesh.write_format(format, w))?,
+        None => openmesh_io::add(&mut files, &conv.mesh, &args.output)?,
+    }
     if let Some(path) = &args.curves {
-        files.push((path.clone(), api::curves_obj(need_surface("curves")?).into_bytes()));
+        files.add(path, export::curves_obj(need_surface("curves")?).as_bytes())?;
     }
     if let Some(path) = &args.nets {
-        files.push((path.clone(), api::nets_obj(need_surface("nets")?).into_bytes()));
+        files.add(path, export::nets_obj(need_surface("nets")?).as_bytes())?;
     }
     if let Some(path) = &args.patches {
-        let surface = need_surface("patches")?;
-        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "patches".into());
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let texts = api::gbp_texts(surface);
-        let mut names = Vec::with_capacity(texts.len());
-        for (i, t) in texts.into_iter().enumerate() {
-            match t {
-                Some(text) => {
-                    let name = format!("{stem}_{i:05}.gbp");
-                    files.push((dir.join(&name), text.into_bytes()));
-                    names.push(Some(name));
-                }
-                None => names.push(None),
-            }
+        for (file, bytes) in export::patch_files(need_surface("patches")?, path) {
+            files.add(file, &bytes)?;
         }
-        let json = api::patches_json(surface, &names);
-        let text = serde_json::to_string_pretty(&json).map_err(|e| api::ConvertError::Io { path: path.display().to_string(), message: e.to_string() })?;
-        files.push((path.clone(), text.into_bytes()));
     }
     if let Some(path) = &args.report {
-        files.push((path.clone(), conv.report.to_json().into_bytes()));
+        files.add(path, conv.report.to_json().as_bytes())?;
     }
     if let Some(path) = &args.isophotes {
-        files.push((path.clone(), isophote_ply(&conv.mesh, args.light, args.stripes, path)?));
+        files.add_with(path, |w| export::write_isophotes_ply(w, &conv.mesh, args.light, args.stripes))?;
     }
     if let Some(path) = &args.slices {
         let cuts = gbsurf::quality::slices(&conv.mesh.positions, &conv.mesh.triangles, args.slice_normal, args.slice_count);
-        files.push((path.clone(), slices_obj(&cuts).into_bytes()));
+        files.add(path, export::slices_obj(&cuts).as_bytes())?;
     }
-    api::write_files_atomic(&files)?;
+    files.commit()?;
     if !args.quiet {
         let r = &conv.report;
         eprintln!(
@@ -306,38 +323,6 @@ fn parse_vec3(text: &str) -> Result<gbsurf::DVec3, String> {
     }
 }
 
-/// The surface as binary PLY with per-vertex `isophote` = n·L and `stripe` band coordinates.
-fn isophote_ply(mesh: &gbsurf::tessellate::SurfaceMesh, light: gbsurf::DVec3, stripes: u32, path: &Path) -> Result<Vec<u8>, api::ConvertError> {
-    use gbsurf::mesh::io::{write_ply, PlyFormat, VertexScalar};
-    let iso = gbsurf::quality::isophote(&mesh.normals, light);
-    let band = gbsurf::quality::isophote_stripes(&mesh.normals, light, stripes);
-    let faces: Vec<&[u32]> = mesh.triangles.iter().map(|t| t.as_slice()).collect();
-    let scalars = [VertexScalar { name: "isophote", values: &iso }, VertexScalar { name: "stripe", values: &band }];
-    let mut buf = Vec::new();
-    write_ply(&mut buf, &mesh.positions, Some(&mesh.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
-        .map_err(|e| api::ConvertError::Io { path: path.display().to_string(), message: e.to_string() })?;
-    Ok(buf)
-}
-
-/// Slices as OBJ: a `g slice_K` group per plane, each polyline as one `l` line.
-fn slices_obj(cuts: &[(f64, Vec<gbsurf::quality::Polyline>)]) -> String {
-    use std::fmt::Write as _;
-    let mut out = String::from("# gbsurf planar slices: one group per plane (offset d along the normal)\n");
-    let mut next = 1usize;
-    for (k, (d, lines)) in cuts.iter().enumerate() {
-        let _ = writeln!(out, "g slice_{k}\n# d = {d:.17e}");
-        for line in lines {
-            for p in &line.points {
-                let _ = writeln!(out, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z);
-            }
-            let ids: Vec<String> = (next..next + line.points.len()).map(|i| i.to_string()).collect();
-            let _ = writeln!(out, "l {}", ids.join(" "));
-            next += line.points.len();
-        }
-    }
-    out
-}
-
 /// Files in formats the crate's own readers and writers do not handle (OpenMesh's `.om`) go
 /// through OpenMesh when the cargo feature `openmesh` is on. OBJ, OFF, PLY and STL always use the
 /// crate's own strict readers: they keep full double precision (OpenMesh reads text formats in
@@ -345,6 +330,7 @@ fn slices_obj(cuts: &[(f64, Vec<gbsurf::quality::Polyline>)]) -> String {
 #[cfg(feature = "openmesh")]
 mod openmesh_io {
     use gbsurf::api::ConvertError;
+    use gbsurf::export::AtomicFiles;
     use gbsurf::tessellate::SurfaceMesh;
     use gbsurf::mesh::{PolyMesh, TriMesh};
     use std::path::Path;
@@ -365,16 +351,11 @@ mod openmesh_io {
         gbsurf_openmesh::read_mesh(path).map_err(|e| om_error(path, e))
     }
 
-    /// The file OpenMesh writes for `mesh` (positions, triangles, vertex normals), as bytes, so it
-    /// joins the all-or-nothing write of the other outputs.
-    pub fn encode(mesh: &SurfaceMesh, path: &Path) -> Result<Vec<u8>, ConvertError> {
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = std::env::temp_dir().join(format!("gbsurf-{}-{name}", std::process::id()));
+    /// Adds the file OpenMesh writes for `mesh` (positions, triangles, vertex normals) to the
+    /// outputs, so it joins the atomic write of the others.
+    pub fn add(files: &mut AtomicFiles, mesh: &SurfaceMesh, path: &Path) -> Result<(), ConvertError> {
         let tri = TriMesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), triangles: mesh.triangles.clone() };
-        let written = gbsurf_openmesh::write_tri_mesh(&tri, &tmp).map_err(|e| om_error(path, e));
-        let bytes = written.and_then(|()| std::fs::read(&tmp).map_err(|e| om_error(path, e)));
-        let _ = std::fs::remove_file(&tmp);
-        bytes
+        Ok(files.add_by_path(path, |tmp| gbsurf_openmesh::write_tri_mesh(&tri, tmp))?)
     }
 }
 
@@ -382,6 +363,7 @@ mod openmesh_io {
 #[cfg(not(feature = "openmesh"))]
 mod openmesh_io {
     use gbsurf::api::ConvertError;
+    use gbsurf::export::AtomicFiles;
     use gbsurf::tessellate::SurfaceMesh;
     use gbsurf::mesh::PolyMesh;
     use std::path::Path;
@@ -392,18 +374,21 @@ mod openmesh_io {
     pub fn read(path: &Path) -> Result<PolyMesh, ConvertError> {
         Err(ConvertError::Io { path: path.display().to_string(), message: "unreachable: no OpenMesh".into() })
     }
-    pub fn encode(_: &SurfaceMesh, path: &Path) -> Result<Vec<u8>, ConvertError> {
+    pub fn add(_: &mut AtomicFiles, _: &SurfaceMesh, path: &Path) -> Result<(), ConvertError> {
         Err(ConvertError::Io { path: path.display().to_string(), message: "unreachable: no OpenMesh".into() })
     }
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match command().try_get_matches().and_then(|m| Cli::from_arg_matches(&m)) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     let result = match &cli.command {
         Command::Convert(args) => run_convert(args).map_err(|e| e.to_string()),
-        Command::EvalGbp { file, weights } => eval_gbp(file, (*weights).into()),
+        Command::EvalGbp { file, weights } => eval_gbp(file, weights.unwrap_or_default()),
         Command::TessellateGbp { file, output, resolution, weights } => {
-            tessellate_gbp(file, output, *resolution, (*weights).into())
+            tessellate_gbp(file, output, *resolution, weights.unwrap_or_default())
         }
     };
     match result {
@@ -495,29 +480,5 @@ fn tessellate_gbp(
     let patch = load_patch(file)?;
     let mesh =
         tessellate_gb(&patch, resolution, form).map_err(|e| format!("{}: {e}", file.display()))?;
-    write_atomically(output, |w| mesh.write_obj(w))
-}
-
-/// Writes through a temporary file next to `path`, renamed over it only on success.
-fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<std::fs::File>) -> std::io::Result<()>,
-) -> Result<(), String> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| format!("{}: not a file name", path.display()))?
-        .to_string_lossy();
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| -> std::io::Result<()> {
-        let mut w = BufWriter::new(std::fs::File::create(&tmp)?);
-        write(&mut w)?;
-        w.flush()?;
-        w.get_ref().sync_all()?;
-        drop(w);
-        std::fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{}: {e}", path.display())
-    })
+    export::write_atomic(output, |w| mesh.write_obj(w)).map_err(|e| e.to_string())
 }

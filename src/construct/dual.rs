@@ -32,7 +32,8 @@
 
 use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{PatchSource, Surface};
-use super::{ConstructError, ConstructOptions};
+use super::{check_options, ConstructError};
+use crate::options::ConvertOptions;
 use crate::mesh::geometry::newell_normal;
 use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
 use glam::DVec3;
@@ -40,8 +41,8 @@ use rayon::prelude::*;
 
 /// The dual curve network of seed 000 §2.3 (with the open-boundary extension described in the
 /// module doc). Nodes: one per face (index = face index), then one per boundary edge.
-pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<CurveNetwork, ConstructError> {
-    opts.validate()?;
+pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveNetwork, ConstructError> {
+    check_options(opts)?;
     let k = opts.fullness;
     let nf = mesh.n_faces();
     // Face planes, per face in parallel (collected in face order; first degenerate face reported).
@@ -131,7 +132,7 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Curv
 fn vertex_patch(
     mesh: &HalfEdgeMesh,
     v: VertexId,
-    opts: &ConstructOptions,
+    opts: &ConvertOptions,
     centroid: &[DVec3],
     fmid: &dyn Fn(HalfedgeId, FaceId) -> DVec3,
     edge_curve: &[usize],
@@ -217,7 +218,7 @@ fn vertex_patch(
 /// split by [`super::prepare`], then [`dual_network`] and [`assemble`]. Patch p stands for the
 /// vertex `sources[p]` of `mesh` (= p unless vertices were dissolved; those have no patch and a
 /// warning in `warnings`). Errors name elements of `mesh`.
-pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
+pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
     let prep = super::prepare(mesh)?;
     let mut s = dual_network(&prep.mesh, opts).and_then(|net| assemble(&net, opts)).map_err(|e| prep.error(e, true))?;
     for src in &mut s.sources {

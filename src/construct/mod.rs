@@ -20,69 +20,15 @@ pub use prepare::{dissolve_valence2, prepare, Prepared};
 pub use surface::{Patch, PatchSource, SideRef, Surface};
 pub use topology::{build_topology, tiles, topology_network, Tiles};
 
-/// How the twist control points (row 1, columns 1 and 2 of each ribbon) are set (seed 000 §4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum TwistMode {
-    /// First approximation: convex combination of seed 000 eq. 2.11 (dual) or the tile vertex
-    /// (§3.4.1). G1 only where four-sided faces meet four-sided patches; reported, not guaranteed.
-    None,
-    /// Approximating direction blend (eq. 4.16): G1 along every shared side.
-    Approx,
-    /// Interpolating direction blend (eq. 4.24): G1 along every shared side.
-    #[default]
-    Interp,
-}
+use crate::options::ConvertOptions;
 
-impl TwistMode {
-    /// `none`, `approx`, `interp`.
-    pub fn name(self) -> &'static str {
-        match self {
-            TwistMode::None => "none",
-            TwistMode::Approx => "approx",
-            TwistMode::Interp => "interp",
-        }
-    }
-}
+/// The twist construction, defined with the other options in [`crate::options`].
+pub use crate::options::Twist as TwistMode;
 
-/// Parameters of both constructions.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ConstructOptions {
-    /// Fullness κ ∈ [0, 1) of the dual curves: C1 = κ C0 + (1−κ) F (seed 000 eq. 2.2). Default ⅓,
-    /// the value of the seed's figures; it gives uniform curves (linear precision) on regular grids.
-    pub fullness: f64,
-    /// Twist construction.
-    pub twist: TwistMode,
-    /// Factor on the middle constraint D_{0.5} of the direction blends (seed 000 §4.4.5). Default 1.
-    pub mid_scale: f64,
-    /// Project onto best-fit planes (seed 000 §3.3.2): dual – the edge midpoints of each face onto
-    /// the face's plane; topology – the tile vertices onto the tile's plane. Default true.
-    pub best_plane: bool,
-    /// Tile split ratio w > 2: tiles cut at |e|/w from each vertex (seed 000 §3.3.1). Default 3
-    /// (uniform curves on regular grids). Topology-preserving structure only.
-    pub tile_depth: f64,
-}
-
-impl Default for ConstructOptions {
-    fn default() -> Self {
-        Self { fullness: 1.0 / 3.0, twist: TwistMode::Interp, mid_scale: 1.0, best_plane: true, tile_depth: 3.0 }
-    }
-}
-
-impl ConstructOptions {
-    /// Checks the ranges: 0 ≤ κ < 1, w > 2 finite, mid_scale finite.
-    pub fn validate(&self) -> Result<(), ConstructError> {
-        if !(self.fullness >= 0.0 && self.fullness < 1.0) {
-            return Err(ConstructError::InvalidOption(format!("fullness κ = {} not in [0, 1)", self.fullness)));
-        }
-        if !(self.tile_depth > 2.0 && self.tile_depth.is_finite()) {
-            return Err(ConstructError::InvalidOption(format!("tile depth w = {} must be > 2", self.tile_depth)));
-        }
-        if !self.mid_scale.is_finite() {
-            return Err(ConstructError::InvalidOption(format!("mid_scale = {} not finite", self.mid_scale)));
-        }
-        Ok(())
-    }
+/// Checks the options the constructions read (fullness, tile depth, mid-scale and the rest of
+/// [`ConvertOptions::validate`]).
+fn check_options(opts: &ConvertOptions) -> Result<(), ConstructError> {
+    opts.validate().map_err(|e| ConstructError::InvalidOption(e.to_string()))
 }
 
 /// Errors of the construction; each names the offending element.

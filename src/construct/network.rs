@@ -4,7 +4,8 @@
 
 use super::blend::{cross_derivative_coeffs, decompose, BlendKind, DirectionBlend};
 use super::surface::{Patch, PatchSource, SideRef, Surface};
-use super::{ConstructError, ConstructOptions, TwistMode};
+use super::{check_options, ConstructError, TwistMode};
+use crate::options::ConvertOptions;
 use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -74,8 +75,8 @@ fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
 ///   direction blend for both (see [`super::blend`]), with D_{0.5} = `mid_scale` · `mid[c]`;
 /// - on open sides (curve used once): the twist of the adjacent side at that corner when that side
 ///   is shared, otherwise the corner twist, so the corner block stays consistent.
-pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
-    opts.validate()?;
+pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
+    check_options(opts)?;
     let np = net.patches.len();
     // Curve uses and consistency.
     let mut uses: Vec<Vec<Use>> = vec![Vec::new(); net.curves.len()];
@@ -243,7 +244,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConstructOptions) -> Result<Surface, 
 fn shared_twists(
     net: &CurveNetwork,
     rows: &[Vec<[[DVec3; 4]; 2]>],
-    opts: &ConstructOptions,
+    opts: &ConvertOptions,
     kind: BlendKind,
     c: usize,
     a: Use,

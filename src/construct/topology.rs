@@ -44,7 +44,8 @@
 
 use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{PatchSource, Surface};
-use super::{ConstructError, ConstructOptions};
+use super::{check_options, ConstructError};
+use crate::options::ConvertOptions;
 use crate::mesh::geometry::newell_normal;
 use crate::mesh::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId};
 use glam::{DVec2, DVec3};
@@ -83,8 +84,8 @@ fn intersect_in_plane(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3, c: DVec3, n: D
 }
 
 /// Tiles of seed 000 §3.3.1–3.3.2 (see the module doc).
-pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Tiles, ConstructError> {
-    opts.validate()?;
+pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, ConstructError> {
+    check_options(opts)?;
     let w = opts.tile_depth;
     let nh = mesh.n_halfedges();
     let pos = |h: HalfedgeId| (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
@@ -280,7 +281,7 @@ fn tile_edge_mid(mesh: &HalfEdgeMesh, t: &Tiles, h: HalfedgeId) -> DVec3 {
 }
 
 /// The tile curve network of seed 000 §3.3 (nodes = tile centres, index = vertex index).
-pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<CurveNetwork, ConstructError> {
+pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveNetwork, ConstructError> {
     let t = tiles(mesh, opts)?;
     // One curve per edge, built in parallel and collected in edge order.
     let per_edge: Vec<([DVec3; 4], [usize; 2], DVec3)> = (0..mesh.n_edges() as u32)
@@ -332,7 +333,7 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<
 /// patch per face of the split mesh; its source is the input face it came from (a split face
 /// gives several patches; a face that lost a dissolved vertex has one side fewer). Dissolved
 /// vertices are listed in `warnings`. Errors name elements of `mesh`.
-pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConstructOptions) -> Result<Surface, ConstructError> {
+pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
     let prep = super::prepare(mesh)?;
     let mut s =
         topology_network(&prep.mesh, opts).and_then(|net| assemble(&net, opts)).map_err(|e| prep.error(e, false))?;

@@ -3,7 +3,6 @@
 //! validation and file I/O live in submodules.
 
 use glam::DVec3;
-use std::io::Write;
 
 /// A polygon mesh as plain face lists: the exchange type between layers.
 /// Faces are counter-clockwise seen from outside; indices are 0-based into `positions`.
@@ -49,28 +48,6 @@ impl MeshSink for TriMesh {
     }
     fn add_triangle(&mut self, tri: [u32; 3]) {
         self.triangles.push(tri);
-    }
-}
-
-impl TriMesh {
-    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
-    pub fn write_obj<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        for p in &self.positions {
-            writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
-        }
-        for n in &self.normals {
-            writeln!(w, "vn {:.17e} {:.17e} {:.17e}", n.x, n.y, n.z)?;
-        }
-        let with_normals = self.normals.len() == self.positions.len();
-        for t in &self.triangles {
-            let [a, b, c] = t.map(|i| i + 1);
-            if with_normals {
-                writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
-            } else {
-                writeln!(w, "f {a} {b} {c}")?;
-            }
-        }
-        w.flush()
     }
 }
 

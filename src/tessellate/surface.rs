@@ -30,7 +30,6 @@ use crate::gb::{SampleLayout, WeightForm};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::io::Write;
 
 /// The welded triangle mesh of a surface, with per-vertex quality data (docs/math.md#welding).
 /// Plain arrays (one entry per vertex or per triangle), ready for FFI buffers.
@@ -292,42 +291,5 @@ impl SurfaceMesh {
     /// Triangles as a flat index array.
     pub fn triangles_flat(&self) -> Vec<u32> {
         self.triangles.iter().flatten().copied().collect()
-    }
-
-    /// Wavefront OBJ: `v`, `vn`, `f a//a b//b c//c`, 17 significant digits.
-    pub fn write_obj<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        writeln!(w, "# gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len())?;
-        for p in &self.positions {
-            writeln!(w, "v {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)?;
-        }
-        for n in &self.normals {
-            writeln!(w, "vn {:.17e} {:.17e} {:.17e}", n.x, n.y, n.z)?;
-        }
-        for t in &self.triangles {
-            let [a, b, c] = t.map(|i| i + 1);
-            writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
-        }
-        w.flush()
-    }
-
-    /// Binary little-endian PLY through the mesh module's writer: `double x y z`, `float nx ny nz`,
-    /// per-vertex `float` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
-    /// (degrees), triangles as `uchar`-counted `int` lists.
-    pub fn write_ply<W: Write>(&self, w: W) -> std::io::Result<()> {
-        let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
-        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
-        use crate::mesh::io::{write_ply, PlyFormat, VertexScalar};
-        let scalars = [
-            VertexScalar { name: "patch", values: &patch },
-            VertexScalar { name: "mean_curvature", values: &self.mean_curvature },
-            VertexScalar { name: "gaussian_curvature", values: &self.gaussian_curvature },
-            VertexScalar { name: "g1_deviation", values: &self.g1_deviation_deg },
-        ];
-        write_ply(w, &self.positions, Some(&self.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
-    }
-
-    /// Binary STL through the mesh module's writer (facet normals from the triangles).
-    pub fn write_stl<W: Write>(&self, w: W) -> std::io::Result<()> {
-        crate::mesh::io::write_stl_triangles(w, &self.positions, &self.triangles)
     }
 }

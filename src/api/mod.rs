@@ -1,0 +1,217 @@
+//! The pipeline of the main job: polygon control mesh → watertight triangle mesh of a G1
+//! surface of GB patches (or, for comparison, of a subdivision surface), with per-vertex quality
+//! data and a report. The options are defined in [`crate::options`] (re-exported here), the
+//! writers in [`crate::export`].
+//!
+//! Everything here is plain data (vectors of f64/u32, enums without payload in the options) so the
+//! C ABI crate can wrap it one to one.
+//!
+//! ```no_run
+//! use gbsurf::api::{convert_file, ConvertOptions, Method};
+//! let opts = ConvertOptions { method: Method::Topology, resolution: 6, ..Default::default() };
+//! let conv = convert_file("cube.obj", &opts, None).unwrap();
+//! println!("{} vertices, max G1 {}°", conv.mesh.vertex_count(), conv.report.max_g1_deg);
+//! ```
+
+mod subdivision;
+
+pub use crate::options::{ConvertOptions, Method, OptionError, OptionValue, Twist, MAX_LEVELS, MAX_RESOLUTION};
+
+use crate::construct::{ConstructError, Surface};
+use crate::mesh::{HalfEdgeMesh, MeshError, PolyMesh};
+use crate::quality::Report;
+use crate::tessellate::{SurfaceMesh, TessellateError};
+use std::path::Path;
+use subdivision::subdivision_mesh;
+
+/// Why a conversion failed. Every variant names the offending element or option.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    /// An option value out of range (`name` is the command-line name).
+    #[error("invalid --{name} {value}: {reason}")]
+    InvalidOption { name: &'static str, value: String, reason: String },
+    /// The input mesh was rejected (names the vertex/face/edge and source line).
+    #[error("{0}")]
+    Mesh(#[from] MeshError),
+    /// The surface construction failed (names the patch, face, vertex or curve).
+    #[error("construction: {0}")]
+    Construct(crate::construct::ConstructError),
+    /// The subdivision failed (names the face or vertex).
+    #[error("subdivision: {0}")]
+    Subdiv(String),
+    /// The tessellation failed (names the patch).
+    #[error("tessellation: {0}")]
+    Tessellate(TessellateError),
+    /// Reading or writing a file failed.
+    #[error("i/o error on {path}: {message}")]
+    Io { path: String, message: String },
+    /// The progress callback returned false.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<OptionError> for ConvertError {
+    fn from(e: OptionError) -> Self {
+        ConvertError::InvalidOption { name: e.name, value: e.value, reason: e.reason }
+    }
+}
+
+impl From<crate::export::ExportError> for ConvertError {
+    fn from(e: crate::export::ExportError) -> Self {
+        use crate::export::{ExportError, MeshFormat};
+        match e {
+            ExportError::UnknownFormat { path } => ConvertError::InvalidOption {
+                name: "output",
+                value: path.display().to_string(),
+                reason: format!("the output extension must be {}", MeshFormat::EXTENSIONS_TEXT),
+            },
+            ExportError::Io { path, source } => ConvertError::Io { path: path.display().to_string(), message: source.to_string() },
+        }
+    }
+}
+
+impl From<TessellateError> for ConvertError {
+    fn from(e: TessellateError) -> Self {
+        match e {
+            TessellateError::Cancelled => ConvertError::Cancelled,
+            e => ConvertError::Tessellate(e),
+        }
+    }
+}
+
+/// The result of [`convert`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conversion {
+    /// The welded output triangle mesh with per-vertex normals, patch indices, curvatures and G1
+    /// deviation.
+    pub mesh: SurfaceMesh,
+    /// The exact surface (patches, adjacency, curve network); `None` for subdivision methods.
+    pub surface: Option<Surface>,
+    /// The report (see [`crate::quality::Report`]).
+    pub report: Report,
+    /// Human-readable warnings (also in `report.warnings`).
+    pub warnings: Vec<String>,
+}
+
+/// Progress callback: receives the fraction done in [0, 1]; returning false cancels.
+pub type Progress<'a> = Option<&'a mut dyn FnMut(f32) -> bool>;
+
+/// Converts a polygon control mesh into a welded triangle mesh (see the module doc).
+///
+/// Steps: option check, mesh validation (isolated vertices dropped with a warning), then
+/// - dual/topology: construction of the GB surface, tessellation at `resolution` (parallel over
+///   patches), welding, boundary gap and G1 measurement;
+/// - doo-sabin/catmull-clark: `levels` subdivision steps, fan triangulation of every face,
+///   area-weighted normals, discrete curvatures ([`crate::quality::discrete_curvature`]), G1 = 0,
+///   patch index = the input face each output face descends from;
+///
+/// and finally the mesh checks of [`crate::quality::check_mesh`] for the report.
+/// `progress` receives the fraction done; returning false stops with [`ConvertError::Cancelled`].
+pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+    let start = std::time::Instant::now();
+    options.validate()?;
+    let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
+    convert_valid(&he, mesh, options, progress, start)
+}
+
+fn convert_valid(
+    he: &HalfEdgeMesh,
+    mesh: &PolyMesh,
+    options: &ConvertOptions,
+    mut progress: Progress<'_>,
+    start: std::time::Instant,
+) -> Result<Conversion, ConvertError> {
+    let mut warnings: Vec<String> = he.warnings().iter().map(|w| w.to_string()).collect();
+    let mut report = Report {
+        method: options.method.name().to_string(),
+        input_vertices: mesh.positions.len(),
+        input_faces: mesh.faces.len(),
+        ..Default::default()
+    };
+    let mut tick = |f: f32| -> Result<(), ConvertError> {
+        if let Some(cb) = progress.as_mut() {
+            if !cb(f.clamp(0.0, 1.0)) {
+                return Err(ConvertError::Cancelled);
+            }
+        }
+        Ok(())
+    };
+    tick(0.0)?;
+    type Build = fn(&HalfEdgeMesh, &ConvertOptions) -> Result<Surface, ConstructError>;
+    let build: Option<Build> = match options.method {
+        Method::Dual => Some(crate::construct::build_dual),
+        Method::Topology => Some(crate::construct::build_topology),
+        Method::DooSabin | Method::CatmullClark => None,
+    };
+    let (out, surface) = if let Some(build) = build {
+        let surface = build(he, options).map_err(ConvertError::Construct)?;
+        warnings.extend(surface.warnings.iter().cloned());
+        tick(0.2)?;
+        let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
+        let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;
+        for p in &surface.patches {
+            report.count_sides(p.sides());
+        }
+        report.patches = surface.patches.len();
+        report.resolution = options.resolution;
+        report.max_boundary_gap = stats.max_boundary_gap;
+        report.max_g1_deg = stats.max_g1_deg;
+        report.mean_g1_deg = stats.mean_g1_deg;
+        (m, Some(surface))
+    } else {
+        let (m, faces) = subdivision_mesh(&he.to_polymesh(), options)?;
+        for f in &faces {
+            report.count_sides(f.len());
+        }
+        report.patches = faces.len();
+        report.resolution = options.levels as usize;
+        (m, None)
+    };
+    tick(0.95)?;
+    let check = crate::quality::check_mesh(&out.positions, &out.triangles);
+    report.vertices = out.positions.len();
+    report.triangles = out.triangles.len();
+    report.closed = check.is_closed_manifold();
+    report.two_manifold = check.is_two_manifold();
+    report.boundary_edges = check.boundary_edges;
+    report.duplicate_vertices = check.duplicate_vertices;
+    report.zero_area_triangles = check.zero_area_triangles;
+    if !check.is_two_manifold() {
+        warnings.push(format!(
+            "output is not a consistently oriented two-manifold: {} non-manifold edges, {} non-manifold vertices, {} inconsistent edges",
+            check.non_manifold_edges, check.non_manifold_vertices, check.inconsistent_edges
+        ));
+    }
+    report.warnings = warnings.clone();
+    report.seconds = start.elapsed().as_secs_f64();
+    tick(1.0)?;
+    Ok(Conversion { mesh: out, surface, report, warnings })
+}
+
+/// Reads a mesh file (OBJ, OFF, PLY, STL by extension) and validates it; errors name the element
+/// and its source line. Returns the mesh as read (validation happens again in [`convert`], which
+/// then drops isolated vertices with a warning).
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<PolyMesh, ConvertError> {
+    let (mesh, map) = crate::mesh::read_polymesh(path)?;
+    crate::mesh::HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
+    Ok(mesh)
+}
+
+/// [`read_mesh`] then [`convert`].
+/// Errors and warnings name the source line of the element.
+pub fn convert_file(path: impl AsRef<Path>, options: &ConvertOptions, progress: Progress<'_>) -> Result<Conversion, ConvertError> {
+    let start = std::time::Instant::now();
+    options.validate()?;
+    let (mesh, map) = crate::mesh::read_polymesh(path)?;
+    let mut he = crate::mesh::HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
+    he.annotate_warnings(&map);
+    convert_valid(&he, &mesh, options, progress, start)
+}
+
+#[allow(unused)]
+fn _assert_send_sync() {
+    fn f<T: Send + Sync>() {}
+    f::<ConvertOptions>();
+    f::<Conversion>();
+    f::<ConvertError>();
+}

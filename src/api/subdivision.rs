@@ -1,0 +1,51 @@
+//! Face ancestry of the subdivision methods (Doo–Sabin, Catmull–Clark) for the pipeline.
+
+use super::{ConvertError, ConvertOptions, Method};
+use crate::mesh::PolyMesh;
+use crate::tessellate::SurfaceMesh;
+
+/// Subdivision methods: `levels` steps of the scheme, tracking for every face the input face it
+/// descends from (Catmull–Clark: the children of a face are consecutive, one per corner;
+/// Doo–Sabin: every new point belongs to one corner of an old face, and a new face descends from
+/// the face of its first such point — see [`crate::subdiv::doo_sabin`]'s output order). The result
+/// is split into convex pieces ([`crate::mesh::geometry::convexify`]) and fan-triangulated.
+/// Normals: area-weighted; curvatures: [`crate::quality::discrete_curvature`]; G1 deviation 0;
+/// patch index (per vertex: the smallest over its triangles) = input face.
+pub(super) fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Result<(SurfaceMesh, Vec<Vec<u32>>), ConvertError> {
+    use crate::subdiv::{subdivide, Subdivided, SubdivisionScheme};
+    let scheme = match options.method {
+        Method::CatmullClark => SubdivisionScheme::CatmullClark,
+        Method::DooSabin => SubdivisionScheme::DooSabin,
+        m @ (Method::Dual | Method::Topology) => {
+            return Err(ConvertError::Subdiv(format!("{m} is not a subdivision method")));
+        }
+    };
+    let Subdivided { mesh: current, face_ancestor: ancestor } =
+        subdivide(mesh, scheme, options.levels).map_err(|e| ConvertError::Subdiv(e.to_string()))?;
+    let (convex, piece_face) = crate::mesh::geometry::convexify(&current);
+    let nv = current.positions.len();
+    let mut out = SurfaceMesh { positions: current.positions.clone(), ..Default::default() };
+    out.patch = vec![u32::MAX; nv];
+    for (k, f) in convex.faces.iter().enumerate() {
+        let anc = piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0);
+        for i in 1..f.len().saturating_sub(1) {
+            out.triangles.push([f[0], f[i], f[i + 1]]);
+            out.triangle_patch.push(anc);
+        }
+        for &v in f {
+            let slot = &mut out.patch[v as usize];
+            *slot = (*slot).min(anc);
+        }
+    }
+    for p in &mut out.patch {
+        if *p == u32::MAX {
+            *p = 0;
+        }
+    }
+    out.normals = crate::quality::vertex_normals(&out.positions, &out.triangles);
+    let (h, k) = crate::quality::discrete_curvature(&out.positions, &out.triangles, &out.normals);
+    out.mean_curvature = h;
+    out.gaussian_curvature = k;
+    out.g1_deviation_deg = vec![0.0; nv];
+    Ok((out, current.faces))
+}

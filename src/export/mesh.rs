@@ -1,0 +1,129 @@
+//! The mesh writers of [`PolyMesh`], [`TriMesh`] and [`SurfaceMesh`], and the by-extension
+//! dispatch ([`WriteMesh`], [`encode_mesh`]).
+
+use super::ply::{write_ply, PlyFormat, VertexScalar};
+use super::{obj, stl, write_atomic, ExportError, MeshFormat};
+use crate::mesh::{PolyMesh, TriMesh};
+use crate::tessellate::SurfaceMesh;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// A mesh that can be written in every [`MeshFormat`].
+pub trait WriteMesh {
+    /// Writes the mesh in `format`.
+    fn write_format(&self, format: MeshFormat, w: &mut dyn Write) -> io::Result<()>;
+}
+
+impl WriteMesh for PolyMesh {
+    fn write_format(&self, format: MeshFormat, w: &mut dyn Write) -> io::Result<()> {
+        match format {
+            MeshFormat::Obj => self.write_obj(w),
+            MeshFormat::Ply => self.write_ply(w, PlyFormat::BinaryLittleEndian, &[]),
+            MeshFormat::Stl => self.write_stl(w),
+        }
+    }
+}
+
+impl WriteMesh for TriMesh {
+    fn write_format(&self, format: MeshFormat, w: &mut dyn Write) -> io::Result<()> {
+        match format {
+            MeshFormat::Obj => self.write_obj(w),
+            MeshFormat::Ply => self.write_ply(w, PlyFormat::BinaryLittleEndian, &[]),
+            MeshFormat::Stl => self.write_stl(w),
+        }
+    }
+}
+
+impl WriteMesh for SurfaceMesh {
+    fn write_format(&self, format: MeshFormat, w: &mut dyn Write) -> io::Result<()> {
+        match format {
+            MeshFormat::Obj => self.write_obj(w),
+            MeshFormat::Ply => self.write_ply(w),
+            MeshFormat::Stl => self.write_stl(w),
+        }
+    }
+}
+
+/// `mesh` in the format named by the extension of `path` ([`MeshFormat::of`]), in memory.
+pub fn encode_mesh(mesh: &impl WriteMesh, path: &Path) -> Result<Vec<u8>, ExportError> {
+    let format = MeshFormat::of(path)?;
+    let mut buf = Vec::new();
+    mesh.write_format(format, &mut buf).map_err(|e| ExportError::io(path, e))?;
+    Ok(buf)
+}
+
+/// `mesh` written atomically to `path` in the format named by its extension.
+pub(super) fn write_mesh_file(mesh: &impl WriteMesh, path: &Path) -> Result<(), ExportError> {
+    let format = MeshFormat::of(path)?;
+    write_atomic(path, |w| mesh.write_format(format, w))
+}
+
+impl PolyMesh {
+    /// Writes Wavefront OBJ (`v` with 17 significant digits, `f` with 1-based polygon loops).
+    pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
+        obj::write_polygons(w, &self.positions, &self.faces)
+    }
+    /// Writes PLY with polygon faces and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.faces.iter().map(Vec::as_slice).collect();
+        write_ply(w, &self.positions, None, &faces, scalars, format)
+    }
+    /// Writes binary STL; faces are first split into convex pieces
+    /// ([`crate::mesh::geometry::convexify`]) and then fan-triangulated, so concave faces come
+    /// out right.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        let (convex, _) = crate::mesh::geometry::convexify(self);
+        let mut tris = Vec::new();
+        for f in &convex.faces {
+            for k in 1..f.len().saturating_sub(1) {
+                tris.push([f[0], f[k], f[k + 1]]);
+            }
+        }
+        stl::write_stl_triangles(w, &self.positions, &tris)
+    }
+}
+
+impl TriMesh {
+    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
+    pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
+        obj::write_triangles(w, None, &self.positions, &self.normals, &self.triangles)
+    }
+    /// Writes PLY with per-vertex normals (when present) and optional per-vertex scalars.
+    pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        write_ply(w, &self.positions, Some(&self.normals), &faces, scalars, format)
+    }
+    /// Writes binary STL.
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        stl::write_stl_triangles(w, &self.positions, &self.triangles)
+    }
+}
+
+impl SurfaceMesh {
+    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, 17 significant
+    /// digits.
+    pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
+        let comment = format!("gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len());
+        obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.triangles)
+    }
+
+    /// Binary little-endian PLY: `double x y z`, `float nx ny nz`, per-vertex `float` scalars
+    /// `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation` (degrees), triangles as
+    /// `uchar`-counted `int` lists.
+    pub fn write_ply<W: Write>(&self, w: W) -> io::Result<()> {
+        let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
+        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
+        let scalars = [
+            VertexScalar { name: "patch", values: &patch },
+            VertexScalar { name: "mean_curvature", values: &self.mean_curvature },
+            VertexScalar { name: "gaussian_curvature", values: &self.gaussian_curvature },
+            VertexScalar { name: "g1_deviation", values: &self.g1_deviation_deg },
+        ];
+        write_ply(w, &self.positions, Some(&self.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
+    }
+
+    /// Binary STL (facet normals from the triangles).
+    pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
+        stl::write_stl_triangles(w, &self.positions, &self.triangles)
+    }
+}

@@ -1,0 +1,274 @@
+//! The options of a conversion: [`ConvertOptions`] with its enums [`Method`], [`Twist`] and
+//! [`WeightForm`]. This is their one definition: the construction reads them directly, the
+//! command line derives its flags from them (names from [`OptionValue::ALL`], parsing with the
+//! `FromStr` impls here, defaults from [`ConvertOptions::default`]) and the C ABI fills its struct
+//! from [`ConvertOptions::default`].
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use crate::gb::WeightForm;
+
+/// How the control mesh becomes a surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Dual structure: one GB patch per mesh vertex (seed 000 §2).
+    #[default]
+    Dual,
+    /// Topology-preserving structure: one ribbon-only patch per mesh face (seed 000 §3).
+    Topology,
+    /// Doo–Sabin subdivision, for comparison (seed 000 §6.4).
+    DooSabin,
+    /// Catmull–Clark subdivision, for comparison (seed 000 §6.4).
+    CatmullClark,
+}
+
+impl Method {
+    /// The command-line / report name: `dual`, `topology`, `doo-sabin`, `catmull-clark`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Dual => "dual",
+            Method::Topology => "topology",
+            Method::DooSabin => "doo-sabin",
+            Method::CatmullClark => "catmull-clark",
+        }
+    }
+    /// True for the GB-patch methods (dual, topology).
+    pub fn is_patch_method(self) -> bool {
+        matches!(self, Method::Dual | Method::Topology)
+    }
+}
+
+/// How the twist control points (row 1, columns 1 and 2 of each ribbon) are set (seed 000 §4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Twist {
+    /// First approximation: convex combination of seed 000 eq. 2.11 (dual) or the tile vertex
+    /// (§3.4.1). G1 only where four-sided faces meet four-sided patches; reported, not guaranteed.
+    None,
+    /// Approximating direction blend (eq. 4.16): G1 along every shared side.
+    Approx,
+    /// Interpolating direction blend (eq. 4.24): G1 along every shared side.
+    #[default]
+    Interp,
+}
+
+impl Twist {
+    /// `none`, `approx`, `interp`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Twist::None => "none",
+            Twist::Approx => "approx",
+            Twist::Interp => "interp",
+        }
+    }
+}
+
+/// An option enum: every value and its command-line name.
+pub trait OptionValue: Copy + PartialEq + FromStr<Err = OptionError> + 'static {
+    /// The option's name (`method`, `twist`, `weights`), for messages.
+    const OPTION: &'static str;
+    /// Every value, in the order the C ABI numbers them.
+    const ALL: &'static [Self];
+    /// The command-line name of the value.
+    fn name(self) -> &'static str;
+}
+
+impl OptionValue for Method {
+    const OPTION: &'static str = "method";
+    const ALL: &'static [Self] = &[Method::Dual, Method::Topology, Method::DooSabin, Method::CatmullClark];
+    fn name(self) -> &'static str {
+        Method::name(self)
+    }
+}
+
+impl OptionValue for Twist {
+    const OPTION: &'static str = "twist";
+    const ALL: &'static [Self] = &[Twist::None, Twist::Approx, Twist::Interp];
+    fn name(self) -> &'static str {
+        Twist::name(self)
+    }
+}
+
+impl OptionValue for WeightForm {
+    const OPTION: &'static str = "weights";
+    const ALL: &'static [Self] = &[WeightForm::Squared, WeightForm::Linear];
+    fn name(self) -> &'static str {
+        match self {
+            WeightForm::Squared => "squared",
+            WeightForm::Linear => "linear",
+        }
+    }
+}
+
+/// The value of `T` named `s`; the error lists the names.
+fn parse_value<T: OptionValue>(s: &str) -> Result<T, OptionError> {
+    T::ALL.iter().copied().find(|v| v.name() == s).ok_or_else(|| {
+        let names: Vec<&str> = T::ALL.iter().map(|v| v.name()).collect();
+        let list = match names.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+            _ => names.join(""),
+        };
+        OptionError::new(T::OPTION, s, format!("expected {list}"))
+    })
+}
+
+impl FromStr for Method {
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_value(s)
+    }
+}
+
+impl FromStr for Twist {
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_value(s)
+    }
+}
+
+impl FromStr for WeightForm {
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_value(s)
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl fmt::Display for Twist {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl fmt::Display for WeightForm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(OptionValue::name(*self))
+    }
+}
+
+pub use crate::limits::{MAX_LEVELS, MAX_RESOLUTION};
+
+/// An option value out of range or unknown; `name` is the command-line name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("invalid --{name} {value}: {reason}")]
+pub struct OptionError {
+    /// The command-line name of the option (`resolution`, `tile-depth`, …).
+    pub name: &'static str,
+    /// The rejected value as text.
+    pub value: String,
+    /// What the value must be.
+    pub reason: String,
+}
+
+impl OptionError {
+    /// The error for option `name` with `value`.
+    pub fn new(name: &'static str, value: impl ToString, reason: impl Into<String>) -> Self {
+        OptionError { name, value: value.to_string(), reason: reason.into() }
+    }
+}
+
+/// Options of a conversion ([`crate::api::convert`]) and of the constructions
+/// ([`crate::construct::build_dual`], [`crate::construct::build_topology`]). Every field has a
+/// default ([`ConvertOptions::default`]); values are checked by [`ConvertOptions::validate`].
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ConvertOptions {
+    /// Construction method. Default: dual.
+    pub method: Method,
+    /// Samples per patch side (an n-sided patch gets n·r² triangles). 1..=1024, default 8.
+    pub resolution: usize,
+    /// Fullness κ ∈ [0, 1) of the dual curves: C1 = κ C0 + (1−κ) F (seed 000 eq. 2.2). Default ⅓,
+    /// the value of the seed's figures; it gives uniform curves (linear precision) on regular grids.
+    pub fullness: f64,
+    /// Tile split ratio w > 2 of the topology-preserving structure: tiles cut at |e|/w from each
+    /// vertex (seed 000 §3.3.1). Default 3 (uniform curves on regular grids).
+    pub tile_depth: f64,
+    /// Twist construction. Default: interp.
+    pub twist: Twist,
+    /// Factor on the middle constraint D_{0.5} of the direction blends (seed 000 §4.4.5), finite.
+    /// Default 1.
+    pub mid_scale: f64,
+    /// Project onto best-fit planes (seed 000 §3.3.2): dual – the edge midpoints of each face onto
+    /// the face's plane; topology – the tile vertices onto the tile's plane. Default on.
+    pub best_plane: bool,
+    /// Correction weights of the GB patches. Default squared.
+    pub weights: WeightForm,
+    /// Subdivision levels of the comparison methods, 0..=8. Default 3.
+    pub levels: u32,
+}
+
+impl Default for ConvertOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::Dual,
+            resolution: 8,
+            fullness: 1.0 / 3.0,
+            tile_depth: 3.0,
+            twist: Twist::Interp,
+            mid_scale: 1.0,
+            best_plane: true,
+            weights: WeightForm::Squared,
+            levels: 3,
+        }
+    }
+}
+
+impl ConvertOptions {
+    /// Checks every value; the error names the option.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        if self.resolution == 0 || self.resolution > MAX_RESOLUTION {
+            return Err(OptionError::new("resolution", self.resolution, format!("must be in 1..={MAX_RESOLUTION}")));
+        }
+        if !(self.fullness >= 0.0 && self.fullness < 1.0) {
+            return Err(OptionError::new("fullness", self.fullness, "must be in [0, 1)"));
+        }
+        if !(self.tile_depth > 2.0 && self.tile_depth.is_finite()) {
+            return Err(OptionError::new("tile-depth", self.tile_depth, "must be finite and > 2"));
+        }
+        if !self.mid_scale.is_finite() {
+            return Err(OptionError::new("mid-scale", self.mid_scale, "must be finite"));
+        }
+        if self.levels > MAX_LEVELS {
+            return Err(OptionError::new("levels", self.levels, format!("must be in 0..={MAX_LEVELS}")));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn round_trip<T: OptionValue + fmt::Debug>() {
+        for &v in T::ALL {
+            assert_eq!(v.name().parse::<T>(), Ok(v));
+        }
+        let e = "nonsense".parse::<T>().unwrap_err();
+        assert_eq!(e.name, T::OPTION);
+        assert!(T::ALL.iter().all(|v| e.reason.contains(v.name())), "{e}");
+    }
+
+    #[test]
+    fn names_parse_back() {
+        round_trip::<Method>();
+        round_trip::<Twist>();
+        round_trip::<WeightForm>();
+        assert_eq!(
+            "x".parse::<Method>().unwrap_err().to_string(),
+            "invalid --method x: expected dual, topology, doo-sabin or catmull-clark"
+        );
+    }
+
+    #[test]
+    fn defaults_are_valid_and_the_enums_defaults() {
+        let d = ConvertOptions::default();
+        assert_eq!(d.validate(), Ok(()));
+        assert_eq!((d.method, d.twist, d.weights), Default::default());
+    }
+}
