@@ -525,3 +525,21 @@ fn constructed_surface_with_mixed_degrees_keeps_its_joins() {
         );
     }
 }
+
+/// `Surface::with_common_degree` on a whole dual surface: every patch at the target degree, the
+/// curve network elevated with it, and the ribbons still meet with the same gap and G1 angle.
+#[test]
+fn surface_common_degree_keeps_the_joins() {
+    use gbsurf::construct::check::{ribbon_g1_angle, ribbon_gap};
+    let mesh = gbsurf::mesh::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube_corner_pulled.obj")).unwrap();
+    let surface = gbsurf::construct::build_dual(&mesh, &gbsurf::ConvertOptions::default()).unwrap();
+    let elevated = surface.with_common_degree(6).unwrap();
+    assert!(elevated.patches.iter().all(|p| p.ribbons().iter().all(|r| r.degree == 6)));
+    assert!(elevated.curves.iter().all(|c| c.len() == 7));
+    let (g0, a0) = (ribbon_gap(&surface, 17).value, ribbon_g1_angle(&surface, 17).value);
+    let (g1, a1) = (ribbon_gap(&elevated, 17).value, ribbon_g1_angle(&elevated, 17).value);
+    assert!(g1 <= g0 + 1e-12 && a1 <= a0 + 1e-9, "gap {g0:e} -> {g1:e}, angle {a0:e}° -> {a1:e}°");
+    let topo = gbsurf::construct::build_topology(&mesh, &gbsurf::ConvertOptions::default()).unwrap();
+    assert_eq!(topo.with_common_degree(6).unwrap_err(), gbsurf::gb::decompose::CommonDegreeError::NotGb { patch: 0 });
+    assert!(matches!(surface.with_common_degree(2), Err(gbsurf::gb::decompose::CommonDegreeError::AboveTarget { patch: 0, .. })));
+}

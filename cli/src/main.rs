@@ -72,6 +72,17 @@ enum Command {
         #[arg(long, value_parser = choice::<WeightForm>())]
         weights: Option<WeightForm>,
     },
+    /// Elevate a .gbp patch to degree D (boundary curves and cross-derivatives kept exactly).
+    GbpElevate {
+        /// The patch (.gbp).
+        file: PathBuf,
+        /// The target degree D (at least the patch's degree).
+        #[arg(long)]
+        to: usize,
+        /// Output .gbp file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
 }
 
 /// The values of an option enum of the core as possible values, parsed by its `FromStr`.
@@ -206,6 +217,10 @@ struct ConvertArgs {
     /// Write the exact surface as JSON, with .gbp files beside it for GB patches.
     #[arg(long)]
     patches: Option<PathBuf>,
+    /// Elevate every patch of the exact description (--patches) to this common degree: boundaries
+    /// and cross-derivatives stay exact, so G1 is kept (GB patches only, i.e. the dual method).
+    #[arg(long, requires = "patches")]
+    degree: Option<usize>,
     /// Write the report (JSON).
     #[arg(long)]
     report: Option<PathBuf>,
@@ -283,7 +298,16 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
         files.add(path, export::nets_obj(need_surface("nets")?).as_bytes())?;
     }
     if let Some(path) = &args.patches {
-        for (file, bytes) in export::patch_files(need_surface("patches")?, path) {
+        let surface = need_surface("patches")?;
+        let elevated = match args.degree {
+            Some(degree) => Some(surface.with_common_degree(degree).map_err(|e| ConvertError::InvalidOption {
+                name: "degree",
+                value: degree.to_string(),
+                reason: e.to_string(),
+            })?),
+            None => None,
+        };
+        for (file, bytes) in export::patch_files(elevated.as_ref().unwrap_or(surface), path) {
             files.add(file, &bytes)?;
         }
     }
@@ -390,6 +414,7 @@ fn main() -> ExitCode {
         Command::TessellateGbp { file, output, resolution, weights } => {
             tessellate_gbp(file, output, *resolution, weights.unwrap_or_default())
         }
+        Command::GbpElevate { file, to, output } => gbp_elevate(file, *to, output),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -481,4 +506,15 @@ fn tessellate_gbp(
     let mesh =
         tessellate_gb(&patch, resolution, form).map_err(|e| format!("{}: {e}", file.display()))?;
     export::write_atomic(output, |w| mesh.write_obj(w)).map_err(|e| e.to_string())
+}
+
+/// `gbp-elevate`: the patch elevated to degree `to` (docs/math/editing.md, "common degree"),
+/// written as `.gbp` (atomically: nothing is written on failure).
+fn gbp_elevate(file: &Path, to: usize, output: &Path) -> Result<(), String> {
+    let patch = load_patch(file)?;
+    let elevated = gbsurf::gb::decompose::common_degree(std::slice::from_ref(&patch), to)
+        .map_err(|e| format!("{}: --to {to}: {e}", file.display()))?
+        .remove(0);
+    let text = gbsurf::gb::gbp::to_gbp_string(&elevated).map_err(|e| format!("{}: {e}", output.display()))?;
+    export::write_atomic(output, |w| w.write_all(text.as_bytes())).map_err(|e| e.to_string())
 }

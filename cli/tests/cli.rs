@@ -220,3 +220,83 @@ fn tessellate_gbp_failure_writes_nothing() {
     let out = run(&["tessellate-gbp", CUBIC5], "");
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// Points on every side of the n-sided domain (corners excluded).
+fn boundary_uvs(n: usize) -> Vec<DVec2> {
+    let domain = gbsurf::gb::Domain::regular(n).unwrap();
+    let mut uvs = Vec::new();
+    for i in 0..n {
+        let (a, b) = (domain.vertex((i + n - 1) % n), domain.vertex(i));
+        for k in 1..8 {
+            uvs.push(a.lerp(b, k as f64 / 8.0));
+        }
+    }
+    uvs
+}
+
+#[test]
+fn gbp_elevate_keeps_boundary_and_tangent_planes() {
+    let dir = scratch("elevate");
+    for (input, to) in [(CUBIC5, 4), (CUBIC5, 6), (QUINTIC3, 5), (QUINTIC3, 8)] {
+        let out = dir.join(format!("e{to}.gbp"));
+        let o = run(&["gbp-elevate", input, "--to", &to.to_string(), "-o", out.to_str().unwrap()], "");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (a, b) = (load_gbp(input).unwrap(), load_gbp(&out).unwrap());
+        assert_eq!(b.degree(), to);
+        assert_eq!(b.n(), a.n());
+        for uv in boundary_uvs(a.n()) {
+            assert_near!(a.eval(uv, WeightForm::Squared), b.eval(uv, WeightForm::Squared), 1e-12);
+            let (na, nb) = (a.normal(uv, WeightForm::Squared).unwrap(), b.normal(uv, WeightForm::Squared).unwrap());
+            // |na − nb|, not angle_between: acos cannot resolve angles below ~1.5e-8 rad.
+            assert!((na - nb).length() < 1e-12, "{input} -> {to} at {uv}: normals differ by {}", (na - nb).length());
+        }
+    }
+}
+
+#[test]
+fn gbp_elevate_refuses_a_lower_degree_and_writes_nothing() {
+    let dir = scratch("elevate-bad");
+    let out = dir.join("low.gbp");
+    let o = run(&["gbp-elevate", QUINTIC3, "--to", "4", "-o", out.to_str().unwrap()], "");
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("patch 0 has degree 5, above the common degree 4"), "{err}");
+    assert!(!out.exists());
+    let o = run(&["gbp-elevate", CUBIC5, "--to", "1000", "-o", out.to_str().unwrap()], "");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("above the supported maximum"), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!out.exists());
+}
+
+const CUBE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models/cube_corner_pulled.obj");
+
+#[test]
+fn convert_degree_elevates_the_exact_description() {
+    let dir = scratch("degree");
+    let (json, mesh) = (dir.join("p.json"), dir.join("s.ply"));
+    let args = ["convert", CUBE, "--quiet", "-o", mesh.to_str().unwrap(), "--patches", json.to_str().unwrap()];
+    let o = run(&[&args[..], &["--degree", "6"]].concat(), "");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let patches = doc["patches"].as_array().unwrap();
+    assert!(!patches.is_empty());
+    for p in patches {
+        assert!(p["degree"].as_array().unwrap().iter().all(|d| d == 6), "{}", p["degree"]);
+        // Patches that are connected nets keep a .gbp file, now of degree 6.
+        if let Some(name) = p["gbp"].as_str() {
+            assert_eq!(load_gbp(dir.join(name)).unwrap().degree(), 6);
+        }
+    }
+    assert!(doc["curves"].as_array().unwrap().iter().all(|c| c.as_array().unwrap().len() == 7));
+    // Ribbon-only patches (topology structure) have no common degree: a named error, no output.
+    let (json2, mesh2) = (dir.join("t.json"), dir.join("t.ply"));
+    let o = run(
+        &["convert", CUBE, "--quiet", "--method", "topology", "--degree", "6", "-o", mesh2.to_str().unwrap(), "--patches", json2.to_str().unwrap()],
+        "",
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("patch 0 is a ribbon-only (CGB) patch"), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!json2.exists() && !mesh2.exists());
+    // --degree only applies to the exact description.
+    let o = run(&["convert", CUBE, "--quiet", "--degree", "6", "-o", mesh2.to_str().unwrap()], "");
+    assert_eq!(o.status.code(), Some(2));
+}

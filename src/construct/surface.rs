@@ -1,6 +1,8 @@
 //! The result of surface construction: patches plus how their sides meet. This is the contract
 //! between construction (networks, ribbons, twists) and tessellation/quality.
 
+use crate::bezier::BezierCurve;
+use crate::gb::decompose::{common_degree, CommonDegreeError};
 use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
 
@@ -77,6 +79,33 @@ impl Surface {
                 _ => None,
             })
         })
+    }
+
+    /// The surface with every patch elevated to the common degree `degree` (docs/math/editing.md,
+    /// "common degree"; seed 002): boundary curves and cross-derivatives are kept exactly, so every
+    /// G1 join stays G1; the curve network is elevated with them. Only GB patches can be elevated
+    /// ([`CommonDegreeError::NotGb`] names the first ribbon-only patch); a patch above `degree`
+    /// is an error too (reduction is not exact).
+    pub fn with_common_degree(&self, degree: usize) -> Result<Surface, CommonDegreeError> {
+        let gb: Vec<GbPatch> = self
+            .patches
+            .iter()
+            .enumerate()
+            .map(|(patch, p)| match p {
+                Patch::Gb(g) => Ok(g.clone()),
+                Patch::Cgb(_) => Err(CommonDegreeError::NotGb { patch }),
+            })
+            .collect::<Result<_, _>>()?;
+        let patches = common_degree(&gb, degree)?.into_iter().map(Patch::Gb).collect();
+        let curves = self
+            .curves
+            .iter()
+            .map(|c| match BezierCurve::new(c.clone()) {
+                Ok(curve) if curve.degree() < degree => curve.elevate_by(degree - curve.degree()).into_points(),
+                _ => c.clone(),
+            })
+            .collect();
+        Ok(Surface { patches, curves, ..self.clone() })
     }
 
     /// The shared sides across from patch `p`: `(side, neighbour)` for every side of `p` that has

@@ -62,6 +62,10 @@ pub enum CommonDegreeError {
         degree: usize,
         target: usize,
     },
+    /// Patch `patch` is a ribbon-only (CGB) patch: its ribbons are normalised by the sum of their
+    /// weights, so elevating them does not reproduce the patch; only GB patches have a common degree.
+    #[error("patch {patch} is a ribbon-only (CGB) patch; a common degree exists only for GB patches (the dual structure)")]
+    NotGb { patch: usize },
     /// The requested common degree exceeds [`MAX_DEGREE`].
     #[error("common degree {target} is above the supported maximum {max}")]
     TargetTooHigh { target: usize, max: usize },
