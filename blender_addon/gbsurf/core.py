@@ -8,13 +8,8 @@ import bpy
 import numpy as np
 
 from . import mesh_io, native
-from .props import DISPLAY_ATTRIBUTE, OPTION_NAMES, OUTPUT_NAMES
+from .props import DISPLAY_ATTRIBUTE, OPTION_NAMES, OUTPUT_DEFAULTS
 
-DEFAULTS = {
-    "method": 'DUAL', "resolution": 8, "fullness": 1.0 / 3.0, "tile_depth": 3.0,
-    "twist": 'INTERP', "mid_scale": 1.0, "best_plane": True, "weights": 'SQUARED', "levels": 3,
-    "want_curves": False, "want_control_net": False,
-}
 MATERIAL_NAME = "GB Surface Color"
 
 
@@ -23,12 +18,18 @@ class ConvertError(Exception):
 
 
 def split_options(options):
-    """(library options, output flags) from keyword options; unknown names raise."""
-    unknown = set(options) - set(DEFAULTS)
+    """(library options, output flags) from keyword options, the missing ones at their defaults
+    (the library's, from `gbsurf_options_init`, and `OUTPUT_DEFAULTS`); unknown names raise."""
+    unknown = set(options) - set(OPTION_NAMES) - set(OUTPUT_DEFAULTS)
     if unknown:
         raise ConvertError(f"unknown option(s): {', '.join(sorted(unknown))}")
-    merged = {**DEFAULTS, **options}
-    return ({k: merged[k] for k in OPTION_NAMES}, {k: merged[k] for k in OUTPUT_NAMES})
+    try:
+        lib_options = native.library_defaults()
+    except native.GbsurfError as e:
+        raise ConvertError(str(e)) from None
+    lib_options.update((k, v) for k, v in options.items() if k in OPTION_NAMES)
+    outputs = {k: options.get(k, v) for k, v in OUTPUT_DEFAULTS.items()}
+    return lib_options, outputs
 
 
 def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None):
@@ -47,8 +48,8 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
         patch_method = lib_options["method"] in {'DUAL', 'TOPOLOGY'}
         return native.convert(
             positions, sizes, indices, opts, progress,
-            want_patches=patch_method and outputs.get("want_control_net", False),
             want_curves=patch_method and outputs.get("want_curves", False),
+            want_control_net=patch_method and outputs.get("want_control_net", False),
         )
     except native.Cancelled:
         raise ConvertError(f"{name}: cancelled") from None
@@ -116,83 +117,36 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     return mesh
 
 
-def _elevate_to_cubic(p):
-    """Cubic Bezier control points of a Bezier curve of degree 1 or 2 (exact)."""
-    if len(p) == 2:
-        return np.array([p[0], (2 * p[0] + p[1]) / 3, (p[0] + 2 * p[1]) / 3, p[1]])
-    if len(p) == 3:
-        return np.array([p[0], (p[0] + 2 * p[1]) / 3, (2 * p[1] + p[2]) / 3, p[2]])
-    return p
-
-
 def fill_curves(curve, curves):
-    """Bezier splines for the curve network: degree <= 3 exactly as cubic Bezier splines, degree
-    4-5 as single-span NURBS with endpoint knots (the same Bezier curve), higher as polylines."""
+    """One Bezier spline per curve of the network from its cubic chain (3k + 1 control points
+    from the library: segment i is points 3i..3i+3), handles free; the outer handles of the
+    first and last point mirror their inner ones."""
     curve.dimensions = '3D'
-    for pts in curves:
-        pts = np.asarray(pts, dtype=np.float64)
-        deg = len(pts) - 1
-        if deg < 1:
+    for chain in curves:
+        c = np.asarray(chain, dtype=np.float64).reshape(-1, 3)
+        k = (len(c) - 1) // 3
+        if k < 1:
             continue
-        if deg <= 3:
-            c = _elevate_to_cubic(pts)
-            sp = curve.splines.new('BEZIER')
-            sp.bezier_points.add(1)
-            bp = sp.bezier_points
-            bp.foreach_set("co", c[[0, 3]].astype(np.float32).reshape(-1))
-            bp.foreach_set("handle_left", np.array([2 * c[0] - c[1], c[2]], np.float32).reshape(-1))
-            bp.foreach_set("handle_right", np.array([c[1], 2 * c[3] - c[2]], np.float32).reshape(-1))
-            for p in bp:
-                p.handle_left_type = p.handle_right_type = 'FREE'
-        elif deg <= 5:
-            sp = curve.splines.new('NURBS')
-            sp.points.add(deg)
-            w = np.ones((len(pts), 1))
-            sp.points.foreach_set("co", np.hstack([pts, w]).astype(np.float32).reshape(-1))
-            sp.order_u = deg + 1
-            sp.use_endpoint_u = True
-        else:
-            t = np.linspace(0.0, 1.0, 32)[:, None]
-            samples = _de_casteljau(pts, t)
-            sp = curve.splines.new('POLY')
-            sp.points.add(len(samples) - 1)
-            w = np.ones((len(samples), 1))
-            sp.points.foreach_set("co", np.hstack([samples, w]).astype(np.float32).reshape(-1))
+        co = c[0::3]
+        left = np.vstack([2 * c[:1] - c[1:2], c[2:-1:3]])
+        right = np.vstack([c[1::3], 2 * c[-1:] - c[-2:-1]])
+        sp = curve.splines.new('BEZIER')
+        sp.bezier_points.add(k)
+        bp = sp.bezier_points
+        bp.foreach_set("co", co.astype(np.float32).reshape(-1))
+        bp.foreach_set("handle_left", left.astype(np.float32).reshape(-1))
+        bp.foreach_set("handle_right", right.astype(np.float32).reshape(-1))
+        for p in bp:
+            p.handle_left_type = p.handle_right_type = 'FREE'
     return curve
 
 
-def _de_casteljau(pts, t):
-    p = np.repeat(pts[None, :, :], len(t), axis=0)
-    tt = t[:, :, None]
-    while p.shape[1] > 1:
-        p = (1 - tt) * p[:, :-1] + tt * p[:, 1:]
-    return p[:, 0]
-
-
-def fill_control_net(mesh, patches):
-    """The ribbons' control nets (quads between rows, edges for single rows) and the centres."""
-    positions, sizes, faces, edges = [], [], [], []
-    base = 0
-    for patch in patches:
-        for rb in patch["ribbons"]:
-            layers, cols = rb.shape[0], rb.shape[1]
-            positions.append(rb.reshape(-1, 3))
-            grid = base + np.arange(layers * cols).reshape(layers, cols)
-            if layers >= 2:
-                q = np.stack([grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]], axis=-1)
-                faces.append(q.reshape(-1))
-                sizes.append(np.full(q.shape[0] * q.shape[1], 4))
-            else:
-                edges.append(np.stack([grid[0, :-1], grid[0, 1:]], axis=-1))
-            base += layers * cols
-        if patch["center"] is not None:
-            positions.append(patch["center"].reshape(1, 3))
-            base += 1
-    pos = np.concatenate(positions) if positions else np.zeros((0, 3))
-    sz = np.concatenate(sizes) if sizes else np.zeros(0)
-    fi = np.concatenate(faces) if faces else np.zeros(0)
-    ed = np.concatenate(edges) if edges else None
-    mesh_io.write_polygons(mesh, pos, sz, fi, ed)
+def fill_control_net(mesh, net):
+    """The library's control net (`native.Conversion.control_net`): quads between ribbon rows,
+    edges for one-row ribbons and the GB centre spokes, the patch per vertex as `gb_patch`."""
+    edges = net["edges"] if len(net["edges"]) else None
+    mesh_io.write_polygons(mesh, net["positions"], net["face_sizes"], net["face_indices"], edges)
+    mesh_io.set_point_attribute(mesh, "gb_patch", 'INT', net["patch"].astype(np.int32))
     return mesh
 
 
@@ -285,7 +239,7 @@ def _make_extras(result, conv, outputs, created):
             setattr(s, attr, None)
             old = None
         data = None
-        if outputs.get(flag) and (conv.curves if kind == 'CURVE' else conv.patches):
+        if outputs.get(flag) and (conv.curves if kind == 'CURVE' else _has_net(conv)):
             if kind == 'CURVE':
                 data = bpy.data.curves.new(base + suffix, 'CURVE')
                 created.append(data)
@@ -293,7 +247,7 @@ def _make_extras(result, conv, outputs, created):
             else:
                 data = bpy.data.meshes.new(base + suffix)
                 created.append(data)
-                fill_control_net(data, conv.patches)
+                fill_control_net(data, conv.control_net)
         if data is None:
             if old is not None:
                 setattr(s, attr, None)
@@ -311,6 +265,10 @@ def _make_extras(result, conv, outputs, created):
             _link_like(ob, result)
             ob.parent = result
             setattr(s, attr, ob)
+
+
+def _has_net(conv):
+    return conv.control_net is not None and len(conv.control_net["positions"]) > 0
 
 
 def _remove_orphan(data):

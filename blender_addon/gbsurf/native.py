@@ -143,6 +143,12 @@ _SIGNATURES = {
     "gbsurf_patch_center": (c_uint32, [_R, c_size_t, POINTER(c_double)]),
     "gbsurf_curve_count": (c_uint32, [_R, _S]),
     "gbsurf_curve_points": (c_uint32, [_R, c_size_t, _PD, _S]),
+    "gbsurf_curve_cubic_points": (c_uint32, [_R, c_size_t, _PD, _S]),
+    "gbsurf_control_net_positions": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_control_net_face_sizes": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_control_net_face_indices": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_control_net_edges": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_control_net_patch_index": (c_uint32, [_R, _PU, _S]),
     "gbsurf_warning_count": (c_uint32, [_R, _S]),
     "gbsurf_warning_message": (c_uint32, [_R, c_size_t, POINTER(c_char_p)]),
     "gbsurf_result_report": (c_uint32, [_R, POINTER(Report)]),
@@ -213,37 +219,59 @@ def _check(lib, status):
         raise cls(status, name, message)
 
 
-def make_options(
-    method="DUAL",
-    resolution=8,
-    fullness=1.0 / 3.0,
-    tile_depth=3.0,
-    twist="INTERP",
-    mid_scale=1.0,
-    best_plane=True,
-    weights="SQUARED",
-    levels=3,
-):
-    """An initialized and validated `Options` struct from Python values (enum names as in the UI)."""
-    lib = load()
+_ENUMS = {"method": METHODS, "twist": TWISTS, "weights": WEIGHTS}
+# The `Options` fields that are Python values as they are (the others: enums, best_plane).
+_PLAIN = {"resolution": int, "levels": int, "fullness": float, "tile_depth": float, "mid_scale": float}
+# The library options by their Python names (as the add-on's properties and keyword options).
+OPTION_NAMES = ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
+                "weights", "levels")
+
+
+def _init_options(lib):
     o = Options()
     _check(lib, lib.gbsurf_options_init(ctypes.byref(o)))
     if o.struct_size != ctypes.sizeof(Options):
         raise LibraryMissing(
             f"{_lib_path}: GbsurfOptions has {o.struct_size} bytes, this add-on expects "
             f"{ctypes.sizeof(Options)} (library and add-on from different versions)")
-    try:
-        o.method = METHODS[method]
-        o.twist = TWISTS[twist]
-        o.weights = WEIGHTS[weights]
-    except KeyError as e:
-        raise GbsurfError(6, "GBSURF_ERR_INVALID_OPTION", f"unknown option value {e}") from None
-    o.resolution = int(resolution)
-    o.levels = int(levels)
-    o.best_plane = 1 if best_plane else 0
-    o.fullness = float(fullness)
-    o.tile_depth = float(tile_depth)
-    o.mid_scale = float(mid_scale)
+    return o
+
+
+def library_defaults():
+    """The default options, read from `gbsurf_options_init` (enum names as in the UI): the one
+    definition of the defaults, used by the properties and by `make_options`."""
+    o = _init_options(load())
+    values = {}
+    for name in OPTION_NAMES:
+        raw = getattr(o, name)
+        if name in _ENUMS:
+            values[name] = next(k for k, v in _ENUMS[name].items() if v == raw)
+        elif name == "best_plane":
+            values[name] = bool(raw)
+        else:
+            values[name] = _PLAIN[name](raw)
+    return values
+
+
+def make_options(**overrides):
+    """An `Options` struct initialized by the library (`gbsurf_options_init`) with only the
+    values passed here changed (names as in `OPTION_NAMES`, enum names as in the UI), validated."""
+    lib = load()
+    o = _init_options(lib)
+    unknown = set(overrides) - set(OPTION_NAMES)
+    if unknown:
+        raise GbsurfError(6, "GBSURF_ERR_INVALID_OPTION", f"unknown option(s): {', '.join(sorted(unknown))}")
+    for name, value in overrides.items():
+        if name in _ENUMS:
+            try:
+                value = _ENUMS[name][value]
+            except KeyError:
+                raise GbsurfError(6, "GBSURF_ERR_INVALID_OPTION", f"unknown {name} {value!r}") from None
+        elif name == "best_plane":
+            value = 1 if value else 0
+        else:
+            value = _PLAIN[name](value)
+        setattr(o, name, value)
     _check(lib, lib.gbsurf_options_validate(ctypes.byref(o)))
     return o
 
@@ -253,9 +281,10 @@ class Conversion:
 
     positions (V,3) float64, normals (V,3), triangles (T,3) uint32, patch_index (V,) uint32,
     mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees),
-    curves: list of (k,3) arrays of Bezier control points, patches: list of dicts
-    {"kind", "center" (3,) or None, "ribbons": [(layers, degree+1, 3) arrays]}, report: dict,
-    warnings: list of str.
+    curves: list of (3k+1,3) arrays, each curve's cubic Bezier chain (segment i = rows 3i..3i+3),
+    control_net: dict of positions (N,3), face_sizes (F,), face_indices, edges (E,2), patch (N,)
+    or None, patches: list of dicts {"kind", "center" (3,) or None, "ribbons": [(layers,
+    degree+1, 3) arrays]}, report: dict, warnings: list of str.
     """
 
 
@@ -276,7 +305,7 @@ def _count(lib, fn, handle, *args):
 
 
 def convert(positions, face_sizes, face_indices, options=None, progress=None,
-            want_patches=False, want_curves=False):
+            want_patches=False, want_curves=False, want_control_net=False):
     """Converts a polygon mesh given as numpy arrays.
 
     positions: (V,3) or flat float64; face_sizes: (F,) uint32; face_indices: flat uint32.
@@ -314,12 +343,12 @@ def convert(positions, face_sizes, face_indices, options=None, progress=None,
         raise failure[0]
     _check(lib, status)
     try:
-        return _unpack(lib, handle, want_patches, want_curves)
+        return _unpack(lib, handle, want_patches, want_curves, want_control_net)
     finally:
         lib.gbsurf_result_free(handle)
 
 
-def _unpack(lib, h, want_patches, want_curves):
+def _unpack(lib, h, want_patches, want_curves, want_control_net):
     c = Conversion()
     c.positions = _view(lib, lib.gbsurf_mesh_positions, h, c_double).reshape(-1, 3)
     c.normals = _view(lib, lib.gbsurf_mesh_normals, h, c_double).reshape(-1, 3)
@@ -340,7 +369,16 @@ def _unpack(lib, h, want_patches, want_curves):
     c.curves = []
     if want_curves:
         for i in range(_count(lib, lib.gbsurf_curve_count, h)):
-            c.curves.append(_view(lib, lib.gbsurf_curve_points, h, c_double, i).reshape(-1, 3))
+            c.curves.append(_view(lib, lib.gbsurf_curve_cubic_points, h, c_double, i).reshape(-1, 3))
+    c.control_net = None
+    if want_control_net:
+        c.control_net = {
+            "positions": _view(lib, lib.gbsurf_control_net_positions, h, c_double).reshape(-1, 3),
+            "face_sizes": _view(lib, lib.gbsurf_control_net_face_sizes, h, c_uint32),
+            "face_indices": _view(lib, lib.gbsurf_control_net_face_indices, h, c_uint32),
+            "edges": _view(lib, lib.gbsurf_control_net_edges, h, c_uint32).reshape(-1, 2),
+            "patch": _view(lib, lib.gbsurf_control_net_patch_index, h, c_uint32),
+        }
     c.patches = []
     if want_patches:
         for p in range(_count(lib, lib.gbsurf_patch_count, h)):

@@ -1,6 +1,10 @@
 """Properties: the conversion options (shared by the operator and the stored settings) and the
 settings a result object keeps (`Object.gbsurf`): its source, its options, its extra outputs and
-the live flag."""
+the live flag.
+
+The library options take their defaults from the library (`gbsurf_options_init`, read by
+`native.library_defaults`) when the add-on registers; they are not repeated here.
+"""
 
 import bpy
 from bpy.props import (
@@ -11,6 +15,8 @@ from bpy.props import (
     PointerProperty,
     StringProperty,
 )
+
+from . import native
 
 METHOD_ITEMS = [
     ('DUAL', "Dual", "One n-sided GB patch per mesh vertex (dual structure)"),
@@ -38,12 +44,10 @@ DISPLAY_ATTRIBUTE = {
     'PATCH': "gb_patch_color",
 }
 
-# Names of the options that go to the library / decide the outputs.
-OPTION_NAMES = (
-    "method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
-    "weights", "levels",
-)
-OUTPUT_NAMES = ("want_curves", "want_control_net")
+# Names of the options that go to the library; the outputs (not library options) and their defaults.
+OPTION_NAMES = native.OPTION_NAMES
+OUTPUT_DEFAULTS = {"want_curves": False, "want_control_net": False}
+OUTPUT_NAMES = tuple(OUTPUT_DEFAULTS)
 
 
 def _settings_changed(self, context):
@@ -55,35 +59,36 @@ def _settings_changed(self, context):
 
 
 class ConvertOptionsMixin:
-    """The conversion options, as operator properties or stored settings."""
+    """The conversion options, as operator properties or stored settings (the library options'
+    defaults are set by `apply_library_defaults`)."""
 
-    method: EnumProperty(name="Method", items=METHOD_ITEMS, default='DUAL', update=_settings_changed)
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, update=_settings_changed)
     resolution: IntProperty(
         name="Resolution", description="Samples per patch side (subdivision methods: unused)",
-        default=8, min=1, max=1024, soft_min=2, soft_max=32, update=_settings_changed)
+        min=1, max=1024, soft_min=2, soft_max=32, update=_settings_changed)
     fullness: FloatProperty(
         name="Fullness", description="Fullness of the dual curves (0 <= k < 1)",
-        default=1.0 / 3.0, min=0.0, max=0.99, update=_settings_changed)
+        min=0.0, max=0.99, update=_settings_changed)
     tile_depth: FloatProperty(
         name="Tile Depth", description="Tile split ratio of the topology structure (> 2)",
-        default=3.0, min=2.01, soft_max=10.0, update=_settings_changed)
-    twist: EnumProperty(name="Twist", items=TWIST_ITEMS, default='INTERP', update=_settings_changed)
+        min=2.01, soft_max=10.0, update=_settings_changed)
+    twist: EnumProperty(name="Twist", items=TWIST_ITEMS, update=_settings_changed)
     mid_scale: FloatProperty(
         name="Mid Scale", description="Factor on the middle constraint of the direction blends",
-        default=1.0, soft_min=0.0, soft_max=3.0, update=_settings_changed)
+        soft_min=0.0, soft_max=3.0, update=_settings_changed)
     best_plane: BoolProperty(
-        name="Best Plane", description="Project onto best-fit planes", default=True,
+        name="Best Plane", description="Project onto best-fit planes",
         update=_settings_changed)
-    weights: EnumProperty(name="Weights", items=WEIGHT_ITEMS, default='SQUARED', update=_settings_changed)
+    weights: EnumProperty(name="Weights", items=WEIGHT_ITEMS, update=_settings_changed)
     levels: IntProperty(
         name="Levels", description="Subdivision levels of the comparison methods",
-        default=3, min=0, max=8, soft_max=5, update=_settings_changed)
+        min=0, max=8, soft_max=5, update=_settings_changed)
     want_curves: BoolProperty(
         name="Curve Network", description="Also create the boundary curves as a Bezier curve object",
-        default=False, update=_settings_changed)
+        default=OUTPUT_DEFAULTS["want_curves"], update=_settings_changed)
     want_control_net: BoolProperty(
         name="Control Nets", description="Also create the patch control nets as a mesh object",
-        default=False, update=_settings_changed)
+        default=OUTPUT_DEFAULTS["want_control_net"], update=_settings_changed)
 
     def library_options(self):
         """The library options as a dict."""
@@ -155,7 +160,22 @@ class GbsurfSettings(ConvertOptionsMixin, bpy.types.PropertyGroup):
 classes = (GbsurfSettings,)
 
 
+def apply_library_defaults():
+    """Gives the library options of `ConvertOptionsMixin` the library's defaults; call before
+    registering a class that uses it. Without a loadable library the properties keep Blender's
+    zero defaults (converting then fails with the library-missing message anyway)."""
+    try:
+        defaults = native.library_defaults()
+    except native.GbsurfError:
+        return
+    annotations = ConvertOptionsMixin.__annotations__
+    for name, value in defaults.items():
+        prop = annotations[name]
+        annotations[name] = prop.function(**{**prop.keywords, "default": value})
+
+
 def register():
+    apply_library_defaults()
     for c in classes:
         bpy.utils.register_class(c)
     bpy.types.Object.gbsurf = PointerProperty(type=GbsurfSettings)

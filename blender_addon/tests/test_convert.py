@@ -111,12 +111,26 @@ def test_curve_network_and_control_nets():
     cu, net = out.gbsurf.curves_object, out.gbsurf.net_object
     assert cu is not None and cu.type == 'CURVE' and cu.parent == out
     assert len(cu.data.splines) == 12  # the dual of a cube: 12 boundary curves
-    assert all(sp.type in {'BEZIER', 'NURBS'} for sp in cu.data.splines)
-    sp = cu.data.splines[0]
-    if sp.type == 'BEZIER':
-        assert len(sp.bezier_points) == 2
+    assert all(sp.type == 'BEZIER' and len(sp.bezier_points) == 2 for sp in cu.data.splines)
     assert net is not None and net.type == 'MESH' and len(net.data.polygons) > 0
     assert src.name + ".GB.curves" == cu.name
+    # Both are copies of the library's derived geometry.
+    mod = helpers.mesh_module()
+    pos, faces = helpers.mesh_arrays(src.data)[0], [list(p.vertices) for p in src.data.polygons]
+    sizes = np.array([len(f) for f in faces], np.uint32)
+    idx = np.array([i for f in faces for i in f], np.uint32)
+    conv = mod.native.convert(pos, sizes, idx, mod.native.make_options(resolution=3),
+                              want_curves=True, want_control_net=True)
+    cn = conv.control_net
+    assert len(net.data.vertices) == len(cn["positions"])
+    assert len(net.data.polygons) == len(cn["face_sizes"]) == len(cn["face_indices"]) // 4
+    spokes = {tuple(sorted(e)) for e in cn["edges"].tolist()}
+    assert len(spokes) == 3 * 8 and spokes <= {tuple(sorted(e.vertices)) for e in net.data.edges}
+    assert list(net.data.attributes["gb_patch"].data[i].value for i in range(3)) == cn["patch"][:3].tolist()
+    for sp, chain in zip(cu.data.splines, conv.curves):
+        a, b = sp.bezier_points
+        got = np.array([a.co, a.handle_right, b.handle_left, b.co])
+        assert np.allclose(got, chain, atol=1e-6)
 
 
 def test_several_selected_objects():

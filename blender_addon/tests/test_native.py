@@ -1,5 +1,8 @@
 """The ctypes loader: library lookup, status codes as exceptions with the library's message."""
 
+import ctypes
+import re
+
 import bpy
 import numpy as np
 import pytest
@@ -25,6 +28,84 @@ def test_every_declared_function_has_a_signature():
         fn = getattr(lib, name)
         assert fn.argtypes is not None
     assert native().load().gbsurf_abi_version() == native().ABI_VERSION
+
+
+def _header():
+    """cpp/include/gbsurf.h without comments."""
+    text = (helpers.ROOT / "cpp" / "include" / "gbsurf.h").read_text()
+    return re.sub(r"//[^\n]*|/\*.*?\*/", "", text, flags=re.S)
+
+
+def _ctype(n, decl):
+    """The ctypes type of a C type from the header (`const` ignored)."""
+    words = decl.replace("*", " * ").split()
+    base = [w for w in words if w not in ("const", "*", "struct")]
+    assert len(base) == 1, decl
+    stars = words.count("*")
+    if base[0] == "char" and stars >= 1:
+        t, stars = ctypes.c_char_p, stars - 1
+    elif base[0] == "void" and stars >= 1:
+        t, stars = ctypes.c_void_p, stars - 1
+    else:
+        t = {
+            "uint32_t": ctypes.c_uint32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double,
+            "float": ctypes.c_float, "size_t": ctypes.c_size_t, "bool": ctypes.c_bool, "void": None,
+            "GbsurfResult": n._Result, "GbsurfOptions": n.Options, "GbsurfReport": n.Report,
+            "GbsurfProgressFn": n.ProgressFn,
+        }[base[0]]
+    for _ in range(stars):
+        t = ctypes.POINTER(t)
+    return t
+
+
+def test_ctypes_structs_match_the_header():
+    """The ctypes structs are hand copies of the generated header's: same fields, types, order."""
+    n = native()
+    structs = {name: body for body, name in re.findall(r"typedef struct \{(.*?)\} (\w+);", _header(), re.S)}
+    for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report)):
+        fields = re.findall(r"([\w ]+?)\s+(\w+);", structs[name])
+        assert [(f, _ctype(n, t)) for t, f in fields] == list(cls._fields_), name
+
+
+def test_ctypes_signatures_match_the_header():
+    """Every function the add-on declares exists in the header with the same argument and
+    result types."""
+    n = native()
+    decls = {name: (ret, args) for ret, name, args in
+             re.findall(r"^([\w ]+?\**)\s*(gbsurf_\w+)\((.*?)\);", _header(), re.S | re.M)}
+    for name, (restype, argtypes) in n._SIGNATURES.items():
+        assert name in decls, f"{name} is not in gbsurf.h"
+        ret, args = decls[name]
+        params = [] if args.strip() == "void" else [a.strip() for a in args.split(",")]
+        # Drop the parameter name: the last word (after any '*').
+        types = [re.sub(r"\w+$", "", p).strip() for p in params]
+        assert _ctype(n, ret) == restype, name
+        assert [_ctype(n, t) for t in types] == list(argtypes), name
+
+
+def test_defaults_come_from_the_library():
+    """`make_options()` is `gbsurf_options_init` unchanged; the properties' defaults are the
+    library's."""
+    n = native()
+    lib = n.load()
+    raw = n.Options()
+    assert lib.gbsurf_options_init(ctypes.byref(raw)) == 0
+    o = n.make_options()
+    assert bytes(o) == bytes(raw)
+    d = n.library_defaults()
+    assert set(d) == set(n.OPTION_NAMES)
+    assert (d["method"], d["twist"], d["weights"]) == ('DUAL', 'INTERP', 'SQUARED')
+    assert (d["resolution"], d["levels"], d["best_plane"]) == (raw.resolution, raw.levels, True)
+    assert (d["fullness"], d["tile_depth"], d["mid_scale"]) == (raw.fullness, raw.tile_depth, raw.mid_scale)
+    op = bpy.ops.object.gbsurf_convert.get_rna_type().properties
+    for name, value in d.items():
+        default = op[name].default
+        if isinstance(value, float):
+            assert default == pytest.approx(value, rel=1e-7), name
+        else:
+            assert default == value, name
+    with pytest.raises(n.GbsurfError, match="unknown option"):
+        n.make_options(bogus=1)
 
 
 def test_library_missing(monkeypatch, tmp_path):
@@ -120,7 +201,7 @@ def test_convert_cube_arrays():
     assert seen and seen[-1] == pytest.approx(1.0) and seen == sorted(seen)
     assert c.report["closed"] == 1 and c.report["patches"] == len(c.patches) == 8
     assert all(p["center"] is not None and len(p["ribbons"]) == 3 for p in c.patches)
-    assert len(c.curves) == 12 and all(cv.shape[1] == 3 for cv in c.curves)
+    assert len(c.curves) == 12 and all(cv.shape == (4, 3) for cv in c.curves)
 
 
 def test_cancel_from_another_thread_like_the_modal_operator():

@@ -2,7 +2,7 @@
 
 use super::*;
 use gbsurf::api::{Conversion, ConvertError, ConvertOptions};
-use gbsurf::construct::{Patch, Surface};
+use gbsurf::construct::{ControlNet, Patch, Surface};
 use gbsurf::mesh::{MeshError, PolyMesh};
 use glam::DVec3;
 use std::ffi::{c_void, CStr};
@@ -36,22 +36,18 @@ struct FlatPatch {
 /// The opaque result of a conversion: the output triangle mesh with its per-vertex data, the
 /// patches (none for the subdivision methods), the curve network, the report and the warnings.
 /// Free it with `gbsurf_result_free`.
-// The mesh arrays are handed out as views of the conversion's own vectors (no copy); the
-// flattened patches and curves are built on first access (most callers never ask for them).
+// The mesh arrays and curves are handed out as views of the conversion's own vectors (no copy);
+// the flattened patches, the control net and the cubic curves are built on first access (most
+// callers never ask for them).
 pub struct GbsurfResult {
     mesh: SurfaceMesh,
     surface: Option<Surface>,
-    flat: OnceLock<FlatSurface>,
+    flat: OnceLock<Vec<FlatPatch>>,
+    control_net: OnceLock<ControlNet>,
+    cubic_curves: OnceLock<Vec<Vec<DVec3>>>,
     report: GbsurfReport,
     sides_histogram: Vec<(u64, u64)>,
     warnings: Vec<CString>,
-}
-
-/// The patches and curves of a surface as flat arrays.
-#[derive(Default)]
-struct FlatSurface {
-    patches: Vec<FlatPatch>,
-    curves: Vec<Vec<f64>>,
 }
 
 /// The coordinates of `v` as one flat `[x0, y0, z0, x1, …]` slice, without copying.
@@ -71,14 +67,40 @@ impl GbsurfResult {
     fn triangles(&self) -> &[u32] {
         self.mesh.triangles.as_flattened()
     }
-    fn flat(&self) -> &FlatSurface {
-        self.flat.get_or_init(|| self.surface.as_ref().map(flatten_surface).unwrap_or_default())
+    fn flat(&self) -> &[FlatPatch] {
+        self.flat.get_or_init(|| {
+            self.surface
+                .as_ref()
+                .map(flatten_patches)
+                .unwrap_or_default()
+        })
+    }
+    /// The control nets of all patches (empty for the subdivision methods).
+    fn control_net(&self) -> &ControlNet {
+        self.control_net.get_or_init(|| {
+            self.surface
+                .as_ref()
+                .map(Surface::control_net)
+                .unwrap_or_default()
+        })
+    }
+    /// The curve network as cubic Bézier chains (empty for the subdivision methods).
+    fn cubic_curves(&self) -> &[Vec<DVec3>] {
+        self.cubic_curves.get_or_init(|| {
+            self.surface
+                .as_ref()
+                .map(Surface::default_cubic_curves)
+                .unwrap_or_default()
+        })
     }
     fn patch_count(&self) -> usize {
         self.surface.as_ref().map_or(0, |s| s.patches.len())
     }
+    fn curves(&self) -> &[Vec<DVec3>] {
+        self.surface.as_ref().map_or(&[][..], |s| s.curves.as_slice())
+    }
     fn curve_count(&self) -> usize {
-        self.surface.as_ref().map_or(0, |s| s.curves.len())
+        self.curves().len()
     }
 }
 
@@ -88,14 +110,13 @@ fn flatten(v: &[DVec3]) -> Vec<f64> {
     v.iter().flat_map(|p| p.to_array()).collect()
 }
 
-fn flatten_surface(s: &Surface) -> FlatSurface {
+fn flatten_patches(s: &Surface) -> Vec<FlatPatch> {
     let flat_ribbon = |r: &gbsurf::gb::Ribbon| FlatRibbon {
         degree: r.degree,
         layers: r.rows.len(),
         points: r.rows.iter().flat_map(|row| flatten(row)).collect(),
     };
-    let patches = s
-        .patches
+    s.patches
         .iter()
         .map(|p| match p {
             Patch::Gb(g) => FlatPatch {
@@ -109,9 +130,7 @@ fn flatten_surface(s: &Surface) -> FlatSurface {
                 ribbons: c.ribbons.iter().map(flat_ribbon).collect(),
             },
         })
-        .collect();
-    let curves = s.curves.iter().map(|c| flatten(c)).collect();
-    FlatSurface { patches, curves }
+        .collect()
 }
 
 /// The status code of a mesh error.
@@ -218,6 +237,8 @@ fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
         mesh: conv.mesh,
         surface: conv.surface,
         flat: OnceLock::new(),
+        control_net: OnceLock::new(),
+        cubic_curves: OnceLock::new(),
     }
 }
 
@@ -375,8 +396,38 @@ fn view<T>(src: &[T], data: *mut *const T, len: *mut usize) -> FfiResult {
     Ok(())
 }
 
-/// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// The body of a view accessor: `get` picks the array from the handle (or fails, e.g. on an
+/// index out of range); `*data` and `*len` receive it.
+fn view_array<'a, T: 'a>(
+    name: &str,
+    result: *const GbsurfResult,
+    get: impl FnOnce(&'a GbsurfResult) -> FfiResult<&'a [T]>,
+    data: *mut *const T,
+    len: *mut usize,
+) -> u32 {
+    boundary(name, || view(get(handle(result)?)?, data, len))
+}
+
+/// The body of the copy-out variant of a view accessor (see [`copy_out`]).
+fn copy_array<'a, T: Copy + 'a>(
+    name: &str,
+    result: *const GbsurfResult,
+    get: impl FnOnce(&'a GbsurfResult) -> FfiResult<&'a [T]>,
+    buf: *mut T,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    boundary(name, || {
+        copy_out(get(handle(result)?)?, buf, capacity, written)
+    })
+}
+
+// Every array a result hands out has a view (`gbsurf_<what>_<array>`, zero-copy) and a copy
+// (`gbsurf_<what>_copy_<array>`). Each pair is spelt out, not generated by a macro, because
+// cbindgen reads the source without expanding macros; the bodies are the two helpers above.
+
+/// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data`
+/// points into the handle (valid until it is freed), `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -386,13 +437,12 @@ pub unsafe extern "C" fn gbsurf_mesh_positions(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_positions", || {
-        view(handle(result)?.positions(), data, len)
-    })
+    view_array("gbsurf_mesh_positions", result, |r| Ok(r.positions()), data, len)
 }
 
-/// Copies the output vertex positions (x y z per vertex: 3 × vertex count doubles) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copies what `gbsurf_mesh_positions` views into `buf` (`capacity` values); `*written` receives the
+/// number of values (also on `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the
+/// size). Every `*_copy_*` function of a view works this way.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -403,13 +453,11 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_positions(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_positions", || {
-        copy_out(handle(result)?.positions(), buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_positions", result, |r| Ok(r.positions()), buf, capacity, written)
 }
 
-/// View of the unit vertex normals (x y z per vertex): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the unit vertex normals (x y z per vertex); `*data` is valid until the handle is freed,
+/// `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -419,13 +467,10 @@ pub unsafe extern "C" fn gbsurf_mesh_normals(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_normals", || {
-        view(handle(result)?.normals(), data, len)
-    })
+    view_array("gbsurf_mesh_normals", result, |r| Ok(r.normals()), data, len)
 }
 
-/// Copies the unit vertex normals (x y z per vertex) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_normals`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -436,13 +481,11 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_normals(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_normals", || {
-        copy_out(handle(result)?.normals(), buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_normals", result, |r| Ok(r.normals()), buf, capacity, written)
 }
 
-/// View of the triangles (3 vertex indices each, counter-clockwise seen from outside): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the triangles (3 vertex indices each, counter-clockwise seen from outside); `*data` is
+/// valid until the handle is freed, `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -452,13 +495,10 @@ pub unsafe extern "C" fn gbsurf_mesh_triangles(
     data: *mut *const u32,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_triangles", || {
-        view(handle(result)?.triangles(), data, len)
-    })
+    view_array("gbsurf_mesh_triangles", result, |r| Ok(r.triangles()), data, len)
 }
 
-/// Copies the triangles (3 vertex indices each, counter-clockwise seen from outside) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_triangles`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -469,13 +509,12 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_triangles(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_triangles", || {
-        copy_out(handle(result)?.triangles(), buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_triangles", result, |r| Ok(r.triangles()), buf, capacity, written)
 }
 
-/// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from;
+/// subdivision methods: the input face it descends from); `*data` is valid until the handle is
+/// freed, `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -485,13 +524,10 @@ pub unsafe extern "C" fn gbsurf_mesh_patch_index(
     data: *mut *const u32,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_patch_index", || {
-        view(&handle(result)?.mesh.patch, data, len)
-    })
+    view_array("gbsurf_mesh_patch_index", result, |r| Ok(&r.mesh.patch), data, len)
 }
 
-/// Copies the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_patch_index`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -502,13 +538,11 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_patch_index(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_patch_index", || {
-        copy_out(&handle(result)?.mesh.patch, buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_patch_index", result, |r| Ok(&r.mesh.patch), buf, capacity, written)
 }
 
-/// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal); `*data` is
+/// valid until the handle is freed, `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -518,13 +552,10 @@ pub unsafe extern "C" fn gbsurf_mesh_mean_curvature(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_mean_curvature", || {
-        view(&handle(result)?.mesh.mean_curvature, data, len)
-    })
+    view_array("gbsurf_mesh_mean_curvature", result, |r| Ok(&r.mesh.mean_curvature), data, len)
 }
 
-/// Copies the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_mean_curvature`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -535,13 +566,11 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_mean_curvature(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_mean_curvature", || {
-        copy_out(&handle(result)?.mesh.mean_curvature, buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_mean_curvature", result, |r| Ok(&r.mesh.mean_curvature), buf, capacity, written)
 }
 
-/// View of the per-vertex Gaussian curvature K = k1 k2: `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the per-vertex Gaussian curvature K = k1 k2; `*data` is valid until the handle is freed,
+/// `*len` is the number of values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -551,13 +580,10 @@ pub unsafe extern "C" fn gbsurf_mesh_gaussian_curvature(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_gaussian_curvature", || {
-        view(&handle(result)?.mesh.gaussian_curvature, data, len)
-    })
+    view_array("gbsurf_mesh_gaussian_curvature", result, |r| Ok(&r.mesh.gaussian_curvature), data, len)
 }
 
-/// Copies the per-vertex Gaussian curvature K = k1 k2 into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_gaussian_curvature`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -568,13 +594,12 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_gaussian_curvature(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_gaussian_curvature", || {
-        copy_out(&handle(result)?.mesh.gaussian_curvature, buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_gaussian_curvature", result, |r| Ok(&r.mesh.gaussian_curvature), buf, capacity, written)
 }
 
-/// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches): `*data` points into the handle (valid until it is freed), `*len` is the
-/// number of values.
+/// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the
+/// vertex; 0 inside patches); `*data` is valid until the handle is freed, `*len` is the number of
+/// values.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -584,13 +609,10 @@ pub unsafe extern "C" fn gbsurf_mesh_g1_deviation(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_g1_deviation", || {
-        view(&handle(result)?.mesh.g1_deviation_deg, data, len)
-    })
+    view_array("gbsurf_mesh_g1_deviation", result, |r| Ok(&r.mesh.g1_deviation_deg), data, len)
 }
 
-/// Copies the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches) into `buf` (`capacity` values); `*written` receives the number of values (also on
-/// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+/// Copy-out variant of `gbsurf_mesh_g1_deviation`.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -601,9 +623,7 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_mesh_copy_g1_deviation", || {
-        copy_out(&handle(result)?.mesh.g1_deviation_deg, buf, capacity, written)
-    })
+    copy_array("gbsurf_mesh_copy_g1_deviation", result, |r| Ok(&r.mesh.g1_deviation_deg), buf, capacity, written)
 }
 
 /// Number of vertices of the output mesh.
@@ -635,7 +655,7 @@ pub unsafe extern "C" fn gbsurf_mesh_triangle_count(
 }
 
 fn patch_at(r: &GbsurfResult, patch: usize) -> FfiResult<&FlatPatch> {
-    r.flat().patches.get(patch).ok_or_else(|| {
+    r.flat().get(patch).ok_or_else(|| {
         FfiError::new(
             GBSURF_ERR_INDEX,
             format!("patch index {patch} out of range (0..{})", r.patch_count()),
@@ -736,9 +756,7 @@ pub unsafe extern "C" fn gbsurf_patch_ribbon_points(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_patch_ribbon_points", || {
-        view(&ribbon_at(handle(result)?, patch, side)?.points, data, len)
-    })
+    view_array("gbsurf_patch_ribbon_points", result, |r| Ok(&ribbon_at(r, patch, side)?.points), data, len)
 }
 
 /// Copy-out variant of `gbsurf_patch_ribbon_points`.
@@ -754,14 +772,7 @@ pub unsafe extern "C" fn gbsurf_patch_copy_ribbon_points(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_patch_copy_ribbon_points", || {
-        copy_out(
-            &ribbon_at(handle(result)?, patch, side)?.points,
-            buf,
-            capacity,
-            written,
-        )
-    })
+    copy_array("gbsurf_patch_copy_ribbon_points", result, |r| Ok(&ribbon_at(r, patch, side)?.points), buf, capacity, written)
 }
 
 /// The central control point of GB patch `patch` into `xyz[0..3]`. A CGB patch has none:
@@ -801,11 +812,12 @@ pub unsafe extern "C" fn gbsurf_curve_count(result: *const GbsurfResult, count: 
     })
 }
 
-fn curve_at(r: &GbsurfResult, curve: usize) -> FfiResult<&[f64]> {
-    r.flat().curves.get(curve).map(|c| c.as_slice()).ok_or_else(|| {
+/// The coordinates of curve `curve` of `curves` (the network or its cubic chains).
+fn curve_at(curves: &[Vec<DVec3>], curve: usize) -> FfiResult<&[f64]> {
+    curves.get(curve).map(|c| coords(c)).ok_or_else(|| {
         FfiError::new(
             GBSURF_ERR_INDEX,
-            format!("curve index {curve} out of range (0..{})", r.curve_count()),
+            format!("curve index {curve} out of range (0..{})", curves.len()),
         )
     })
 }
@@ -821,9 +833,7 @@ pub unsafe extern "C" fn gbsurf_curve_points(
     data: *mut *const f64,
     len: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_curve_points", || {
-        view(curve_at(handle(result)?, curve)?, data, len)
-    })
+    view_array("gbsurf_curve_points", result, |r| curve_at(r.curves(), curve), data, len)
 }
 
 /// Copy-out variant of `gbsurf_curve_points`.
@@ -838,9 +848,184 @@ pub unsafe extern "C" fn gbsurf_curve_copy_points(
     capacity: usize,
     written: *mut usize,
 ) -> u32 {
-    boundary("gbsurf_curve_copy_points", || {
-        copy_out(curve_at(handle(result)?, curve)?, buf, capacity, written)
-    })
+    copy_array("gbsurf_curve_copy_points", result, |r| curve_at(r.curves(), curve), buf, capacity, written)
+}
+
+/// View of curve `curve` as a chain of cubic Bézier segments: 3k + 1 points (x y z each), segment
+/// i = points 3i..3i+3, consecutive segments sharing an end point. A curve of degree ≤ 3 is one
+/// exact segment; a higher degree is split until each segment's error bound is below 1e-9 times
+/// the curve network's bounding-box diagonal (see `Surface::cubic_curves` of the gbsurf crate).
+/// Built on the first call for any curve.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_curve_cubic_points(
+    result: *const GbsurfResult,
+    curve: usize,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_curve_cubic_points", result, |r| curve_at(r.cubic_curves(), curve), data, len)
+}
+
+/// Copy-out variant of `gbsurf_curve_cubic_points`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_curve_copy_cubic_points(
+    result: *const GbsurfResult,
+    curve: usize,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_curve_copy_cubic_points", result, |r| curve_at(r.cubic_curves(), curve), buf, capacity, written)
+}
+
+/// View of the control net's vertex positions, x y z each (`*data` valid until the handle is
+/// freed, `*len` values). The control net shows the control points of all patches as one mesh
+/// (empty for the subdivision methods). Vertices, patch by patch: each ribbon's points row by
+/// row as in `gbsurf_patch_ribbon_points`, then a GB patch's central point. Faces: the quads
+/// between consecutive rows of a ribbon. Edges: the control polygons of one-row ribbons and the
+/// spokes from the middle point of a GB patch's innermost rows to its centre.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_positions(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_control_net_positions", result, |r| Ok(coords(&r.control_net().positions)), data, len)
+}
+
+/// Copy-out variant of `gbsurf_control_net_positions`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_copy_positions(
+    result: *const GbsurfResult,
+    buf: *mut f64,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_control_net_copy_positions", result, |r| Ok(coords(&r.control_net().positions)), buf, capacity, written)
+}
+
+/// View of the corner count of each control net face (all 4); `*data` is valid until the handle is
+/// freed, `*len` is the number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_face_sizes(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_control_net_face_sizes", result, |r| Ok(&r.control_net().face_sizes), data, len)
+}
+
+/// Copy-out variant of `gbsurf_control_net_face_sizes`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_copy_face_sizes(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_control_net_copy_face_sizes", result, |r| Ok(&r.control_net().face_sizes), buf, capacity, written)
+}
+
+/// View of the corners of the control net faces (0-based vertex indices, one face after another);
+/// `*data` is valid until the handle is freed, `*len` is the number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_face_indices(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_control_net_face_indices", result, |r| Ok(&r.control_net().face_indices), data, len)
+}
+
+/// Copy-out variant of `gbsurf_control_net_face_indices`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_copy_face_indices(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_control_net_copy_face_indices", result, |r| Ok(&r.control_net().face_indices), buf, capacity, written)
+}
+
+/// View of the control net's lines that bound no face (2 vertex indices each); `*data` is valid
+/// until the handle is freed, `*len` is the number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_edges(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_control_net_edges", result, |r| Ok(r.control_net().edges.as_flattened()), data, len)
+}
+
+/// Copy-out variant of `gbsurf_control_net_edges`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_copy_edges(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_control_net_copy_edges", result, |r| Ok(r.control_net().edges.as_flattened()), buf, capacity, written)
+}
+
+/// View of the patch of each control net vertex; `*data` is valid until the handle is freed, `*len`
+/// is the number of values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_patch_index(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_control_net_patch_index", result, |r| Ok(&r.control_net().patch), data, len)
+}
+
+/// Copy-out variant of `gbsurf_control_net_patch_index`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_control_net_copy_patch_index(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_control_net_copy_patch_index", result, |r| Ok(&r.control_net().patch), buf, capacity, written)
 }
 
 /// Number of warnings (things accepted but changed, e.g. dropped isolated vertices).

@@ -268,17 +268,16 @@ uint32_t gbsurf_convert_file(const char *path,
 // `result` must be NULL or a handle from `gbsurf_convert*` not freed before.
 void gbsurf_result_free(GbsurfResult *result);
 
-// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the output vertex positions (x y z per vertex: 3 × vertex count doubles): `*data`
+// points into the handle (valid until it is freed), `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_positions(const GbsurfResult *result,
-                               const double **data,
-                               size_t *len);
+uint32_t gbsurf_mesh_positions(const GbsurfResult *result, const double **data, size_t *len);
 
-// Copies the output vertex positions (x y z per vertex: 3 × vertex count doubles) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copies what `gbsurf_mesh_positions` views into `buf` (`capacity` values); `*written` receives the
+// number of values (also on `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the
+// size). Every `*_copy_*` function of a view works this way.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -287,17 +286,14 @@ uint32_t gbsurf_mesh_copy_positions(const GbsurfResult *result,
                                     size_t capacity,
                                     size_t *written);
 
-// View of the unit vertex normals (x y z per vertex): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the unit vertex normals (x y z per vertex); `*data` is valid until the handle is freed,
+// `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_normals(const GbsurfResult *result,
-                             const double **data,
-                             size_t *len);
+uint32_t gbsurf_mesh_normals(const GbsurfResult *result, const double **data, size_t *len);
 
-// Copies the unit vertex normals (x y z per vertex) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_normals`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -306,17 +302,14 @@ uint32_t gbsurf_mesh_copy_normals(const GbsurfResult *result,
                                   size_t capacity,
                                   size_t *written);
 
-// View of the triangles (3 vertex indices each, counter-clockwise seen from outside): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the triangles (3 vertex indices each, counter-clockwise seen from outside); `*data` is
+// valid until the handle is freed, `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_triangles(const GbsurfResult *result,
-                               const uint32_t **data,
-                               size_t *len);
+uint32_t gbsurf_mesh_triangles(const GbsurfResult *result, const uint32_t **data, size_t *len);
 
-// Copies the triangles (3 vertex indices each, counter-clockwise seen from outside) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_triangles`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -325,17 +318,15 @@ uint32_t gbsurf_mesh_copy_triangles(const GbsurfResult *result,
                                     size_t capacity,
                                     size_t *written);
 
-// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from;
+// subdivision methods: the input face it descends from); `*data` is valid until the handle is
+// freed, `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_patch_index(const GbsurfResult *result,
-                                 const uint32_t **data,
-                                 size_t *len);
+uint32_t gbsurf_mesh_patch_index(const GbsurfResult *result, const uint32_t **data, size_t *len);
 
-// Copies the per-vertex patch index (patch methods: the patch the vertex was sampled from; subdivision methods: the input face it descends from) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_patch_index`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -344,17 +335,14 @@ uint32_t gbsurf_mesh_copy_patch_index(const GbsurfResult *result,
                                       size_t capacity,
                                       size_t *written);
 
-// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal); `*data` is
+// valid until the handle is freed, `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_mean_curvature(const GbsurfResult *result,
-                                    const double **data,
-                                    size_t *len);
+uint32_t gbsurf_mesh_mean_curvature(const GbsurfResult *result, const double **data, size_t *len);
 
-// Copies the per-vertex mean curvature H = (k1 + k2)/2 (sign relative to the normal) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_mean_curvature`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -363,8 +351,8 @@ uint32_t gbsurf_mesh_copy_mean_curvature(const GbsurfResult *result,
                                          size_t capacity,
                                          size_t *written);
 
-// View of the per-vertex Gaussian curvature K = k1 k2: `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the per-vertex Gaussian curvature K = k1 k2; `*data` is valid until the handle is freed,
+// `*len` is the number of values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -372,8 +360,7 @@ uint32_t gbsurf_mesh_gaussian_curvature(const GbsurfResult *result,
                                         const double **data,
                                         size_t *len);
 
-// Copies the per-vertex Gaussian curvature K = k1 k2 into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_gaussian_curvature`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -382,17 +369,15 @@ uint32_t gbsurf_mesh_copy_gaussian_curvature(const GbsurfResult *result,
                                              size_t capacity,
                                              size_t *written);
 
-// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches): `*data` points into the handle (valid until it is freed), `*len` is the
-// number of values.
+// View of the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the
+// vertex; 0 inside patches); `*data` is valid until the handle is freed, `*len` is the number of
+// values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_g1_deviation(const GbsurfResult *result,
-                                  const double **data,
-                                  size_t *len);
+uint32_t gbsurf_mesh_g1_deviation(const GbsurfResult *result, const double **data, size_t *len);
 
-// Copies the per-vertex G1 deviation in degrees (largest normal angle between patches sharing the vertex; 0 inside patches) into `buf` (`capacity` values); `*written` receives the number of values (also on
-// `GBSURF_ERR_CAPACITY`, so `capacity` 0 with `buf` NULL queries the size).
+// Copy-out variant of `gbsurf_mesh_g1_deviation`.
 //
 // # Safety
 // `result` is a live handle or NULL; `buf` has `capacity` writable values.
@@ -496,6 +481,119 @@ uint32_t gbsurf_curve_copy_points(const GbsurfResult *result,
                                   double *buf,
                                   size_t capacity,
                                   size_t *written);
+
+// View of curve `curve` as a chain of cubic Bézier segments: 3k + 1 points (x y z each), segment
+// i = points 3i..3i+3, consecutive segments sharing an end point. A curve of degree ≤ 3 is one
+// exact segment; a higher degree is split until each segment's error bound is below 1e-9 times
+// the curve network's bounding-box diagonal (see `Surface::cubic_curves` of the gbsurf crate).
+// Built on the first call for any curve.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` writable or NULL.
+uint32_t gbsurf_curve_cubic_points(const GbsurfResult *result,
+                                   size_t curve,
+                                   const double **data,
+                                   size_t *len);
+
+// Copy-out variant of `gbsurf_curve_cubic_points`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable doubles.
+uint32_t gbsurf_curve_copy_cubic_points(const GbsurfResult *result,
+                                        size_t curve,
+                                        double *buf,
+                                        size_t capacity,
+                                        size_t *written);
+
+// View of the control net's vertex positions, x y z each (`*data` valid until the handle is
+// freed, `*len` values). The control net shows the control points of all patches as one mesh
+// (empty for the subdivision methods). Vertices, patch by patch: each ribbon's points row by
+// row as in `gbsurf_patch_ribbon_points`, then a GB patch's central point. Faces: the quads
+// between consecutive rows of a ribbon. Edges: the control polygons of one-row ribbons and the
+// spokes from the middle point of a GB patch's innermost rows to its centre.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_control_net_positions(const GbsurfResult *result, const double **data, size_t *len);
+
+// Copy-out variant of `gbsurf_control_net_positions`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_control_net_copy_positions(const GbsurfResult *result,
+                                           double *buf,
+                                           size_t capacity,
+                                           size_t *written);
+
+// View of the corner count of each control net face (all 4); `*data` is valid until the handle is
+// freed, `*len` is the number of values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_control_net_face_sizes(const GbsurfResult *result,
+                                       const uint32_t **data,
+                                       size_t *len);
+
+// Copy-out variant of `gbsurf_control_net_face_sizes`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_control_net_copy_face_sizes(const GbsurfResult *result,
+                                            uint32_t *buf,
+                                            size_t capacity,
+                                            size_t *written);
+
+// View of the corners of the control net faces (0-based vertex indices, one face after another);
+// `*data` is valid until the handle is freed, `*len` is the number of values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_control_net_face_indices(const GbsurfResult *result,
+                                         const uint32_t **data,
+                                         size_t *len);
+
+// Copy-out variant of `gbsurf_control_net_face_indices`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_control_net_copy_face_indices(const GbsurfResult *result,
+                                              uint32_t *buf,
+                                              size_t capacity,
+                                              size_t *written);
+
+// View of the control net's lines that bound no face (2 vertex indices each); `*data` is valid
+// until the handle is freed, `*len` is the number of values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_control_net_edges(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// Copy-out variant of `gbsurf_control_net_edges`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_control_net_copy_edges(const GbsurfResult *result,
+                                       uint32_t *buf,
+                                       size_t capacity,
+                                       size_t *written);
+
+// View of the patch of each control net vertex; `*data` is valid until the handle is freed, `*len`
+// is the number of values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_control_net_patch_index(const GbsurfResult *result,
+                                        const uint32_t **data,
+                                        size_t *len);
+
+// Copy-out variant of `gbsurf_control_net_patch_index`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_control_net_copy_patch_index(const GbsurfResult *result,
+                                             uint32_t *buf,
+                                             size_t capacity,
+                                             size_t *written);
 
 // Number of warnings (things accepted but changed, e.g. dropped isolated vertices).
 //

@@ -220,6 +220,29 @@ public:
         check(gbsurf_curve_points(get(), curve, &d, &n));
         return {d, n};
     }
+    /// A curve of the network as a chain of cubic Bézier segments: 3k + 1 points, x y z each
+    /// (segment i = points 3i..3i+3; exact for curves of degree <= 3).
+    span<double> curve_cubic_points(std::size_t curve) const&& = delete;
+    span<double> curve_cubic_points(std::size_t curve) const& {
+        const double* d = nullptr;
+        std::size_t n = 0;
+        check(gbsurf_curve_cubic_points(get(), curve, &d, &n));
+        return {d, n};
+    }
+
+    /// The control nets of all patches as one mesh (empty for subdivision methods): vertex
+    /// positions x y z; quads between ribbon rows (face sizes, corners); edges bounding no face
+    /// (2 indices each: one-row ribbons, GB centre spokes); the patch of each vertex.
+    span<double> control_net_positions() const& { return view(gbsurf_control_net_positions); }
+    span<double> control_net_positions() const&& = delete;
+    span<uint32_t> control_net_face_sizes() const& { return view(gbsurf_control_net_face_sizes); }
+    span<uint32_t> control_net_face_sizes() const&& = delete;
+    span<uint32_t> control_net_face_indices() const& { return view(gbsurf_control_net_face_indices); }
+    span<uint32_t> control_net_face_indices() const&& = delete;
+    span<uint32_t> control_net_edges() const& { return view(gbsurf_control_net_edges); }
+    span<uint32_t> control_net_edges() const&& = delete;
+    span<uint32_t> control_net_patch_index() const& { return view(gbsurf_control_net_patch_index); }
+    span<uint32_t> control_net_patch_index() const&& = delete;
 
     GbsurfReport report() const {
         GbsurfReport r{};

@@ -128,8 +128,15 @@ static void good_model(const std::string& dir) {
             auto curves = gbsurf::openmesh::curve_network(r);
             CHECK(r.curve_count() == 12);
             CHECK(curves.n_vertices() > 0 && curves.n_edges() > 0);
+            CHECK(curves.n_vertices() == 12 * 4 && curves.n_edges() == 12 * 3);
             auto nets = gbsurf::openmesh::control_nets(r);
             CHECK(nets.n_vertices() > 0);
+            CHECK(nets.n_vertices() == r.control_net_positions().size() / 3);
+            CHECK(nets.n_faces() == r.control_net_face_sizes().size());
+            auto nph = gbsurf::openmesh::patch(nets);
+            int max_net_patch = -1;
+            for (auto vh : nets.vertices()) max_net_patch = std::max(max_net_patch, nets.property(nph, vh));
+            CHECK(static_cast<std::size_t>(max_net_patch) + 1 == r.patch_count());
         }, &msg);
         if (code != GBSURF_OK) {
             std::cerr << "cube " << static_cast<int>(m) << ": " << msg << "\n";

@@ -43,6 +43,13 @@ static_assert(!has_positions<gbsurf::result>::value, "no views of a temporary");
 static_assert(!has_positions<const gbsurf::result>::value, "no views of a temporary");
 static_assert(has_curve_points<gbsurf::result&>::value && !has_curve_points<gbsurf::result>::value, "curve views");
 static_assert(has_ribbon_points<gbsurf::result&>::value && !has_ribbon_points<gbsurf::result>::value, "ribbon views");
+template <class R, class = void>
+struct has_control_net : std::false_type {};
+template <class R>
+struct has_control_net<R, std::void_t<decltype(std::declval<R>().control_net_edges()),
+                                      decltype(std::declval<R>().curve_cubic_points(0))>> : std::true_type {};
+static_assert(has_control_net<gbsurf::result&>::value && !has_control_net<gbsurf::result>::value,
+              "control net and cubic curve views");
 
 // A user function with C linkage and a plain name the wrapper might have used for its own
 // callback trampoline: must not clash with anything in gbsurf.hpp.
@@ -82,6 +89,28 @@ int main() {
     CHECK(code_of([&] { (void)a.vertex_count(); }) == GBSURF_ERR_NULL);
     a = std::move(b);
     CHECK(a.vertex_count() == nv);
+
+    // The derived geometry comes from the library: the control net (quads, edges, patch per
+    // vertex; indices in range) and the curves as cubic chains (3k + 1 points each).
+    {
+        auto pos = a.control_net_positions();
+        auto sizes = a.control_net_face_sizes();
+        auto corners = a.control_net_face_indices();
+        auto edges = a.control_net_edges();
+        const std::size_t n = pos.size() / 3;
+        CHECK(n > 0 && a.control_net_patch_index().size() == n);
+        CHECK(!sizes.empty() && corners.size() == 4 * sizes.size());
+        CHECK(edges.size() % 2 == 0 && edges.size() / 2 == 3 * a.patch_count());  // dual: 8 three-sided GB patches
+        bool in_range = true;
+        for (uint32_t i : corners) in_range = in_range && i < n;
+        for (uint32_t i : edges) in_range = in_range && i < n;
+        CHECK(in_range);
+        for (std::size_t c = 0; c < a.curve_count(); ++c) {
+            CHECK(a.curve_cubic_points(c).size() == 12);
+            CHECK(a.curve_cubic_points(c).to_vector() == a.curve_points(c).to_vector());
+        }
+        CHECK(code_of([&] { (void)a.curve_cubic_points(a.curve_count()); }) == GBSURF_ERR_INDEX);
+    }
 
     // The progress callback runs on the calling thread only (the library's workers never call
     // it), so a std::function with unsynchronized state is safe.

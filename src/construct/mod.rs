@@ -7,6 +7,7 @@
 
 pub mod blend;
 pub mod check;
+pub mod derived;
 pub mod dual;
 pub mod network;
 pub mod prepare;
@@ -14,6 +15,7 @@ pub mod surface;
 pub mod topology;
 
 pub use blend::{BlendKind, DirectionBlend};
+pub use derived::ControlNet;
 pub use dual::{build_dual, dual_network};
 pub use network::{assemble, CurveNetwork, PatchLayout, SideUse};
 pub use prepare::{dissolve_valence2, prepare, Prepared};

@@ -323,6 +323,12 @@ fn doo_sabin_result_matches_rust_api_and_has_no_patches() {
         assert!(last().contains("patch index 0 out of range (0..0)"), "{}", last());
         let (mut d, mut len) = (null(), 0usize);
         assert_eq!(gbsurf_curve_points(r, 0, &mut d, &mut len), GBSURF_ERR_INDEX);
+        assert_eq!(gbsurf_curve_cubic_points(r, 0, &mut d, &mut len), GBSURF_ERR_INDEX);
+        assert_eq!(gbsurf_control_net_positions(r, &mut d, &mut len), GBSURF_OK);
+        assert_eq!(len, 0);
+        let mut w = 7usize;
+        assert_eq!(gbsurf_control_net_copy_face_indices(r, null_mut(), 0, &mut w), GBSURF_OK);
+        assert_eq!(w, 0);
         gbsurf_result_free(r);
     }
 }
@@ -389,7 +395,65 @@ fn check_patches_match_rust(method: u32, rust_method: gbsurf::api::Method) {
             assert_eq!(gbsurf_curve_copy_points(r, ci, buf.as_mut_ptr(), buf.len(), &mut w), GBSURF_OK);
             assert_eq!((w, buf), (expect.len(), expect));
         }
+        check_derived_match_rust(r, &surface);
         gbsurf_result_free(r);
+    }
+}
+
+/// The control net and the cubic curves through the C ABI are the core's, views and copies alike.
+///
+/// # Safety
+/// `r` is a live handle of a conversion that built `surface`.
+unsafe fn check_derived_match_rust(r: *const GbsurfResult, surface: &gbsurf::construct::Surface) {
+    let net = surface.control_net();
+    let cubic = surface.default_cubic_curves();
+    // SAFETY: live handle; every output is a valid local.
+    unsafe {
+        let (mut d, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_control_net_positions(r, &mut d, &mut len), GBSURF_OK);
+        let expect: Vec<f64> = net.positions.iter().flat_map(|q| q.to_array()).collect();
+        assert!(!expect.is_empty());
+        assert_eq!(std::slice::from_raw_parts(d, len), &expect[..]);
+        let mut buf = vec![0.0; len];
+        let mut w = 0usize;
+        assert_eq!(gbsurf_control_net_copy_positions(r, buf.as_mut_ptr(), len, &mut w), GBSURF_OK);
+        assert_eq!((w, &buf[..]), (len, &expect[..]));
+        let edges: Vec<u32> = net.edges.iter().flatten().copied().collect();
+        for (view, copy, expect) in [
+            (
+                gbsurf_control_net_face_sizes as unsafe extern "C" fn(_, _, _) -> u32,
+                gbsurf_control_net_copy_face_sizes as unsafe extern "C" fn(_, _, _, _) -> u32,
+                &net.face_sizes,
+            ),
+            (gbsurf_control_net_face_indices, gbsurf_control_net_copy_face_indices, &net.face_indices),
+            (gbsurf_control_net_edges, gbsurf_control_net_copy_edges, &edges),
+            (gbsurf_control_net_patch_index, gbsurf_control_net_copy_patch_index, &net.patch),
+        ] {
+            let (mut u, mut ulen) = (null(), 0usize);
+            assert_eq!(view(r, &mut u, &mut ulen), GBSURF_OK);
+            assert_eq!(std::slice::from_raw_parts(u, ulen), &expect[..]);
+            let mut buf = vec![0u32; ulen];
+            assert_eq!(copy(r, buf.as_mut_ptr(), ulen, &mut w), GBSURF_OK);
+            assert_eq!((w, &buf), (ulen, expect));
+            if ulen > 0 {
+                assert_eq!(copy(r, buf.as_mut_ptr(), ulen - 1, &mut w), GBSURF_ERR_CAPACITY);
+                assert_eq!(w, ulen);
+            }
+        }
+        for (ci, c) in cubic.iter().enumerate() {
+            let expect: Vec<f64> = c.iter().flat_map(|q| q.to_array()).collect();
+            assert_eq!(gbsurf_curve_cubic_points(r, ci, &mut d, &mut len), GBSURF_OK);
+            assert_eq!(std::slice::from_raw_parts(d, len), &expect[..]);
+            assert_eq!(len % 9, 3, "3k + 1 points");
+            let mut buf = vec![0.0; len];
+            assert_eq!(gbsurf_curve_copy_cubic_points(r, ci, buf.as_mut_ptr(), len, &mut w), GBSURF_OK);
+            assert_eq!(buf, expect);
+        }
+        assert_eq!(gbsurf_curve_cubic_points(r, cubic.len(), &mut d, &mut len), GBSURF_ERR_INDEX);
+        assert!(last().contains("curve index"), "{}", last());
+        assert_eq!(gbsurf_control_net_positions(null(), &mut d, &mut len), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_control_net_edges(r, null_mut(), &mut len), GBSURF_ERR_NULL);
+        assert!(last().contains("gbsurf_control_net_edges") && last().contains("data"), "{}", last());
     }
 }
 

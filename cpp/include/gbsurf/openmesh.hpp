@@ -147,14 +147,15 @@ TriMesh convert(const InMesh& in, const options& opt = options(), const progress
     return to_trimesh(convert_to_result(in, opt, progress));
 }
 
-/// The curve network: per curve its Bézier control points as vertices (property "gbsurf:curve")
-/// joined by edges along the control polygon. The mesh has no faces (OpenMesh file writers
-/// store only its vertices); use it in memory or walk its edges.
+/// The curve network: per curve the control points of its cubic Bézier chain
+/// (result::curve_cubic_points) as vertices (property "gbsurf:curve") joined by edges along the
+/// control polygon. The mesh has no faces (OpenMesh file writers store only its vertices); use it
+/// in memory or walk its edges.
 inline PolyMesh curve_network(const result& r) {
     PolyMesh out;
     auto ch = detail::vprop<int>(out, curve_property_name());
     for (std::size_t c = 0; c < r.curve_count(); ++c) {
-        auto pts = r.curve_points(c);
+        auto pts = r.curve_cubic_points(c);
         PolyMesh::VertexHandle prev;
         for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
             auto vh = out.add_vertex(PolyMesh::Point(pts[i], pts[i + 1], pts[i + 2]));
@@ -166,44 +167,33 @@ inline PolyMesh curve_network(const result& r) {
     return out;
 }
 
-/// The control nets of all patches: per ribbon a grid of its control points (property
-/// "gbsurf:patch"), quads between consecutive rows (edges only for a one-row ribbon), and for a
-/// GB patch its central control point joined by an edge to the middle of each innermost row.
+/// The control nets of all patches (the library's control net, see result::control_net_*):
+/// control points as vertices (property "gbsurf:patch"), the quads between ribbon rows as faces,
+/// and as bare edges the control polygons of one-row ribbons and the spokes from a GB patch's
+/// centre to the middle of each innermost row.
 inline PolyMesh control_nets(const result& r) {
     PolyMesh out;
     auto ph = detail::vprop<int>(out, patch_property_name());
-    for (std::size_t p = 0; p < r.patch_count(); ++p) {
-        std::vector<PolyMesh::VertexHandle> inner_middles;
-        for (std::size_t s = 0; s < r.sides(p); ++s) {
-            auto shape = r.shape(p, s);
-            auto pts = r.ribbon_points(p, s);
-            const std::size_t w = shape.degree + 1;
-            std::vector<PolyMesh::VertexHandle> grid;
-            for (std::size_t i = 0; i + 2 < pts.size(); i += 3) {
-                auto vh = out.add_vertex(PolyMesh::Point(pts[i], pts[i + 1], pts[i + 2]));
-                out.property(ph, vh) = static_cast<int>(p);
-                grid.push_back(vh);
-            }
-            if (grid.size() != w * shape.layers) continue;
-            if (shape.layers >= 2) {
-                for (std::size_t k = 0; k + 1 < shape.layers; ++k) {
-                    for (std::size_t j = 0; j + 1 < w; ++j) {
-                        out.add_face(grid[k * w + j], grid[k * w + j + 1], grid[(k + 1) * w + j + 1],
-                                     grid[(k + 1) * w + j]);
-                    }
-                }
-            } else {
-                for (std::size_t j = 0; j + 1 < w; ++j) out.new_edge(grid[j], grid[j + 1]);
-            }
-            if (shape.layers >= 1) inner_middles.push_back(grid[(shape.layers - 1) * w + shape.degree / 2]);
-        }
-        if (r.kind(p) == patch_kind::gb) {
-            auto c = r.center(p);
-            auto vh = out.add_vertex(PolyMesh::Point(c[0], c[1], c[2]));
-            out.property(ph, vh) = static_cast<int>(p);
-            for (auto m : inner_middles) out.new_edge(m, vh);
-        }
+    auto pos = r.control_net_positions();
+    auto pat = r.control_net_patch_index();
+    auto sizes = r.control_net_face_sizes();
+    auto corners = r.control_net_face_indices();
+    auto edges = r.control_net_edges();
+    std::vector<PolyMesh::VertexHandle> vhs;
+    vhs.reserve(pos.size() / 3);
+    for (std::size_t i = 0; 3 * i + 2 < pos.size(); ++i) {
+        auto vh = out.add_vertex(PolyMesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+        out.property(ph, vh) = i < pat.size() ? static_cast<int>(pat[i]) : -1;
+        vhs.push_back(vh);
     }
+    std::vector<PolyMesh::VertexHandle> face;
+    std::size_t at = 0;
+    for (uint32_t n : sizes) {
+        face.clear();
+        for (uint32_t k = 0; k < n && at < corners.size(); ++k) face.push_back(vhs[corners[at++]]);
+        out.add_face(face);
+    }
+    for (std::size_t e = 0; 2 * e + 1 < edges.size(); ++e) out.new_edge(vhs[edges[2 * e]], vhs[edges[2 * e + 1]]);
     return out;
 }
 
