@@ -205,7 +205,10 @@ fn dual_and_topology_write_all_outputs() {
         assert_eq!(j["patches"][0]["type"], expected);
         let curves = std::fs::read_to_string(p("curves.obj")).unwrap();
         assert_eq!(curves.lines().filter(|l| l.starts_with("l ")).count(), j["curves"].as_array().unwrap().len());
-        assert!(std::fs::read_to_string(p("nets.obj")).unwrap().lines().any(|l| l.starts_with("l ")));
+        // The nets: quads between ribbon rows; a GB patch's centre is joined by spoke lines.
+        let nets = std::fs::read_to_string(p("nets.obj")).unwrap();
+        assert!(nets.lines().any(|l| l.starts_with("f ")), "{method}");
+        assert_eq!(nets.lines().any(|l| l.starts_with("l ")), method == "dual", "{method}");
     }
     // No temporary files left behind.
     assert!(files_in(&dir).iter().all(|f| !f.starts_with('.')), "{:?}", files_in(&dir));

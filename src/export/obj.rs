@@ -1,7 +1,7 @@
 //! Wavefront OBJ: meshes, the curve network, the control nets and planar slices. Every point
 //! line is written by [`ObjPoint`] (17 significant digits).
 
-use crate::construct::{Patch, Surface};
+use crate::construct::Surface;
 use glam::DVec3;
 use std::fmt::{self, Write as _};
 use std::io::{self, Write};
@@ -81,51 +81,33 @@ pub fn curves_obj(surface: &Surface) -> String {
     out
 }
 
-/// The control nets of every patch as Wavefront OBJ (object `patch_<p>`): for each ribbon the
-/// polylines of its rows (k fixed) and of its columns (j fixed); for GB patches the central
-/// control point as a `p` element, joined by `l` lines to the innermost row's middle points.
+/// The control nets of every patch as Wavefront OBJ, from [`Surface::control_net`] (the one
+/// builder of the net, which the C ABI and the adapters show too): all control points as `v`
+/// lines, then per patch an object `patch_<p>` with the quads between consecutive ribbon rows as
+/// `f` lines and the lines that bound no face (one-row ribbons, the spokes to a GB patch's
+/// central point) as `l` lines.
 pub fn nets_obj(surface: &Surface) -> String {
-    let mut out = String::from("# gbsurf control nets: ribbon rows and columns per patch\n");
-    let mut base = 1usize;
-    for (pi, patch) in surface.patches.iter().enumerate() {
-        let _ = writeln!(out, "o patch_{pi}");
-        let mut lines: Vec<Vec<usize>> = Vec::new();
-        let mut ribbon_first = Vec::new();
-        for rb in patch.ribbons() {
-            let first = base;
-            ribbon_first.push(first);
-            for row in &rb.rows {
-                for &p in row {
-                    let _ = writeln!(out, "{}", ObjPoint("v", p));
-                }
-                base += row.len();
-            }
-            let width = rb.degree + 1;
-            for k in 0..rb.rows.len() {
-                lines.push((0..rb.rows[k].len()).map(|j| first + k * width + j).collect());
-            }
-            if rb.rows.len() >= 2 {
-                for j in 0..width {
-                    lines.push((0..rb.rows.len()).filter(|&k| j < rb.rows[k].len()).map(|k| first + k * width + j).collect());
-                }
-            }
+    let net = surface.control_net();
+    let mut out = String::from("# gbsurf control nets: quads between ribbon rows, lines for one-row ribbons and centre spokes\n");
+    for &p in &net.positions {
+        let _ = writeln!(out, "{}", ObjPoint("v", p));
+    }
+    let mut per_patch: Vec<Vec<String>> = vec![Vec::new(); surface.patches.len()];
+    let mut corners = net.face_indices.iter();
+    for &size in &net.face_sizes {
+        let face: Vec<u32> = corners.by_ref().take(size as usize).copied().collect();
+        if let Some(&first) = face.first() {
+            let idx: Vec<String> = face.iter().map(|v| (v + 1).to_string()).collect();
+            per_patch[net.patch[first as usize] as usize].push(format!("f {}", idx.join(" ")));
         }
-        if let Patch::Gb(g) = patch {
-            let _ = writeln!(out, "{}", ObjPoint("v", g.center));
-            let c = base;
-            base += 1;
-            let _ = writeln!(out, "p {c}");
-            for (rb, first) in g.ribbons.iter().zip(&ribbon_first) {
-                if let Some(k) = rb.rows.len().checked_sub(1) {
-                    lines.push(vec![first + k * (rb.degree + 1) + rb.degree / 2, c]);
-                }
-            }
-        }
-        for l in lines {
-            if l.len() >= 2 {
-                let idx: Vec<String> = l.iter().map(|x| x.to_string()).collect();
-                let _ = writeln!(out, "l {}", idx.join(" "));
-            }
+    }
+    for &[a, b] in &net.edges {
+        per_patch[net.patch[a as usize] as usize].push(format!("l {} {}", a + 1, b + 1));
+    }
+    for (p, elements) in per_patch.iter().enumerate() {
+        let _ = writeln!(out, "o patch_{p}");
+        for e in elements {
+            let _ = writeln!(out, "{e}");
         }
     }
     out
