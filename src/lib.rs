@@ -4,22 +4,25 @@
 //! meshes, with tangent-plane (G1) continuity between patches, and exact offsets of curves and
 //! surfaces (Pythagorean-hodograph curves, Pythagorean-normal surfaces).
 //!
-//! Layers, each depending only on the ones above it in this list:
+//! Layers, each depending only on the ones above it in this list (the order the README's layer
+//! table gives; the compiler enforces layering between the workspace's crates):
 //! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers; [`limits`]: every
 //!   bound on input sizes.
-//! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed 001).
+//! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed
+//!   001), degree reduction and base + displacement (seed 002).
 //! - [`gb`]: the n-sided domain, Wachspress coordinates, the GB patch and its ribbon-only (CGB)
-//!   variant, degree elevation, the `.gbp` format, per-(n, d, r) weight tables (seeds 000, 002).
+//!   variant, degree elevation, common degree, decomposition, the `.gbp` format, per-(n, d, r)
+//!   weight tables (seeds 000, 002).
 //! - [`options`]: [`ConvertOptions`] and its enums, the one definition of the conversion options.
-//! - [`mesh`]: polygon meshes, half-edge topology, validation and file I/O.
+//! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
+//! - [`mesh`]: polygon meshes, half-edge topology, validation and file reading.
+//! - [`quality`]: normals, curvature, mesh checks, isophotes, slices, reports (seed 000 §5.2).
 //! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
 //! - [`tessellate`]: watertight sampling of all patches into one welded triangle mesh (plain
 //!   arrays, which the writers and the adapters copy).
-//! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
-//! - [`quality`]: normals, curvature, G1 deviation, isophotes, slices, reports (seed 000 §5.2).
-//! - [`api`]: the pipeline (read, validate, construct or subdivide, tessellate, check).
 //! - [`export`]: every writer (OBJ, PLY, STL, JSON, `.gbp`) and the one atomic writer.
+//! - [`api`]: the pipeline (read, validate, construct or subdivide, tessellate, check).
 //!
 //! The formulas, their seed sections and the seeds' corrections: `docs/math.md`.
 //!

@@ -28,4 +28,17 @@ pub const MAX_LEVELS: u32 = 8;
 /// Largest weight table built, in bytes (1 GiB).
 pub const MAX_TABLE_BYTES: u128 = 1 << 30;
 
+/// Above this size a tessellation builds no weight table: the weights are evaluated directly at
+/// every sample (a table this large would be used for one conversion only).
+pub const MAX_TESSELLATION_TABLE_BYTES: u128 = 256 << 20;
+
+/// The default memory bound of a caller-owned `tessellate::TableCache` (the tables of a few
+/// (n, d) at the usual resolutions).
+pub const DEFAULT_TABLE_CACHE_BYTES: u128 = 64 << 20;
+
+/// Greatest number of halvings of one curve when the curve network is converted into cubic
+/// Bézier chains (at most 2^10 cubic segments per curve, reached only for tolerances at round-off
+/// level).
+pub const MAX_CUBIC_SPLIT_DEPTH: usize = 10;
+
 const _: () = assert!(MAX_GBP_DEGREE <= MAX_DEGREE);

@@ -543,3 +543,26 @@ fn surface_common_degree_keeps_the_joins() {
     assert_eq!(topo.with_common_degree(6).unwrap_err(), gbsurf::gb::decompose::CommonDegreeError::NotGb { patch: 0 });
     assert!(matches!(surface.with_common_degree(2), Err(gbsurf::gb::decompose::CommonDegreeError::AboveTarget { patch: 0, .. })));
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+
+    /// Random patches (any seed, n = 3..8, d = 3..7): the terms recompose the patch exactly, and
+    /// every displacement term is zero to first order on every other side.
+    #[test]
+    fn decomposition_properties(seed in 0u64..1_000_000, n in 3usize..=8, d in 3usize..=7, t in 0.0f64..=1.0) {
+        let p = random_patch(n, d, seed);
+        let dec = decompose(&p).unwrap();
+        let q = dec.recompose();
+        assert_near!(q.control_points_flat(), p.control_points_flat(), 1e-13);
+        let dom = Domain::regular(n).unwrap();
+        for (i, term) in dec.displacements.iter().enumerate() {
+            for side in (0..n).filter(|&s| s != i) {
+                let x = dom.side_point(side, t);
+                let dv = term.eval_derivs(x, WeightForm::Squared);
+                proptest::prop_assert!(dv.p.length() < 1e-12, "side {side} of term {i}: {}", dv.p);
+                proptest::prop_assert!(dv.su.length() + dv.sv.length() < 1e-8, "side {side} of term {i}: gradient");
+            }
+        }
+    }
+}

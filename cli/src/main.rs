@@ -218,7 +218,9 @@ struct ConvertArgs {
     #[arg(long)]
     patches: Option<PathBuf>,
     /// Elevate every patch of the exact description (--patches) to this common degree: boundaries
-    /// and cross-derivatives stay exact, so G1 is kept (GB patches only, i.e. the dual method).
+    /// and cross-derivatives stay exact, so G1 is kept, while the interiors change slightly (GB
+    /// patches only, i.e. the dual method). The tessellated output (-o) is of the surface as
+    /// constructed, not of the elevated patches. `.gbp` files are written up to degree 40.
     #[arg(long, requires = "patches")]
     degree: Option<usize>,
     /// Write the report (JSON).
@@ -511,7 +513,14 @@ fn tessellate_gbp(
 /// `gbp-elevate`: the patch elevated to degree `to` (docs/math/editing.md, "common degree"),
 /// written as `.gbp` (atomically: nothing is written on failure).
 fn gbp_elevate(file: &Path, to: usize, output: &Path) -> Result<(), String> {
+    use gbsurf::limits::MAX_GBP_DEGREE;
+    if to > MAX_GBP_DEGREE {
+        return Err(format!("--to {to} is above {MAX_GBP_DEGREE}, the largest degree a .gbp file holds"));
+    }
     let patch = load_patch(file)?;
+    if to < patch.degree() {
+        return Err(format!("{}: --to {to} is below the patch degree {} (degree reduction is not exact)", file.display(), patch.degree()));
+    }
     let elevated = gbsurf::gb::decompose::common_degree(std::slice::from_ref(&patch), to)
         .map_err(|e| format!("{}: --to {to}: {e}", file.display()))?
         .remove(0);

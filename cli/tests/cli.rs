@@ -260,14 +260,15 @@ fn gbp_elevate_refuses_a_lower_degree_and_writes_nothing() {
     let o = run(&["gbp-elevate", QUINTIC3, "--to", "4", "-o", out.to_str().unwrap()], "");
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("patch 0 has degree 5, above the common degree 4"), "{err}");
+    assert!(err.contains("--to 4 is below the patch degree 5"), "{err}");
     assert!(!out.exists());
     let o = run(&["gbp-elevate", CUBIC5, "--to", "1000", "-o", out.to_str().unwrap()], "");
-    assert!(String::from_utf8_lossy(&o.stderr).contains("above the supported maximum"), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--to 1000 is above 40"), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!out.exists());
 }
 
-const CUBE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models/cube_corner_pulled.obj");
+/// The dual patches of the cube are connected nets (so they have .gbp files).
+const CUBE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models/cube.obj");
 
 #[test]
 fn convert_degree_elevates_the_exact_description() {
@@ -281,10 +282,9 @@ fn convert_degree_elevates_the_exact_description() {
     assert!(!patches.is_empty());
     for p in patches {
         assert!(p["degree"].as_array().unwrap().iter().all(|d| d == 6), "{}", p["degree"]);
-        // Patches that are connected nets keep a .gbp file, now of degree 6.
-        if let Some(name) = p["gbp"].as_str() {
-            assert_eq!(load_gbp(dir.join(name)).unwrap().degree(), 6);
-        }
+        // The cube's patches are connected nets: each keeps its .gbp file, now of degree 6.
+        let name = p["gbp"].as_str().expect("a .gbp file per patch");
+        assert_eq!(load_gbp(dir.join(name)).unwrap().degree(), 6);
     }
     assert!(doc["curves"].as_array().unwrap().iter().all(|c| c.as_array().unwrap().len() == 7));
     // Ribbon-only patches (topology structure) have no common degree: a named error, no output.

@@ -31,10 +31,11 @@ pub enum ReduceError {
         order: usize,
         min: usize,
     },
-    /// The least-squares normal equations lost positive definiteness to round-off
-    /// (Bernstein Gram matrices are badly conditioned for high degrees).
+    /// The least-squares system is numerically rank-deficient at column `pivot` of the QR
+    /// solve, or the solution has a non-finite control point `pivot` (Bernstein bases are badly
+    /// conditioned for high degrees).
     #[error(
-        "the normal equations of the reduction to degree {target} are singular at pivot {pivot}"
+        "the least-squares system of the reduction to degree {target} is singular (column or control point {pivot})"
     )]
     Singular { target: usize, pivot: usize },
     /// The base + displacement form needs a curve of degree at least 3 (the base is cubic).
@@ -134,7 +135,8 @@ pub fn reduce_degree<P: Point>(
     if target >= d {
         return Err(ReduceError::TargetNotLower { target, degree: d });
     }
-    let min = 2 * order + 1;
+    // 2·order + 1, saturating: an absurd `order` is "target too low", never an overflow.
+    let min = order.saturating_mul(2).saturating_add(1);
     if target < min {
         return Err(ReduceError::TargetTooLow { target, order, min });
     }

@@ -28,9 +28,7 @@ pub struct ControlNet {
     pub patch: Vec<u32>,
 }
 
-/// Greatest number of halvings of one curve in [`Surface::cubic_curves`] (at most 2^10 cubic
-/// segments per curve, reached only for tolerances at round-off level).
-pub const MAX_CUBIC_SPLIT_DEPTH: usize = 10;
+pub use crate::limits::MAX_CUBIC_SPLIT_DEPTH;
 
 /// The tolerance of [`Surface::default_cubic_curves`], relative to the diagonal of the bounding
 /// box of the curve network's control points.

@@ -52,6 +52,8 @@ pub fn patches_json(surface: &Surface, gbp_files: &[Option<String>]) -> serde_js
 /// The `.gbp` text of every GB patch that has one (a connected net, see [`crate::gb::gbp`]);
 /// `None` for CGB patches and for GB patches whose corner blocks are independent (direction-blend
 /// twists), which only the JSON describes exactly.
+///
+/// A patch above [`crate::limits::MAX_GBP_DEGREE`] has no `.gbp` text either (the format's bound).
 pub fn gbp_texts(surface: &Surface) -> Vec<Option<String>> {
     surface
         .patches

@@ -53,8 +53,7 @@ fn kind_of(p: &Patch) -> Kind {
     }
 }
 
-/// Above this size no table is built: the weights are evaluated directly at every sample.
-const TABLE_BYTES: u128 = 256 << 20;
+use crate::limits::MAX_TESSELLATION_TABLE_BYTES as TABLE_BYTES;
 
 /// Key of a [`TableCache`]: the patch kind, the resolution and the weight form (the tables
 /// always hold second derivatives).
@@ -111,8 +110,8 @@ impl Default for TableCache {
 }
 
 impl TableCache {
-    /// The default bound: 64 MiB (the tables of a few (n, d) at the usual resolutions).
-    pub const DEFAULT_BYTES: u128 = 64 << 20;
+    /// The default bound: [`crate::limits::DEFAULT_TABLE_CACHE_BYTES`].
+    pub const DEFAULT_BYTES: u128 = crate::limits::DEFAULT_TABLE_CACHE_BYTES;
 
     /// An empty cache holding at most `max_bytes` of tables.
     pub fn new(max_bytes: u128) -> Self {
