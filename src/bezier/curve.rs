@@ -221,37 +221,38 @@ impl<P: Point> BezierCurve<P> {
         self.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
     }
 
-    /// Arc length ∫_0^1 |B′(t)| dt by composite 16-point Gauss–Legendre quadrature, halving the
-    /// pieces until two passes agree to 1e-14 relative (at most 2^12 pieces).
+    /// Arc length ∫_0^1 |B′(t)| dt by [`integrate`] (from one piece, to 1e-14 relative).
     pub fn arc_length(&self) -> f64 {
         let d = self.hodograph();
-        let (x, w) = gauss_legendre(16);
-        let integrate = |pieces: usize| -> f64 {
-            let h = 1.0 / pieces as f64;
-            (0..pieces)
-                .map(|k| {
-                    let a = k as f64 * h;
-                    x.iter()
-                        .zip(&w)
-                        .map(|(&xi, &wi)| wi * d.eval(a + 0.5 * h * (xi + 1.0)).norm())
-                        .sum::<f64>()
-                        * 0.5
-                        * h
-                })
-                .sum()
-        };
-        let mut pieces = 1;
-        let mut prev = integrate(pieces);
-        while pieces < 1 << 12 {
-            pieces *= 2;
-            let next = integrate(pieces);
-            if (next - prev).abs() <= 1e-14 * next.abs().max(f64::MIN_POSITIVE) {
-                return next;
-            }
-            prev = next;
-        }
-        prev
+        integrate(|t| d.eval(t).norm(), 1, 1e-14)
     }
+}
+
+/// ∫_0^1 f(t) dt by composite 16-point Gauss–Legendre quadrature on `pieces` equal pieces,
+/// doubling them until two passes agree to `rel_tol` relative (at most 2^12 pieces; the last pass
+/// is returned then). The one adaptive quadrature of the crate (arc lengths, PH bending energy).
+pub fn integrate(f: impl Fn(f64) -> f64, pieces: usize, rel_tol: f64) -> f64 {
+    let (x, w) = gauss_legendre(16);
+    let pass = |pieces: usize| -> f64 {
+        let h = 1.0 / pieces as f64;
+        (0..pieces)
+            .map(|k| {
+                let a = k as f64 * h;
+                x.iter().zip(&w).map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0))).sum::<f64>() * 0.5 * h
+            })
+            .sum()
+    };
+    let mut pieces = pieces.max(1);
+    let mut prev = pass(pieces);
+    while pieces < 1 << 12 {
+        pieces *= 2;
+        let next = pass(pieces);
+        if (next - prev).abs() <= rel_tol * next.abs().max(f64::MIN_POSITIVE) {
+            return next;
+        }
+        prev = next;
+    }
+    prev
 }
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (Newton iteration on P_n from the Chebyshev

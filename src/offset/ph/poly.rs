@@ -205,35 +205,9 @@ pub(crate) fn invert_arc_length(
     })
 }
 
-/// ∫_0^1 f by composite 16-point Gauss–Legendre on 2^k equal pieces, doubling k (from 4
-/// pieces) until two passes agree to 1e-13 relative, at most 2^12 pieces.
+/// ∫_0^1 f by [`crate::bezier::curve::integrate`] from 4 pieces to 1e-13 relative.
 pub(crate) fn integrate(f: impl Fn(f64) -> f64) -> f64 {
-    let (x, w) = crate::bezier::curve::gauss_legendre(16);
-    let pass = |pieces: usize| -> f64 {
-        let h = 1.0 / pieces as f64;
-        (0..pieces)
-            .map(|k| {
-                let a = k as f64 * h;
-                x.iter()
-                    .zip(&w)
-                    .map(|(&xi, &wi)| wi * f(a + 0.5 * h * (xi + 1.0)))
-                    .sum::<f64>()
-                    * 0.5
-                    * h
-            })
-            .sum()
-    };
-    let mut pieces = 4;
-    let mut prev = pass(pieces);
-    while pieces < 1 << 12 {
-        pieces *= 2;
-        let next = pass(pieces);
-        if (next - prev).abs() <= 1e-13 * next.abs() {
-            return next;
-        }
-        prev = next;
-    }
-    prev
+    crate::bezier::curve::integrate(f, 4, 1e-13)
 }
 
 #[cfg(test)]
