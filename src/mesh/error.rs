@@ -56,7 +56,7 @@ pub enum MeshError {
     InputTooLarge { path: String, limit: u64 },
     /// The bounding box is too small relative to the coordinates' magnitude for f64 to resolve
     /// the shape (see [`crate::limits::MIN_RELATIVE_EXTENT`]).
-    #[error("mesh extent {extent:e} is below {min_ratio:e} of its coordinates' magnitude {magnitude:e} (vertex {vertex}{}): f64 cannot resolve the shape; move the mesh nearer the origin", fmt_line(*line))]
+    #[error("mesh extent {extent:e} is below {min_ratio:e} times the coordinate magnitude {magnitude:e} of vertex {vertex}{}: f64 cannot resolve the shape; move the mesh nearer the origin", fmt_line(*line))]
     UnresolvableExtent { extent: f64, magnitude: f64, min_ratio: f64, vertex: usize, line: Option<usize> },
     /// A face names the same vertex more than once.
     #[error("face {face}{} names vertex {vertex} more than once", fmt_line(*line))]

@@ -226,18 +226,19 @@ pub fn parse_off(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     let mut lines = lines_from(bytes, 1)
         .map(|(ln, l)| (ln, strip_comment(l).trim_ascii()))
         .filter(|(_, l)| !l.is_empty());
-    let mut next = |what: &dyn Fn() -> String| -> Result<(usize, &str), MeshError> {
-        let (ln, l) = lines.next().ok_or_else(|| parse_err(None, what()))?;
+    // The next line, or an error on line `blame` (the line whose count promised more).
+    let mut next = |blame: usize, what: &dyn Fn() -> String| -> Result<(usize, &str), MeshError> {
+        let (ln, l) = lines.next().ok_or_else(|| parse_err(Some(blame), what()))?;
         Ok((ln, text_at(l, ln)?))
     };
-    let (ln, head) = next(&|| "empty OFF file".into())?;
+    let (ln, head) = next(1, &|| "empty OFF file (no header)".into())?;
     let mut head_toks: Vec<&str> = head.split_whitespace().collect();
     if head_toks.first().map(|t| t.ends_with("OFF")) != Some(true) {
         return Err(parse_err(Some(ln), "missing OFF header"));
     }
     head_toks.remove(0);
     let (counts_ln, counts_toks): (usize, Vec<&str>) = if head_toks.is_empty() {
-        let (ln, l) = next(&|| "missing OFF counts".into())?;
+        let (ln, l) = next(ln, &|| "missing OFF counts after the header".into())?;
         (ln, l.split_whitespace().collect())
     } else {
         (ln, head_toks)
@@ -255,7 +256,7 @@ pub fn parse_off(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     // A vertex line has at least 6 bytes ("0 0 0\n"), a face line at least 2.
     let mut positions = Vec::with_capacity(reserve(nv, bytes.len(), 6));
     for v in 0..nv {
-        let (ln, l) = next(&|| format!("OFF file ends after {v} of the {nv} vertices declared on line {counts_ln}"))?;
+        let (ln, l) = next(counts_ln, &|| format!("OFF file ends after {v} of the {nv} vertices declared here"))?;
         let vals: Result<Vec<f64>, _> = l.split_whitespace().take(3).map(str::parse::<f64>).collect();
         let vals = vals.map_err(|_| parse_err(Some(ln), "bad number in OFF vertex"))?;
         if vals.len() < 3 {
@@ -266,7 +267,7 @@ pub fn parse_off(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     }
     let mut faces = Vec::with_capacity(reserve(nf, bytes.len(), 2));
     for f in 0..nf {
-        let (ln, l) = next(&|| format!("OFF file ends after {f} of the {nf} faces declared on line {counts_ln}"))?;
+        let (ln, l) = next(counts_ln, &|| format!("OFF file ends after {f} of the {nf} faces declared here"))?;
         let toks: Vec<&str> = l.split_whitespace().collect();
         let t0 = toks.first().copied().unwrap_or("");
         let n: usize = t0.parse().map_err(|_| parse_err(Some(ln), format!("bad OFF face size {t0:?}")))?;
@@ -323,11 +324,15 @@ pub fn read_polymesh(path: impl AsRef<Path>) -> Result<(PolyMesh, SourceMap), Me
     if !meta.is_file() {
         return Err(MeshError::NotAFile { path: path.display().to_string() });
     }
+    let too_large = || MeshError::InputTooLarge { path: path.display().to_string(), limit: MAX_INPUT_BYTES };
+    if meta.len() > MAX_INPUT_BYTES {
+        return Err(too_large());
+    }
     let file = fs::File::open(path).map_err(|e| io_err(path, e))?;
     let mut bytes = Vec::with_capacity(meta.len().min(MAX_INPUT_BYTES) as usize);
     file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes).map_err(|e| io_err(path, e))?;
     if bytes.len() as u64 > MAX_INPUT_BYTES {
-        return Err(MeshError::InputTooLarge { path: path.display().to_string(), limit: MAX_INPUT_BYTES });
+        return Err(too_large()); // the file grew while being read
     }
     parse_mesh_bytes(&bytes, &ext)
 }
@@ -534,11 +539,8 @@ pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
         }
         let ends = |r: usize| {
             parse_err(
-                None,
-                format!(
-                    "PLY file ends in element '{}' record {r} of the {} declared on header line {}",
-                    el.name, el.count, el.line
-                ),
+                Some(el.line),
+                format!("PLY file ends in element '{}' record {r} of the {} declared here", el.name, el.count),
             )
         };
         for r in 0..el.count {
@@ -590,7 +592,10 @@ pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
                 let mut c = [0.0; 3];
                 for (k, i) in xyz.iter().enumerate() {
                     let i = i.unwrap_or(0);
-                    c[k] = rec[i].first().copied().ok_or_else(|| parse_err(rec_line, "PLY vertex coordinate is an empty list"))?;
+                    c[k] = rec[i]
+                        .first()
+                        .copied()
+                        .ok_or_else(|| parse_err(rec_line, format!("PLY vertex {r}: coordinate list is empty")))?;
                 }
                 positions.push(DVec3::from_array(c));
                 if let Some(l) = rec_line {
