@@ -6,9 +6,9 @@
 //!    [`COORDINATE_LIMIT`] ([`MeshError::CoordinateRange`]);
 //! 3. per face, in face order: at least 3 corners, indices in range, no repeated index, area
 //!    not (relatively) zero (computed in a frame scaled by the face's size, so it cannot overflow);
-//! 3b. the bounding box of the face vertices not too small relative to the coordinates'
+//!    then the bounding box of the face vertices not too small relative to the coordinates'
 //!    magnitude: extent ≥ [`MIN_RELATIVE_EXTENT`] · max |coordinate|
-//!    ([`MeshError::UnresolvableExtent`], naming the vertex of largest magnitude);
+//!    ([`MeshError::UnresolvableExtent`], naming the first vertex of largest magnitude);
 //! 4. no face repeated with the same orientation ([`MeshError::DuplicateFace`]);
 //! 5. no edge shared by more than two faces ([`MeshError::NonManifoldEdge`]);
 //! 6. no directed edge used twice ([`MeshError::InconsistentOrientation`]);
@@ -103,7 +103,7 @@ pub fn validate(mesh: &PolyMesh) -> Result<ValidMesh, MeshError> {
     })
 }
 
-/// Check 3b of the module doc (faces already checked: indices in range).
+/// The extent check of step 3 of the module doc (faces already checked: indices in range).
 fn check_extent(mesh: &PolyMesh) -> Result<(), MeshError> {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     let (mut magnitude, mut vertex) = (0.0_f64, 0);
