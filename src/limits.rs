@@ -41,4 +41,14 @@ pub const DEFAULT_TABLE_CACHE_BYTES: u128 = 64 << 20;
 /// level).
 pub const MAX_CUBIC_SPLIT_DEPTH: usize = 10;
 
+/// Largest mesh file the readers read, in bytes (2 GiB); larger files (and endless ones such as
+/// `/dev/zero`) are refused with [`crate::mesh::MeshError::InputTooLarge`].
+pub const MAX_INPUT_BYTES: u64 = 2 << 30;
+
+/// Smallest accepted ratio of a mesh's bounding-box extent to the magnitude of its coordinates.
+/// Below it, f64 (about 16 significant digits) cannot resolve the shape well enough for the
+/// construction: a unit cube at x = 1e15 gives visibly wrong surfaces. Such meshes are refused
+/// with [`crate::mesh::MeshError::UnresolvableExtent`].
+pub const MIN_RELATIVE_EXTENT: f64 = 1e-9;
+
 const _: () = assert!(MAX_GBP_DEGREE <= MAX_DEGREE);

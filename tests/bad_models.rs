@@ -63,11 +63,11 @@ fn huge_coordinates() {
 
 #[test]
 fn index_out_of_range() {
-    // "f 2 4 8 42": face 5, corner 3, index 41 of 8 vertices, line 15
+    // "f 2 4 8 42": face 5, corner 3, index 42 as written (1..=8), line 15
     let e = err("index_out_of_range.obj");
     assert_eq!(
         e,
-        MeshError::IndexOutOfRange { face: 5, corner: 3, index: 41, n_vertices: 8, line: Some(15) }
+        MeshError::ObjIndexOutOfRange { face: 5, corner: 3, index: 42, available: 8, line: Some(15) }
     );
 }
 
@@ -194,7 +194,7 @@ fn closed_double_cone_vertex() {
 #[test]
 fn errors_display_the_element() {
     let s = err("index_out_of_range.obj").to_string();
-    assert!(s.contains("face 5") && s.contains("line 15") && s.contains("41"), "{s}");
+    assert!(s.contains("face 5") && s.contains("line 15") && s.contains("vertex index 42 out of range (1..=8)"), "{s}");
     let s = err("nonmanifold_edge.obj").to_string();
     assert!(s.contains("edge (0, 1)"), "{s}");
 }

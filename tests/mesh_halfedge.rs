@@ -237,7 +237,7 @@ proptest! {
         } else if k == 1 {
             let _ = gbsurf::mesh::io::parse_stl(&bytes);
         } else {
-            let _ = gbsurf::mesh::io::parse_off(&String::from_utf8_lossy(&bytes));
+            let _ = gbsurf::mesh::io::parse_off(&bytes);
         }
     }
 }

@@ -85,9 +85,9 @@ fn obj_garbage_is_an_error_naming_the_line() {
             r => panic!("{text:?}: {r:?}"),
         }
     }
-    // out of range index (also negative relative) with its line
+    // out of range index (also negative relative) with its line, named as written
     match parse_obj("v 0 0 0\nv 1 0 0\nf 1 2 -3\n") {
-        Err(MeshError::IndexOutOfRange { face: 0, corner: 2, index: -1, line: Some(3), .. }) => {}
+        Err(MeshError::ObjIndexOutOfRange { face: 0, corner: 2, index: -3, available: 2, line: Some(3) }) => {}
         r => panic!("{r:?}"),
     }
 }

@@ -67,7 +67,7 @@ fn huge_coordinates() {
 
 #[test]
 fn index_out_of_range() {
-    all_eq("index_out_of_range.obj", MeshError::IndexOutOfRange { face: 5, corner: 3, index: 41, n_vertices: 8, line: Some(15) });
+    all_eq("index_out_of_range.obj", MeshError::ObjIndexOutOfRange { face: 5, corner: 3, index: 42, available: 8, line: Some(15) });
 }
 
 #[test]

@@ -136,9 +136,11 @@ fn flatten_patches(s: &Surface) -> Vec<FlatPatch> {
 /// The status code of a mesh error.
 pub(crate) fn mesh_error_code(e: &MeshError) -> u32 {
     match e {
-        MeshError::Parse { .. } | MeshError::Io { .. } => GBSURF_ERR_IO,
+        MeshError::Parse { .. } | MeshError::Io { .. } | MeshError::NotAFile { .. } | MeshError::InputTooLarge { .. } => {
+            GBSURF_ERR_IO
+        }
         MeshError::NonFiniteCoordinate { .. } => GBSURF_ERR_NAN,
-        MeshError::IndexOutOfRange { .. } => GBSURF_ERR_INDEX,
+        MeshError::IndexOutOfRange { .. } | MeshError::ObjIndexOutOfRange { .. } => GBSURF_ERR_INDEX,
         _ => GBSURF_ERR_INVALID_MESH,
     }
 }

@@ -72,7 +72,7 @@ fn bad_huge_coordinates() {
 }
 #[test]
 fn bad_index_out_of_range() {
-    fails(&bad("index_out_of_range.obj"), &[], "face 5 (line 15) corner 3: vertex index 41 out of range");
+    fails(&bad("index_out_of_range.obj"), &[], "face 5 (line 15) corner 3: vertex index 42 out of range (1..=8)");
 }
 #[test]
 fn bad_inf() {

@@ -43,6 +43,21 @@ pub enum MeshError {
     /// relative OBJ index that points before the first vertex).
     #[error("face {face}{} corner {corner}: vertex index {index} out of range (0..{n_vertices})", fmt_line(*line))]
     IndexOutOfRange { face: usize, corner: usize, index: i64, n_vertices: usize, line: Option<usize> },
+    /// An OBJ face names a vertex that does not exist. `index` is as written in the file (1-based,
+    /// or negative relative to the vertices above the face); `available` is the number of
+    /// vertices it may name (all of them for a positive index, those above the face otherwise).
+    #[error("face {face}{} corner {corner}: vertex index {index} out of range ({})", fmt_line(*line), obj_range(*index, *available))]
+    ObjIndexOutOfRange { face: usize, corner: usize, index: i64, available: usize, line: Option<usize> },
+    /// The path is not a regular file (a directory, device or FIFO).
+    #[error("{path} is not a regular file")]
+    NotAFile { path: String },
+    /// The file is larger than [`crate::limits::MAX_INPUT_BYTES`].
+    #[error("{path} is larger than the limit of {limit} bytes")]
+    InputTooLarge { path: String, limit: u64 },
+    /// The bounding box is too small relative to the coordinates' magnitude for f64 to resolve
+    /// the shape (see [`crate::limits::MIN_RELATIVE_EXTENT`]).
+    #[error("mesh extent {extent:e} is below {min_ratio:e} times the coordinate magnitude {magnitude:e} of vertex {vertex}{}: f64 cannot resolve the shape; move the mesh nearer the origin", fmt_line(*line))]
+    UnresolvableExtent { extent: f64, magnitude: f64, min_ratio: f64, vertex: usize, line: Option<usize> },
     /// A face names the same vertex more than once.
     #[error("face {face}{} names vertex {vertex} more than once", fmt_line(*line))]
     RepeatedIndex { face: usize, vertex: usize, line: Option<usize> },
@@ -66,6 +81,14 @@ pub enum MeshError {
     Degenerate(String),
 }
 
+fn obj_range(index: i64, n: usize) -> String {
+    match (index < 0, n) {
+        (false, 0) | (true, 0) => "no vertices to name".to_string(),
+        (false, n) => format!("1..={n}"),
+        (true, n) => format!("-{n}..=-1 relative to the {n} vertices above"),
+    }
+}
+
 fn fmt_line(line: Option<usize>) -> String {
     match line {
         Some(l) => format!(" (line {l})"),
@@ -79,6 +102,10 @@ pub enum MeshWarning {
     /// A vertex used by no face was dropped (vertices renumbered).
     #[error("vertex {vertex}{} is used by no face and was dropped", fmt_line(*line))]
     IsolatedVertex { vertex: usize, line: Option<usize> },
+    /// A file statement the reader does not support was skipped (OBJ free-form geometry,
+    /// render attributes, OpenSubdiv tags as `t <tag>`): the first line and how many there were.
+    #[error("skipped {count} unsupported statement(s) {statement:?} (first on line {line})")]
+    SkippedStatement { statement: String, line: usize, count: usize },
 }
 
 /// Source lines of the elements of a mesh read from a file (1-based), to annotate errors.
@@ -88,6 +115,9 @@ pub struct SourceMap {
     pub vertex_lines: Vec<usize>,
     /// Line of each face.
     pub face_lines: Vec<usize>,
+    /// What the reader skipped (added to the mesh's warnings by
+    /// [`super::HalfEdgeMesh::annotate_warnings`]).
+    pub warnings: Vec<MeshWarning>,
 }
 
 impl SourceMap {
@@ -128,6 +158,9 @@ impl MeshError {
             NonManifoldVertex { vertex, fans, .. } => {
                 NonManifoldVertex { vertex, fans, line: map.vl(vertex) }
             }
+            UnresolvableExtent { extent, magnitude, min_ratio, vertex, .. } => {
+                UnresolvableExtent { extent, magnitude, min_ratio, vertex, line: map.vl(vertex) }
+            }
             e => e,
         }
     }
@@ -140,6 +173,7 @@ impl MeshWarning {
             MeshWarning::IsolatedVertex { vertex, .. } => {
                 MeshWarning::IsolatedVertex { vertex, line: map.vl(vertex) }
             }
+            w @ MeshWarning::SkippedStatement { .. } => w,
         }
     }
 }

@@ -263,11 +263,13 @@ impl HalfEdgeMesh {
     pub fn original_vertex(&self, v: VertexId) -> usize {
         self.original_vertex[v.idx()] as usize
     }
-    /// Fills in source lines of the warnings (used by the file readers).
+    /// Fills in source lines of the warnings and puts the reader's warnings
+    /// ([`super::SourceMap::warnings`]) first (used by the file readers).
     pub fn annotate_warnings(&mut self, map: &super::SourceMap) {
         for w in &mut self.warnings {
             *w = w.clone().with_source(map);
         }
+        self.warnings.splice(0..0, map.warnings.iter().cloned());
     }
     /// `new → input` vertex index map.
     pub fn original_vertices(&self) -> &[u32] {

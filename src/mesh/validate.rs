@@ -6,6 +6,9 @@
 //!    [`COORDINATE_LIMIT`] ([`MeshError::CoordinateRange`]);
 //! 3. per face, in face order: at least 3 corners, indices in range, no repeated index, area
 //!    not (relatively) zero (computed in a frame scaled by the face's size, so it cannot overflow);
+//!    then the bounding box of the face vertices not too small relative to the coordinates'
+//!    magnitude: extent ≥ [`MIN_RELATIVE_EXTENT`] · max |coordinate|
+//!    ([`MeshError::UnresolvableExtent`], naming the first vertex of largest magnitude);
 //! 4. no face repeated with the same orientation ([`MeshError::DuplicateFace`]);
 //! 5. no edge shared by more than two faces ([`MeshError::NonManifoldEdge`]);
 //! 6. no directed edge used twice ([`MeshError::InconsistentOrientation`]);
@@ -24,6 +27,7 @@ use super::error::{MeshError, MeshWarning, COORDINATE_LIMIT, ZERO_AREA_REL};
 use super::geometry::newell_normal;
 use super::halfedge::HalfEdgeMesh;
 use super::PolyMesh;
+use crate::limits::MIN_RELATIVE_EXTENT;
 use glam::DVec3;
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;
@@ -99,6 +103,26 @@ pub fn validate(mesh: &PolyMesh) -> Result<ValidMesh, MeshError> {
     })
 }
 
+/// The extent check of step 3 of the module doc (faces already checked: indices in range).
+fn check_extent(mesh: &PolyMesh) -> Result<(), MeshError> {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    let (mut magnitude, mut vertex) = (0.0_f64, 0);
+    for &i in mesh.faces.iter().flatten() {
+        let p = mesh.positions[i as usize];
+        lo = lo.min(p);
+        hi = hi.max(p);
+        let m = p.abs().max_element();
+        if m > magnitude {
+            (magnitude, vertex) = (m, i as usize);
+        }
+    }
+    let extent = (hi - lo).max_element();
+    if extent < MIN_RELATIVE_EXTENT * magnitude {
+        return Err(MeshError::UnresolvableExtent { extent, magnitude, min_ratio: MIN_RELATIVE_EXTENT, vertex, line: None });
+    }
+    Ok(())
+}
+
 /// Checks 1–7 of the module doc (everything that needs no half-edge structure).
 pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
     if mesh.faces.is_empty() {
@@ -151,6 +175,7 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
             return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
         }
     }
+    check_extent(mesh)?;
     // 4. duplicates with the same orientation; 7. with the opposite one.
     let mut cycles: FxHashMap<Vec<u32>, usize> = fx_map(mesh.faces.len());
     for (f, face) in mesh.faces.iter().enumerate() {
