@@ -21,9 +21,9 @@ use tempfile::NamedTempFile;
 ///   so a target name of up to 255 bytes works.
 /// - A rename is atomic per file (a reader sees the old or the new content, never a part), but
 ///   the set is not: if a rename in `commit` fails (rare: everything is already written in the
-///   same directory, and targets that are directories are refused before the first rename), the
-///   targets renamed before it already hold their new content and the later ones keep their old
-///   content.
+///   same directory, and targets that are directories or special files are refused before the
+///   first rename), the targets renamed before it already hold their new content and the later
+///   ones keep their old content.
 #[derive(Debug, Default)]
 pub struct AtomicFiles {
     staged: Vec<(PathBuf, NamedTempFile)>,
@@ -79,9 +79,15 @@ impl AtomicFiles {
     /// Renames every temporary over its target (see the type's documentation for what a failure
     /// here leaves behind).
     pub fn commit(self) -> Result<(), ExportError> {
-        // The one failure that is easy to foresee: a target that is a directory.
-        if let Some((path, _)) = self.staged.iter().find(|(p, _)| p.is_dir()) {
-            return Err(ExportError::io(path, io::Error::new(io::ErrorKind::InvalidInput, "is a directory")));
+        // The failures that are easy to foresee: a target that is a directory, or a special file
+        // (a device such as /dev/null, a FIFO) that a rename would replace instead of writing to.
+        for (path, _) in &self.staged {
+            if let Ok(m) = std::fs::metadata(path) {
+                let what = if m.is_dir() { "is a directory" } else { "exists and is not a regular file" };
+                if !m.is_file() {
+                    return Err(ExportError::io(path, io::Error::new(io::ErrorKind::InvalidInput, what)));
+                }
+            }
         }
         // An existing target keeps its mode (by path: an outside writer may have replaced the
         // temporary's file; set after writing, so a read-only mode does not stop the writer).
@@ -197,6 +203,13 @@ mod tests {
         set.add(d.join("sub"), b"x").unwrap();
         assert!(set.commit().is_err());
         assert_eq!(names(&d), ["a.txt", "b.om", "c.om", "sub"]);
+        // A special file is never replaced.
+        #[cfg(unix)]
+        {
+            let e = write_atomic("/dev/null", |w| w.write_all(b"x")).unwrap_err();
+            assert!(e.to_string().contains("not a regular file"), "{e}");
+            assert!(!std::fs::metadata("/dev/null").unwrap().is_file());
+        }
         let _ = std::fs::remove_dir_all(&d);
     }
 
@@ -235,7 +248,7 @@ mod tests {
         assert_eq!(name.len(), 254);
         write_atomic(d.join(&name), |w| w.write_all(b"v 0 0 0\n")).unwrap();
         write_atomic(d.join(&name), |w| w.write_all(b"v 1 0 0\n")).unwrap();
-        assert_eq!(names(&d), [name.clone()]);
+        assert_eq!(names(&d), [name.as_str()]);
         assert_eq!(std::fs::read_to_string(d.join(&name)).unwrap(), "v 1 0 0\n");
         let _ = std::fs::remove_dir_all(&d);
     }
