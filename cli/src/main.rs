@@ -298,7 +298,8 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
         None => Vec::new(),
     };
     let mut outputs = args.outputs();
-    outputs.extend(patch_files.iter().map(|(file, _)| FlagPath::new("--patches", file)));
+    let beside = patch_files.iter().filter(|(file, _)| Some(file) != args.patches.as_ref());
+    outputs.extend(beside.map(|(file, _)| FlagPath::new("--patches", file)));
     export::check_output_paths(&inputs, &outputs)?;
     // All outputs go to temporaries first; dropping `files` on an error removes them.
     let mut files = AtomicFiles::new();
