@@ -1,5 +1,5 @@
 //! The crate's limits, in one place. Every bound on input sizes (degrees, sides, resolutions,
-//! subdivision levels, table memory) is defined here and used by name everywhere else.
+//! subdivision levels, isophote stripes, slicing planes, table memory) is defined here and used by name everywhere else.
 //!
 //! Two degree limits exist on purpose and mean different things:
 //! - [`MAX_DEGREE`] bounds what the evaluators accept (any patch built in memory, from the C ABI
@@ -21,6 +21,13 @@ pub const MAX_GBP_SIDES: usize = 1024;
 
 /// Largest tessellation resolution (samples per patch side; n·r² triangles per patch).
 pub const MAX_RESOLUTION: usize = 1024;
+
+/// Largest number of isophote stripes over 0..180° (a band of 0.18°: finer than any display).
+pub const MAX_STRIPES: u32 = 1000;
+
+/// Largest number of slicing planes (each plane is intersected with every triangle; the output
+/// grows linearly with the count).
+pub const MAX_SLICES: usize = 1000;
 
 /// Largest subdivision level count.
 pub const MAX_LEVELS: u32 = 8;

@@ -153,7 +153,31 @@ impl fmt::Display for WeightForm {
     }
 }
 
-pub use crate::limits::{MAX_LEVELS, MAX_RESOLUTION};
+pub use crate::limits::{MAX_LEVELS, MAX_RESOLUTION, MAX_SLICES, MAX_STRIPES};
+
+/// `value` of option `name` if it is in `1..=max`.
+fn count_in_range<T: PartialOrd + From<u8> + fmt::Display + Copy>(name: &'static str, value: T, max: T) -> Result<T, OptionError> {
+    if value >= T::from(1) && value <= max {
+        Ok(value)
+    } else {
+        Err(OptionError::new(name, value, format!("must be in 1..={max}")))
+    }
+}
+
+/// Checks a tessellation resolution (`--resolution`, samples per patch side): 1..=[`MAX_RESOLUTION`].
+pub fn check_resolution(resolution: usize) -> Result<usize, OptionError> {
+    count_in_range("resolution", resolution, MAX_RESOLUTION)
+}
+
+/// Checks a number of isophote stripes (`--stripes`): 1..=[`MAX_STRIPES`].
+pub fn check_stripes(stripes: u32) -> Result<u32, OptionError> {
+    count_in_range("stripes", stripes, MAX_STRIPES)
+}
+
+/// Checks a number of slicing planes (`--slice-count`): 1..=[`MAX_SLICES`].
+pub fn check_slice_count(count: usize) -> Result<usize, OptionError> {
+    count_in_range("slice-count", count, MAX_SLICES)
+}
 
 /// An option value out of range or unknown; `name` is the command-line name.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -222,9 +246,7 @@ impl Default for ConvertOptions {
 impl ConvertOptions {
     /// Checks every value; the error names the option.
     pub fn validate(&self) -> Result<(), OptionError> {
-        if self.resolution == 0 || self.resolution > MAX_RESOLUTION {
-            return Err(OptionError::new("resolution", self.resolution, format!("must be in 1..={MAX_RESOLUTION}")));
-        }
+        check_resolution(self.resolution)?;
         if !(self.fullness >= 0.0 && self.fullness < 1.0) {
             return Err(OptionError::new("fullness", self.fullness, "must be in [0, 1)"));
         }
@@ -263,6 +285,18 @@ mod tests {
             "x".parse::<Method>().unwrap_err().to_string(),
             "invalid --method x: expected dual, topology, doo-sabin or catmull-clark"
         );
+    }
+
+    #[test]
+    fn counts_are_bounded() {
+        assert_eq!(check_resolution(MAX_RESOLUTION), Ok(MAX_RESOLUTION));
+        assert_eq!(check_stripes(1), Ok(1));
+        assert_eq!(check_slice_count(MAX_SLICES), Ok(MAX_SLICES));
+        assert_eq!(check_slice_count(usize::MAX).unwrap_err().to_string(), format!("invalid --slice-count {}: must be in 1..={MAX_SLICES}", usize::MAX));
+        assert_eq!(check_slice_count(0).unwrap_err().name, "slice-count");
+        assert_eq!(check_stripes(u32::MAX).unwrap_err().name, "stripes");
+        assert_eq!(check_stripes(0).unwrap_err().name, "stripes");
+        assert_eq!(check_resolution(MAX_RESOLUTION + 1).unwrap_err().to_string(), "invalid --resolution 1025: must be in 1..=1024");
     }
 
     #[test]

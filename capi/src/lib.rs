@@ -6,15 +6,18 @@
 //!   (`GBSURF_OK` = 0 or one of the `GBSURF_ERR_*` codes) and leaves a thread-local message
 //!   ([`gbsurf_last_error_message`]) naming the problem and the offending element;
 //! - no panic crosses the boundary: every entry runs inside `boundary`, a panic becomes
-//!   `GBSURF_ERR_PANIC`;
+//!   `GBSURF_ERR_PANIC` with the panic's message and location, and nothing is printed on the
+//!   host's stderr (`boundary` installs a panic hook that is silent for the library's panics);
 //! - no input is a C enum: methods, twist modes, weight forms are `uint32_t` constants, checked;
 //! - handles are opaque (`GbsurfResult`), freed with their `*_free` function, which accepts NULL.
 
 #![deny(unsafe_op_in_unsafe_fn)]
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::ffi::{c_char, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Once;
 
 mod options;
 mod result;
@@ -43,7 +46,8 @@ pub const GBSURF_ERR_INVALID_MESH: u32 = 5;
 pub const GBSURF_ERR_INVALID_OPTION: u32 = 6;
 /// The progress callback asked to cancel.
 pub const GBSURF_ERR_CANCELLED: u32 = 7;
-/// An internal error (a caught panic); please report it.
+/// An internal error (a caught panic; its message and location are in the error message, nothing
+/// is printed on stderr); please report it.
 pub const GBSURF_ERR_PANIC: u32 = 8;
 /// A file could not be read or written, or could not be parsed.
 pub const GBSURF_ERR_IO: u32 = 9;
@@ -106,10 +110,72 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-/// Runs `f` at an entry point: catches panics, stores the message of an error, returns the code.
-/// The message of a successful call is cleared.
+thread_local! {
+    /// How many entries this thread is inside (an entry may call the host back, through the
+    /// progress callback, and the host may call another entry).
+    static DEPTH: Cell<u32> = const { Cell::new(0) };
+    /// Where the last panic inside an entry on this thread happened (`file:line`), recorded by
+    /// the panic hook for the message of `boundary`.
+    static PANIC_AT: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// Entries running on any thread. A panic on a worker thread of the core's thread pool (rayon)
+/// while one runs is the library's own: its payload reaches the entry through rayon.
+static ACTIVE: AtomicUsize = AtomicUsize::new(0);
+
+static PANIC_HOOK: Once = Once::new();
+
+/// Installs, once, the panic hook that keeps the library's panics off the host's stderr: a
+/// panic on a thread inside an entry (or on a worker of the core's thread pool while an entry
+/// runs) only records its location for `boundary`, which returns it as `GBSURF_ERR_PANIC` with
+/// the message; any other panic goes to the hook that was installed before.
+///
+/// A hook the host installs later replaces this one (the panic hook is global to the Rust
+/// runtime, which in a C host is the library's own).
+fn install_panic_hook() {
+    PANIC_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let in_entry = DEPTH.try_with(|d| d.get() > 0).unwrap_or(false);
+            let in_worker = ACTIVE.load(Ordering::SeqCst) > 0 && rayon::current_thread_index().is_some();
+            if !(in_entry || in_worker) {
+                return previous(info);
+            }
+            if in_entry {
+                let at = info.location().map(|l| format!("{}:{}", l.file(), l.line()));
+                let _ = PANIC_AT.try_with(|p| *p.borrow_mut() = at);
+            }
+        }));
+    });
+}
+
+/// Marks the current thread as inside an entry while it lives.
+struct InEntry;
+
+impl InEntry {
+    fn enter() -> Self {
+        ACTIVE.fetch_add(1, Ordering::SeqCst);
+        let _ = DEPTH.try_with(|d| d.set(d.get() + 1));
+        InEntry
+    }
+}
+
+impl Drop for InEntry {
+    fn drop(&mut self) {
+        let _ = DEPTH.try_with(|d| d.set(d.get().saturating_sub(1)));
+        ACTIVE.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Runs `f` at an entry point: catches panics (printing nothing: see [`install_panic_hook`]),
+/// stores the message of an error, returns the code. The message of a successful call is cleared.
 pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
-    let outcome = catch_unwind(AssertUnwindSafe(f));
+    install_panic_hook();
+    let outcome = {
+        let _inside = InEntry::enter();
+        let _ = PANIC_AT.try_with(|p| p.borrow_mut().take());
+        catch_unwind(AssertUnwindSafe(f))
+    };
     match outcome {
         Ok(Ok(())) => {
             set_last_error("");
@@ -121,12 +187,16 @@ pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
         }
         Err(payload) => {
             let message = panic_message(payload.as_ref());
+            let at = PANIC_AT.try_with(|p| p.borrow_mut().take()).ok().flatten();
             // A payload whose destructor panics again must not unwind out of the boundary
             // (rust-lang/rust#86027): drop it inside catch_unwind, leak a second payload.
+            let _inside = InEntry::enter();
             if let Err(again) = catch_unwind(AssertUnwindSafe(move || drop(payload))) {
                 std::mem::forget(again);
             }
-            set_last_error(&format!("{name}: internal error (panic): {message}"));
+            drop(_inside);
+            let at = at.map(|a| format!(" (at {a})")).unwrap_or_default();
+            set_last_error(&format!("{name}: internal error (panic): {message}{at}"));
             GBSURF_ERR_PANIC
         }
     }
@@ -304,6 +374,60 @@ mod boundary_tests {
         assert_eq!(gbsurf_last_error_length(), "g: face 4".len());
         assert_eq!(boundary("h", || Ok(())), GBSURF_OK);
         assert_eq!(last(), "");
+    }
+
+    /// The child of [`no_panic_text_reaches_stderr`] (does nothing unless run as that child).
+    /// Mode `inside`: panics inside entries, on this thread, in a nested entry and on a worker
+    /// thread of the core's pool, all caught silently. Mode `outside`: a panic outside any entry,
+    /// after the hook is installed, which the previous hook must still print.
+    #[test]
+    #[ignore = "run as a child process by no_panic_text_reaches_stderr"]
+    fn panicking_entries_child() {
+        use rayon::prelude::*;
+        match std::env::var("GBSURF_PANIC_CHILD").as_deref() {
+            Ok("inside") => {
+                assert_eq!(boundary("f", || panic!("boom {}", 3)), GBSURF_ERR_PANIC);
+                assert!(last().starts_with("f: internal error (panic): boom 3 (at capi/src/lib.rs:"), "{}", last());
+                let code = boundary("outer", || {
+                    let inner = boundary("inner", || panic!("nested"));
+                    assert_eq!(inner, GBSURF_ERR_PANIC);
+                    assert!(last().contains("inner: internal error (panic): nested"), "{}", last());
+                    Ok(())
+                });
+                assert_eq!(code, GBSURF_OK);
+                let code = boundary("pool", || {
+                    (0..64).into_par_iter().for_each(|i| assert!(i != 37, "worker {i}"));
+                    Ok(())
+                });
+                assert_eq!(code, GBSURF_ERR_PANIC);
+                assert!(last().contains("worker 37"), "{}", last());
+            }
+            Ok("outside") => {
+                assert_eq!(boundary("ok", || Ok(())), GBSURF_OK);
+                assert!(std::panic::catch_unwind(|| panic!("outside boom")).is_err());
+            }
+            _ => {}
+        }
+    }
+
+    #[test]
+    fn no_panic_text_reaches_stderr() {
+        let run = |mode: &str| {
+            std::process::Command::new(std::env::current_exe().unwrap())
+                .args(["--exact", "boundary_tests::panicking_entries_child", "--ignored", "--nocapture", "--test-threads=1"])
+                .env("GBSURF_PANIC_CHILD", mode)
+                .env_remove("RUST_BACKTRACE")
+                .output()
+                .unwrap()
+        };
+        let inside = run("inside");
+        let stdout = String::from_utf8_lossy(&inside.stdout);
+        assert!(inside.status.success() && stdout.contains("1 passed"), "{stdout}");
+        assert_eq!(String::from_utf8_lossy(&inside.stderr), "");
+        // The control: the test can see a panic that is printed.
+        let outside = run("outside");
+        assert!(outside.status.success(), "{}", String::from_utf8_lossy(&outside.stdout));
+        assert!(String::from_utf8_lossy(&outside.stderr).contains("outside boom"), "{outside:?}");
     }
 
     #[test]

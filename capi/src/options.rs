@@ -208,7 +208,7 @@ pub(crate) fn convert_error(e: ConvertError) -> FfiError {
     let code = match &e {
         ConvertError::InvalidOption { .. } => GBSURF_ERR_INVALID_OPTION,
         ConvertError::Mesh(m) => result::mesh_error_code(m),
-        ConvertError::Io { .. } => GBSURF_ERR_IO,
+        ConvertError::Io { .. } | ConvertError::OutputPath(_) => GBSURF_ERR_IO,
         ConvertError::Cancelled => GBSURF_ERR_CANCELLED,
         ConvertError::Construct(_) | ConvertError::Subdiv(_) | ConvertError::Tessellate(_) => {
             GBSURF_ERR_CONSTRUCTION

@@ -6,7 +6,10 @@
 //! `mean_curvature`, `gaussian_curvature`, `g1_deviation`). Optional outputs: `--curves` (the
 //! curve network as OBJ polylines of the Bézier control polygons), `--nets` (the control nets as
 //! OBJ), `--patches FILE.json` (exact description; `.gbp` files beside it for GB patches that have
-//! one), `--report FILE.json`. Every output is written completely to a temporary file beside its
+//! one), `--report FILE.json`. Before any work every output path is checked: none may be the input
+//! or another output (compared after resolving `.`, `..` and links, and by device and inode), and
+//! each must go into an existing directory and not be a directory (`gbsurf::export::check_output_paths`).
+//! Every output is written completely to a temporary file beside its
 //! target before any target is replaced, so a failed conversion or a failed write leaves all
 //! targets untouched; only a failing rename at the very end (see `gbsurf::export::AtomicFiles`)
 //! can leave the earlier targets replaced and the later ones not.
@@ -28,11 +31,10 @@
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use gbsurf::api::{self, ConvertError};
-use gbsurf::export::{self, AtomicFiles, MeshFormat, WriteMesh};
+use gbsurf::export::{self, AtomicFiles, FlagPath, MeshFormat, WriteMesh};
 use gbsurf::gb::gbp::load_gbp;
 use gbsurf::gb::GbPatch;
-use gbsurf::limits::MAX_RESOLUTION;
-use gbsurf::options::{ConvertOptions, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{check_resolution, check_slice_count, check_stripes, ConvertOptions, Method, OptionValue, Twist, WeightForm};
 use gbsurf::tessellate::patch::tessellate_gb;
 use gbsurf::DVec2;
 use std::io::{BufRead, BufWriter, Write};
@@ -250,11 +252,31 @@ struct ConvertArgs {
     quiet: bool,
 }
 
+impl ConvertArgs {
+    /// Every output path given, with its flag (`-o` first).
+    fn outputs(&self) -> Vec<FlagPath<'_>> {
+        let optional = [
+            ("--curves", &self.curves),
+            ("--nets", &self.nets),
+            ("--patches", &self.patches),
+            ("--report", &self.report),
+            ("--isophotes", &self.isophotes),
+            ("--slices", &self.slices),
+        ];
+        let given = optional.into_iter().filter_map(|(flag, p)| p.as_deref().map(|p| FlagPath::new(flag, p)));
+        std::iter::once(FlagPath::new("-o", &self.output)).chain(given).collect()
+    }
+}
+
 fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
     let options = args.options.apply(ConvertOptions::default());
     options.validate()?;
-    // Check the output extension before doing any work.
+    check_stripes(args.stripes)?;
+    check_slice_count(args.slice_count)?;
+    // Check the output extension and every output path before doing any work.
     let format = if openmesh_io::handles(&args.output) { None } else { Some(MeshFormat::of(&args.output)?) };
+    let inputs = [FlagPath::new("input", &args.input)];
+    export::check_output_paths(&inputs, &args.outputs())?;
     let bar = (!args.quiet).then(|| {
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
@@ -287,6 +309,26 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
             reason: format!("--{what} needs a patch method (dual or topology)"),
         })
     };
+    // The .gbp files beside --patches are known only now: check the whole set again.
+    let patch_files = match &args.patches {
+        Some(path) => {
+            let surface = need_surface("patches")?;
+            let elevated = match args.degree {
+                Some(degree) => Some(surface.with_common_degree(degree).map_err(|e| ConvertError::InvalidOption {
+                    name: "degree",
+                    value: degree.to_string(),
+                    reason: e.to_string(),
+                })?),
+                None => None,
+            };
+            export::patch_files(elevated.as_ref().unwrap_or(surface), path)
+        }
+        None => Vec::new(),
+    };
+    let mut outputs = args.outputs();
+    let beside = patch_files.iter().filter(|(file, _)| Some(file) != args.patches.as_ref());
+    outputs.extend(beside.map(|(file, _)| FlagPath::new("--patches", file)));
+    export::check_output_paths(&inputs, &outputs)?;
     // All outputs go to temporaries first; dropping `files` on an error removes them.
     let mut files = AtomicFiles::new();
     match format {
@@ -299,19 +341,8 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
     if let Some(path) = &args.nets {
         files.add(path, export::nets_obj(need_surface("nets")?).as_bytes())?;
     }
-    if let Some(path) = &args.patches {
-        let surface = need_surface("patches")?;
-        let elevated = match args.degree {
-            Some(degree) => Some(surface.with_common_degree(degree).map_err(|e| ConvertError::InvalidOption {
-                name: "degree",
-                value: degree.to_string(),
-                reason: e.to_string(),
-            })?),
-            None => None,
-        };
-        for (file, bytes) in export::patch_files(elevated.as_ref().unwrap_or(surface), path) {
-            files.add(file, &bytes)?;
-        }
+    for (file, bytes) in &patch_files {
+        files.add(file, bytes)?;
     }
     if let Some(path) = &args.report {
         files.add(path, conv.report.to_json().as_bytes())?;
@@ -320,7 +351,7 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
         files.add_with(path, |w| export::write_isophotes_ply(w, &conv.mesh, args.light, args.stripes))?;
     }
     if let Some(path) = &args.slices {
-        let cuts = gbsurf::quality::slices(&conv.mesh.positions, &conv.mesh.triangles, args.slice_normal, args.slice_count);
+        let cuts = gbsurf::quality::slices(&conv.mesh.positions, &conv.mesh.triangles, args.slice_normal, args.slice_count)?;
         files.add(path, export::slices_obj(&cuts).as_bytes())?;
     }
     files.commit()?;
@@ -499,11 +530,8 @@ fn tessellate_gbp(
     resolution: usize,
     form: WeightForm,
 ) -> Result<(), String> {
-    if resolution == 0 || resolution > MAX_RESOLUTION {
-        return Err(format!(
-            "--resolution {resolution} is outside 1..={MAX_RESOLUTION}"
-        ));
-    }
+    check_resolution(resolution).map_err(|e| e.to_string())?;
+    export::check_output_paths(&[FlagPath::new("input", file)], &[FlagPath::new("-o", output)]).map_err(|e| e.to_string())?;
     let patch = load_patch(file)?;
     let mesh =
         tessellate_gb(&patch, resolution, form).map_err(|e| format!("{}: {e}", file.display()))?;

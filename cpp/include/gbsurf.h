@@ -46,7 +46,8 @@
 // The progress callback asked to cancel.
 #define GBSURF_ERR_CANCELLED 7
 
-// An internal error (a caught panic); please report it.
+// An internal error (a caught panic; its message and location are in the error message, nothing
+// is printed on stderr); please report it.
 #define GBSURF_ERR_PANIC 8
 
 // A file could not be read or written, or could not be parsed.

@@ -42,6 +42,9 @@ pub enum ConvertError {
     /// The tessellation failed (names the patch).
     #[error("tessellation: {0}")]
     Tessellate(TessellateError),
+    /// An output path was refused before anything was written (names both flags).
+    #[error("{0}")]
+    OutputPath(crate::export::OutputPathError),
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {message}")]
     Io { path: String, message: String },
@@ -65,8 +68,15 @@ impl From<crate::export::ExportError> for ConvertError {
                 value: path.display().to_string(),
                 reason: format!("the output extension must be {}", MeshFormat::EXTENSIONS_TEXT),
             },
+            ExportError::OutputPath(e) => ConvertError::OutputPath(e),
             ExportError::Io { path, source } => ConvertError::Io { path: path.display().to_string(), message: source.to_string() },
         }
+    }
+}
+
+impl From<crate::export::OutputPathError> for ConvertError {
+    fn from(e: crate::export::OutputPathError) -> Self {
+        ConvertError::OutputPath(e)
     }
 }
 

@@ -2,7 +2,8 @@
 //! by extension in [`MeshFormat::of`], the one dispatcher), the exact surface as JSON and `.gbp`
 //! ([`patches_json`], [`gbp_texts`], [`patch_files`]), the curve network and control nets as OBJ
 //! ([`curves_obj`], [`nets_obj`]), isophotes and slices ([`write_isophotes_ply`], [`slices_obj`]), and
-//! the one atomic writer ([`AtomicFiles`], [`write_atomic`]).
+//! the one atomic writer ([`AtomicFiles`], [`write_atomic`]) and the check of a set of output
+//! paths before anything is written ([`check_output_paths`]).
 //!
 //! The writers of [`PolyMesh`], [`TriMesh`] and [`SurfaceMesh`] are methods of those types
 //! (`write_obj`, `write_ply`, `write_stl`, `write_file`), defined here.
@@ -10,6 +11,7 @@
 mod atomic;
 mod mesh;
 mod obj;
+mod paths;
 mod ply;
 mod stl;
 mod surface;
@@ -17,6 +19,7 @@ mod surface;
 pub use atomic::{write_atomic, AtomicFiles};
 pub use mesh::{encode_mesh, WriteMesh};
 pub use obj::{curves_obj, nets_obj, slices_obj};
+pub use paths::{check_output_paths, FlagPath, OutputPathError, OutputPathProblem};
 pub use ply::{write_isophotes_ply, write_ply, PlyFormat, VertexScalar};
 pub use stl::write_stl_triangles;
 pub use surface::{gbp_texts, patch_files, patches_json};
@@ -31,6 +34,10 @@ pub enum ExportError {
     /// The extension of `path` names no mesh format this module writes.
     #[error("{}: the output extension must be {}", path.display(), MeshFormat::EXTENSIONS_TEXT)]
     UnknownFormat { path: PathBuf },
+    /// An output path is refused before anything is written (the same file as an input or
+    /// another output, or not writable as a new regular file).
+    #[error("{0}")]
+    OutputPath(#[from] OutputPathError),
     /// Creating, writing or renaming the file failed.
     #[error("i/o error on {}: {source}", path.display())]
     Io {

@@ -115,8 +115,11 @@ pub fn write_ply<W: Write>(
 
 /// Writes the isophote display (seed 000 §5.2) of a surface mesh as binary PLY: per-vertex `isophote`
 /// = n·L ([`crate::quality::isophote`]) and `stripe` ([`crate::quality::isophote_stripes`], its
-/// integer part's parity is the stripe colour) for the light direction `light`.
+/// integer part's parity is the stripe colour) for the light direction `light`; `stripes` must be
+/// in 1..=[`crate::limits::MAX_STRIPES`] (else an `InvalidInput` error carrying the
+/// [`crate::options::OptionError`]).
 pub fn write_isophotes_ply<W: Write>(w: W, mesh: &SurfaceMesh, light: DVec3, stripes: u32) -> io::Result<()> {
+    let stripes = crate::options::check_stripes(stripes).map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))?;
     let iso = crate::quality::isophote(&mesh.normals, light);
     let band = crate::quality::isophote_stripes(&mesh.normals, light, stripes);
     let faces: Vec<&[u32]> = mesh.triangles.iter().map(|t| t.as_slice()).collect();

@@ -104,19 +104,27 @@ pub fn slice(positions: &[DVec3], triangles: &[[u32; 3]], normal: DVec3, d: f64)
 
 /// `count` parallel slices with normal `normal` evenly spaced across the mesh's extent along it
 /// (strictly inside, so no slice touches the extreme points).
-pub fn slices(positions: &[DVec3], triangles: &[[u32; 3]], normal: DVec3, count: usize) -> Vec<(f64, Vec<Polyline>)> {
+///
+/// `count` must be in 1..=[`crate::limits::MAX_SLICES`] ([`crate::options::check_slice_count`]).
+pub fn slices(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    normal: DVec3,
+    count: usize,
+) -> Result<Vec<(f64, Vec<Polyline>)>, crate::options::OptionError> {
+    let count = crate::options::check_slice_count(count)?;
     let n = normal.normalize_or_zero();
     if positions.is_empty() || n == DVec3::ZERO {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let (lo, hi) = positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
         let x = n.dot(*p);
         (lo.min(x), hi.max(x))
     });
-    (1..=count)
+    Ok((1..=count)
         .map(|k| {
             let d = lo + (hi - lo) * k as f64 / (count + 1) as f64;
             (d, slice(positions, triangles, n, d))
         })
-        .collect()
+        .collect())
 }

@@ -60,7 +60,8 @@ fn options_init_matches_rust_defaults_and_validates() {
     assert!(last().contains("options"), "{}", last());
 
     type Case = (fn(&mut GbsurfOptions), u32, &'static str);
-    let cases: [Case; 9] = [
+    // The limits are the core's (gbsurf::limits), whatever the width of the C field.
+    let cases: [Case; 12] = [
         (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
         (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
         (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
@@ -68,6 +69,9 @@ fn options_init_matches_rust_defaults_and_validates() {
         (|o| o.best_plane = 2, GBSURF_ERR_INVALID_OPTION, "best_plane"),
         (|o| o.resolution = 0, GBSURF_ERR_INVALID_OPTION, "resolution"),
         (|o| o.levels = 9, GBSURF_ERR_INVALID_OPTION, "levels"),
+        (|o| o.resolution = gbsurf::limits::MAX_RESOLUTION as u32 + 1, GBSURF_ERR_INVALID_OPTION, "must be in 1..=1024"),
+        (|o| o.resolution = u32::MAX, GBSURF_ERR_INVALID_OPTION, "resolution 4294967295"),
+        (|o| o.levels = u32::MAX, GBSURF_ERR_INVALID_OPTION, "levels 4294967295"),
         (|o| o.fullness = f64::NAN, GBSURF_ERR_NAN, "fullness"),
         (|o| o.fullness = 1.0, GBSURF_ERR_INVALID_OPTION, "fullness"),
     ];
