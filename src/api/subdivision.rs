@@ -42,7 +42,7 @@ pub(super) fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Res
             *p = 0;
         }
     }
-    out.normals = crate::quality::vertex_normals(&out.positions, &out.triangles);
+    out.normals = crate::mesh::geometry::vertex_normals(&out.positions, &out.triangles);
     let (h, k) = crate::quality::discrete_curvature(&out.positions, &out.triangles, &out.normals);
     out.mean_curvature = h;
     out.gaussian_curvature = k;

@@ -296,3 +296,20 @@ pub fn convexify(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>) {
     }
     (PolyMesh { positions: mesh.positions.clone(), faces }, origin)
 }
+
+/// Area-weighted vertex normals of a triangle mesh (unit, zero for unused vertices).
+pub fn vertex_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
+    let mut n = vec![DVec3::ZERO; positions.len()];
+    for t in triangles {
+        if t.iter().any(|&i| i as usize >= positions.len()) {
+            continue;
+        }
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let f = (b - a).cross(c - a);
+        for &i in t {
+            n[i as usize] += f;
+        }
+    }
+    n.iter().map(|v| v.normalize_or_zero()).collect()
+}
+

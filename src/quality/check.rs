@@ -214,22 +214,6 @@ fn hash_key(k: [u64; 3]) -> u64 {
     mix(mix(mix(k[0]).wrapping_add(k[1])).wrapping_add(k[2]))
 }
 
-/// Area-weighted vertex normals of a triangle mesh (unit, zero for unused vertices).
-pub fn vertex_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
-    let mut n = vec![DVec3::ZERO; positions.len()];
-    for t in triangles {
-        if t.iter().any(|&i| i as usize >= positions.len()) {
-            continue;
-        }
-        let [a, b, c] = t.map(|i| positions[i as usize]);
-        let f = (b - a).cross(c - a);
-        for &i in t {
-            n[i as usize] += f;
-        }
-    }
-    n.iter().map(|v| v.normalize_or_zero()).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,7 +12,7 @@ pub mod curvature;
 pub mod display;
 pub mod report;
 
-pub use check::{check_mesh, vertex_normals, MeshCheck};
+pub use check::{check_mesh, MeshCheck};
 pub use curvature::discrete_curvature;
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;

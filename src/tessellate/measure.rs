@@ -173,7 +173,7 @@ pub(crate) fn join_shared_sides(
 pub(crate) fn finish_normals(mesh: &mut SurfaceMesh, weight: &[u16]) {
     let missing: Vec<usize> = (0..mesh.positions.len()).into_par_iter().filter(|&v| weight[v] == 0).collect();
     if !missing.is_empty() {
-        let fallback = crate::quality::vertex_normals(&mesh.positions, &mesh.triangles);
+        let fallback = crate::mesh::geometry::vertex_normals(&mesh.positions, &mesh.triangles);
         for v in missing {
             mesh.normals[v] = fallback[v];
         }
