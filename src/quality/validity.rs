@@ -20,7 +20,9 @@
 
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
-use crate::gb::{Domain, WeightForm};
+use crate::gb::{Domain, SampleLayout, WeightForm};
+use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
+use std::collections::HashMap;
 use crate::mesh::PolyMesh;
 use glam::{DVec2, DVec3};
 use parry3d_f64::bounding_volume::Aabb;
@@ -120,11 +122,69 @@ fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<
     (count, at)
 }
 
+/// Barycentric weights (b, c) of `uv` on (v_{i−1}, v_i) in the domain triangle (centre, v_{i−1},
+/// v_i) of `domain` that contains it (the one whose smaller weight is largest), and that i.
+fn domain_sector(domain: &[DVec2], centre: DVec2, uv: DVec2) -> (usize, f64, f64) {
+    let n = domain.len();
+    let q = uv - centre;
+    let mut best = (0, 0.0, 0.0, f64::NEG_INFINITY);
+    for i in 0..n {
+        let (e0, e1) = (domain[(i + n - 1) % n] - centre, domain[i] - centre);
+        let det = e0.perp_dot(e1);
+        if det == 0.0 {
+            continue;
+        }
+        let (b, c) = (q.perp_dot(e1) / det, e0.perp_dot(q) / det);
+        if b.min(c) > best.3 {
+            best = (i, b, c, b.min(c));
+        }
+    }
+    (best.0, best.1, best.2)
+}
+
+/// Folds of one patch from its samples `points` at the domain points `uv`: (folded samples,
+/// worst domain point).
+fn sample_folds(patch: &Patch, domain: &[DVec2], uv: &[DVec2], points: &[SurfacePoint]) -> (usize, Option<DVec2>) {
+    let ribbons = patch.ribbons();
+    let centre = domain.iter().copied().sum::<DVec2>() / domain.len().max(1) as f64;
+    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
+    for (&x, sp) in uv.iter().zip(points) {
+        if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
+            continue;
+        }
+        let (i, b, c) = domain_sector(domain, centre, x);
+        let Some(ribbon) = ribbons.get(i) else { continue };
+        let s = if b + c > 1e-12 { (c / (b + c)).clamp(0.0, 1.0) } else { 0.5 };
+        let (_, t, xv) = ribbon_frame(ribbon, s);
+        let reference = t.cross(xv).normalize_or_zero();
+        let rel = sp.normal.dot(reference);
+        if reference != DVec3::ZERO && rel < 0.0 {
+            count += 1;
+            if rel < worst {
+                worst = rel;
+                at = Some(x);
+            }
+        }
+    }
+    (count, at)
+}
+
 /// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
 /// whose Jacobian turns negative against their ribbons' normals (see the module doc).
+///
+/// The samples are those of a tessellation at resolution `level` (the [`SampleLayout`] of the
+/// patch's domain, 1 + n·level(level+1)/2 points, boundary included), evaluated with the same
+/// weight-table kernel as the tessellation ([`GbSurfaceEvaluator`]); the sign of the unit normal
+/// (S_u × S_v)/|S_u × S_v| is that of the Jacobian. Samples whose normal is undefined (a
+/// degenerate Jacobian, e.g. at a collapsed corner) are skipped, as the sign is meaningless there.
+/// A surface the table evaluator refuses falls back to the direct evaluator on the grids of
+/// [`fold_sample_points`].
 pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
     let level = level.max(1);
-    let per: Vec<(usize, Option<DVec2>)> = surface.patches.par_iter().map(|p| patch_folds(p, level, form)).collect();
+    let per: Vec<(usize, Option<DVec2>)> = match table_folds(surface, level, form) {
+        Some(per) => per,
+        None => surface.patches.par_iter().map(|p| patch_folds(p, level, form)).collect(),
+    };
     let mut f = Folds::default();
     for (p, (count, at)) in per.into_iter().enumerate() {
         if count == 0 {
@@ -137,6 +197,36 @@ pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
         }
     }
     f
+}
+
+/// Per patch (folded samples, worst point) through the table evaluator; `None` where it or a
+/// layout cannot be built.
+fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<(usize, Option<DVec2>)>> {
+    let eval = GbSurfaceEvaluator::new(surface, level, form).ok()?;
+    let mut layouts: HashMap<usize, (Vec<DVec2>, SampleLayout)> = HashMap::new();
+    for p in &surface.patches {
+        let n = p.sides();
+        if let std::collections::hash_map::Entry::Vacant(e) = layouts.entry(n) {
+            let domain = eval.domain(n);
+            let layout = SampleLayout::new(&domain, level).ok()?;
+            e.insert((domain, layout));
+        }
+    }
+    Some(
+        surface
+            .patches
+            .par_iter()
+            .enumerate()
+            .map_init(Vec::new, |buf, (i, p)| {
+                let (domain, layout) = &layouts[&p.sides()];
+                eval.evaluate(surface, i, layout, buf);
+                if buf.len() != layout.uv.len() {
+                    return patch_folds(p, level, form);
+                }
+                sample_folds(p, domain, &layout.uv, buf)
+            })
+            .collect(),
+    )
 }
 
 fn c3(p: DVec3) -> Coord3D<f64> {
