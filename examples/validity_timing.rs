@@ -1,6 +1,7 @@
 //! Times a conversion and its validity checks separately on a quad torus:
 //! `cargo run --release --example validity_timing -- [a b] [resolution] [dual|topology]`
-//! (defaults: 100 × 100 quads, the default resolution, dual).
+//! (defaults: 100 × 100 quads, the default resolution, dual); a first argument ending in `.obj`
+//! reads that model instead of the torus. `FOLD_LEVEL=L` overrides the fold sampling level.
 
 use gbsurf::api::{convert, ConvertOptions, Method};
 use gbsurf::mesh::generate::torus;
@@ -15,13 +16,18 @@ fn main() {
     if args.get(4).map(String::as_str) == Some("topology") {
         opts.method = Method::Topology;
     }
-    let mesh = torus(a, b, 10.0, 3.0).expect("torus");
+    let file = args.get(1).filter(|s| s.ends_with(".obj"));
+    let mesh = match file {
+        Some(f) => gbsurf::read_mesh(f).expect("model"),
+        None => torus(a, b, 10.0, 3.0).expect("torus"),
+    };
+    let level = std::env::var("FOLD_LEVEL").ok().and_then(|s| s.parse().ok()).unwrap_or(gbsurf::quality::validity::fold_level(opts.resolution));
     let t = Instant::now();
     let c = convert(&mesh, &opts, None).expect("conversion");
     let total = t.elapsed().as_secs_f64();
     let surface = c.surface.as_ref().expect("surface");
     let t = Instant::now();
-    let folds = gbsurf::quality::find_folds(surface, gbsurf::quality::validity::fold_level(opts.resolution), opts.weights);
+    let folds = gbsurf::quality::find_folds(surface, level, opts.weights);
     let t_folds = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let si = gbsurf::quality::self_intersections(&c.mesh.positions, &c.mesh.triangles);
