@@ -16,11 +16,12 @@
 //! - [`options`]: [`ConvertOptions`] and its enums, the one definition of the conversion options.
 //! - [`offset`]: exact offsets: PH curves (planar, spatial, splines) and PN surfaces (seeds 003/004).
 //! - [`mesh`]: polygon meshes, half-edge topology, validation and file reading.
-//! - [`quality`]: normals, curvature, mesh checks, isophotes, slices, reports (seed 000 §5.2).
 //! - [`construct`]: control mesh → curve network → ribbons with twists → patches (seed 000 §2–4).
 //! - [`subdiv`]: Doo–Sabin and Catmull–Clark subdivision, for comparison (seed 000 §6.4).
 //! - [`tessellate`]: watertight sampling of all patches into one welded triangle mesh (plain
 //!   arrays, which the writers and the adapters copy).
+//! - [`quality`]: curvature, mesh checks, validity (folds, self-intersections), isophotes, slices,
+//!   reports (seed 000 §5.2).
 //! - [`export`]: every writer (OBJ, PLY, STL, JSON, `.gbp`) and the one atomic writer.
 //! - [`api`]: the pipeline (read, validate, construct or subdivide, tessellate, check).
 //!

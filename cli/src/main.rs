@@ -247,9 +247,13 @@ struct ConvertArgs {
     /// Number of evenly spaced slicing planes across the surface.
     #[arg(long, default_value_t = 10)]
     slice_count: usize,
-    /// No progress bar, no summary.
+    /// No progress bar, no summary (the line saying the output is not valid is still printed).
     #[arg(long)]
     quiet: bool,
+    /// Fail (exit status 1, no output written) when the report says the output is not valid
+    /// (folds, self-intersections beyond the input's, open or non-manifold output).
+    #[arg(long)]
+    strict: bool,
 }
 
 impl ConvertArgs {
@@ -268,7 +272,46 @@ impl ConvertArgs {
     }
 }
 
-fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
+/// Why `convert` failed: the conversion itself, or `--strict` with an invalid output.
+#[derive(Debug)]
+enum RunError {
+    Convert(ConvertError),
+    Invalid(String),
+}
+
+impl From<ConvertError> for RunError {
+    fn from(e: ConvertError) -> Self {
+        RunError::Convert(e)
+    }
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Convert(e) => e.fmt(f),
+            RunError::Invalid(problems) => write!(f, "output is not valid (--strict): {problems}"),
+        }
+    }
+}
+
+fn run_convert(args: &ConvertArgs) -> Result<(), RunError> {
+    let (conv, options, format) = convert_input(args)?;
+    let problems = conv.report.validity_problems();
+    if !problems.is_empty() {
+        if args.strict {
+            return Err(RunError::Invalid(problems.join("; ")));
+        }
+        if args.quiet {
+            eprintln!("warning: output is not valid: {}", problems.join("; "));
+        }
+    }
+    write_outputs(args, &conv, &options, format)?;
+    Ok(())
+}
+
+/// Reads and converts the input (with a progress bar unless `--quiet`); also returns the options
+/// and the output format (`None`: through OpenMesh), checked before any work.
+fn convert_input(args: &ConvertArgs) -> Result<(api::Conversion, ConvertOptions, Option<MeshFormat>), ConvertError> {
     let options = args.options.apply(ConvertOptions::default());
     options.validate()?;
     check_stripes(args.stripes)?;
@@ -300,8 +343,12 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let conv = result?;
+    Ok((result?, options, format))
+}
 
+/// Writes the output mesh and every optional output (all or none, see `AtomicFiles`), then the
+/// summary and the warnings unless `--quiet`.
+fn write_outputs(args: &ConvertArgs, conv: &api::Conversion, options: &ConvertOptions, format: Option<MeshFormat>) -> Result<(), ConvertError> {
     let need_surface = |what: &str| -> Result<&gbsurf::construct::Surface, ConvertError> {
         conv.surface.as_ref().ok_or_else(|| ConvertError::InvalidOption {
             name: "method",
@@ -310,6 +357,7 @@ fn run_convert(args: &ConvertArgs) -> Result<(), ConvertError> {
         })
     };
     // The .gbp files beside --patches are known only now: check the whole set again.
+    let inputs = [FlagPath::new("input", &args.input)];
     let patch_files = match &args.patches {
         Some(path) => {
             let surface = need_surface("patches")?;

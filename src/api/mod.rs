@@ -167,6 +167,9 @@ fn convert_valid(
         report.max_boundary_gap = stats.max_boundary_gap;
         report.max_g1_deg = stats.max_g1_deg;
         report.mean_g1_deg = stats.mean_g1_deg;
+        let folds = crate::quality::find_folds(&surface, crate::quality::validity::fold_level(options.resolution), options.weights);
+        report.folds = folds.patches;
+        report.fold_sites = folds.sites;
         (m, Some(surface))
     } else {
         let (m, faces) = subdivision_mesh(&he.to_polymesh(), options)?;
@@ -186,11 +189,21 @@ fn convert_valid(
     report.boundary_edges = check.boundary_edges;
     report.duplicate_vertices = check.duplicate_vertices;
     report.zero_area_triangles = check.zero_area_triangles;
+    report.input_closed = he.is_closed();
+    report.self_intersections = crate::quality::self_intersections(&out.positions, &out.triangles);
+    report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
+    report.max_abs_mean_curvature_times_diagonal =
+        crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
+    report.set_valid();
     if !check.is_two_manifold() {
         warnings.push(format!(
             "output is not a consistently oriented two-manifold: {} non-manifold edges, {} non-manifold vertices, {} inconsistent edges",
             check.non_manifold_edges, check.non_manifold_vertices, check.inconsistent_edges
         ));
+    }
+    let problems = report.validity_problems();
+    if !problems.is_empty() {
+        warnings.push(format!("output is not valid: {}", problems.join("; ")));
     }
     report.warnings = warnings.clone();
     report.seconds = start.elapsed().as_secs_f64();

@@ -6,13 +6,16 @@
 //! - [`curvature`]: discrete mean and Gaussian curvature (subdivision methods).
 //! - [`display`]: isophotes (a per-vertex scalar for a light direction) and planar slices.
 //! - [`report`]: the conversion report (serde JSON).
+//! - [`validity`]: folds, self-intersections (output and input cage), |H| × diagonal.
 
 pub mod check;
 pub mod curvature;
 pub mod display;
 pub mod report;
+pub mod validity;
 
 pub use check::{check_mesh, MeshCheck};
 pub use curvature::discrete_curvature;
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;
+pub use validity::{cage_self_intersections, find_folds, self_intersections, FoldSite, Folds};

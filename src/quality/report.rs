@@ -1,5 +1,6 @@
 //! The conversion report: written as JSON by `gbsurf convert --report`.
 
+use crate::quality::validity::FoldSite;
 use std::collections::BTreeMap;
 
 /// What a conversion produced and how good it is.
@@ -39,12 +40,62 @@ pub struct Report {
     pub input_faces: usize,
     /// Warnings collected on the way (dropped vertices, split faces, …).
     pub warnings: Vec<String>,
+    /// Patches that fold: their Jacobian turns negative against their ribbons' normals somewhere
+    /// on a dense sampling ([`crate::quality::validity::find_folds`]; 0 for subdivision methods).
+    #[serde(default)]
+    pub folds: usize,
+    /// The first few folded patches (at most [`crate::quality::validity::MAX_FOLD_SITES`]) with
+    /// the domain point of their worst sample.
+    #[serde(default)]
+    pub fold_sites: Vec<FoldSite>,
+    /// Pairs of output triangles of one connected shell, sharing no vertex, that meet.
+    #[serde(default)]
+    pub self_intersections: usize,
+    /// Pairs of input faces of one connected shell, sharing no vertex, that meet (fan triangles
+    /// of the convex pieces).
+    #[serde(default)]
+    pub input_self_intersections: usize,
+    /// Largest |mean curvature| of the output times its bounding-box diagonal.
+    #[serde(default)]
+    pub max_abs_mean_curvature_times_diagonal: f64,
+    /// The input mesh is closed (no boundary edges).
+    #[serde(default)]
+    pub input_closed: bool,
+    /// Closed two-manifold (two-manifold for an open input), no folds, and no self-intersections
+    /// unless the input itself has some (see [`Report::validity_problems`]).
+    #[serde(default)]
+    pub valid: bool,
 }
 
 impl Report {
     /// Adds one patch (face) with `n` sides to the histogram.
     pub fn count_sides(&mut self, n: usize) {
         *self.sides_histogram.entry(n.to_string()).or_insert(0) += 1;
+    }
+
+    /// What makes the output invalid, one phrase each (empty when valid): not a closed
+    /// two-manifold (for a closed input) or not a two-manifold, folds, self-intersections beyond
+    /// the input's (any, when the input has none).
+    pub fn validity_problems(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if !self.two_manifold {
+            out.push("not a consistently oriented two-manifold".to_string());
+        } else if self.input_closed && !self.closed {
+            out.push(format!("open: {} boundary edges on a closed input", self.boundary_edges));
+        }
+        if self.folds > 0 {
+            let first = self.fold_sites.first().map(|s| format!(" (first: patch {} at ({:.4}, {:.4}))", s.patch, s.u, s.v)).unwrap_or_default();
+            out.push(format!("{} folded patches{first}", self.folds));
+        }
+        if self.self_intersections > 0 && self.input_self_intersections == 0 {
+            out.push(format!("{} self-intersecting triangle pairs", self.self_intersections));
+        }
+        out
+    }
+
+    /// Sets [`Report::valid`] from [`Report::validity_problems`].
+    pub fn set_valid(&mut self) {
+        self.valid = self.validity_problems().is_empty();
     }
 
     /// Pretty JSON text.

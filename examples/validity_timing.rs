@@ -1,0 +1,47 @@
+//! Times a conversion and its validity checks separately on a quad torus:
+//! `cargo run --release --example validity_timing -- [a b] [resolution] [dual|topology]`
+//! (defaults: 100 × 100 quads, the default resolution, dual); a first argument ending in `.obj`
+//! reads that model instead of the torus. `FOLD_LEVEL=L` overrides the fold sampling level.
+
+use gbsurf::api::{convert, ConvertOptions, Method};
+use gbsurf::mesh::generate::torus;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let num = |i: usize, d: usize| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
+    let (a, b) = (num(1, 100), num(2, 100));
+    let mut opts = ConvertOptions::default();
+    opts.resolution = num(3, opts.resolution);
+    if args.get(4).map(String::as_str) == Some("topology") {
+        opts.method = Method::Topology;
+    }
+    let file = args.get(1).filter(|s| s.ends_with(".obj"));
+    let mesh = match file {
+        Some(f) => gbsurf::read_mesh(f).expect("model"),
+        None => torus(a, b, 10.0, 3.0).expect("torus"),
+    };
+    let level = std::env::var("FOLD_LEVEL").ok().and_then(|s| s.parse().ok()).unwrap_or(gbsurf::quality::validity::fold_level(opts.resolution));
+    let t = Instant::now();
+    let c = convert(&mesh, &opts, None).expect("conversion");
+    let total = t.elapsed().as_secs_f64();
+    let surface = c.surface.as_ref().expect("surface");
+    let t = Instant::now();
+    let folds = gbsurf::quality::find_folds(surface, level, opts.weights);
+    let t_folds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let si = gbsurf::quality::self_intersections(&c.mesh.positions, &c.mesh.triangles);
+    let t_si = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let ci = gbsurf::quality::cage_self_intersections(&mesh);
+    let t_ci = t.elapsed().as_secs_f64();
+    let checks = t_folds + t_si + t_ci;
+    println!(
+        "{a}x{b} r={} {}: {} triangles; convert {total:.3} s (checks {checks:.3} s: folds {t_folds:.3} [{}], self-intersections {t_si:.3} [{si}], cage {t_ci:.3} [{ci}]); checks / (convert − checks) = {:.1} %",
+        opts.resolution,
+        opts.method.name(),
+        c.mesh.triangles.len(),
+        folds.patches,
+        100.0 * checks / (total - checks)
+    );
+}

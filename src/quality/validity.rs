@@ -1,0 +1,434 @@
+//! Validity checks of a conversion's output: folds inside the patches, self-intersections of the
+//! output triangle mesh (and of the input cage, so a report can tell new intersections from the
+//! input's own), and the largest |H| times the bounding-box diagonal.
+//!
+//! - Folds ([`find_folds`]): every patch is sampled on the barycentric grids of
+//!   [`fold_sample_points`] with its exact first derivatives S_u, S_v. At a sample of domain
+//!   triangle i (centre, v_{i−1}, v_i) with barycentric weights (a, b, c) on (centre, v_{i−1}, v_i),
+//!   the reference normal is the boundary frame normal T × X of ribbon i
+//!   ([`ribbon_frame`]) at s = c/(b + c), the foot of the sample on side i. The sample is folded
+//!   where the Jacobian measured against that normal, (S_u × S_v)·(T × X), is negative: the
+//!   parameterisation turned over, or the surface normal turned against its ribbon's normal. Both
+//!   are oriented alike (side i runs counter-clockwise, X points into the domain).
+//! - Self-intersections ([`self_intersections`]): pairs of triangles sharing no vertex, in the
+//!   same connected shell, that have a point in common. Candidate pairs come from a bounding
+//!   volume hierarchy of the triangles' boxes (parry3d's [`Bvh`]); each pair is decided exactly
+//!   with Shewchuk's adaptive orientation predicates (crate `robust`): two triangles meet iff an
+//!   edge of one meets the other (closed sets; a segment that crosses the other triangle's plane
+//!   meets it iff the three orientations of the segment against the triangle's edges agree, a
+//!   segment in that plane is tested in 2D).
+
+use crate::construct::check::{fold_sample_points, ribbon_frame};
+use crate::construct::{Patch, Surface};
+use crate::gb::{Domain, SampleLayout, WeightForm};
+use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
+use std::collections::HashMap;
+use crate::mesh::PolyMesh;
+use glam::{DVec2, DVec3};
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use rayon::prelude::*;
+use robust::{orient2d, orient3d, Coord, Coord3D};
+
+/// At most this many fold sites are listed in a report.
+pub const MAX_FOLD_SITES: usize = 10;
+
+/// Where a patch folds: the patch index and the domain point of its most negative Jacobian
+/// (the regular n-gon domain of [`Domain::regular`]).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FoldSite {
+    pub patch: usize,
+    pub u: f64,
+    pub v: f64,
+}
+
+/// Result of [`find_folds`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Folds {
+    /// Patches with at least one folded sample.
+    pub patches: usize,
+    /// Folded samples in all.
+    pub samples: usize,
+    /// The first [`MAX_FOLD_SITES`] folded patches (in patch order) and where.
+    pub sites: Vec<FoldSite>,
+}
+
+/// Fold sampling level for tessellation resolution `r`: twice as dense as the tessellation, at
+/// least 8 steps per domain triangle.
+pub fn fold_level(resolution: usize) -> usize {
+    (2 * resolution).max(8)
+}
+
+/// (S_u × S_v) at `uv` of any patch with a prepared evaluator.
+enum PatchEval<'a> {
+    Gb(&'a crate::gb::GbPatch, crate::gb::GbBasisEvaluator),
+    Cgb(&'a crate::gb::CgbPatch, crate::gb::CgbBasisEvaluator),
+}
+
+impl PatchEval<'_> {
+    fn new(patch: &Patch) -> Option<PatchEval<'_>> {
+        match patch {
+            Patch::Gb(g) => g.evaluator().ok().map(|e| PatchEval::Gb(g, e)),
+            Patch::Cgb(c) => c.evaluator().ok().map(|e| PatchEval::Cgb(c, e)),
+        }
+    }
+    fn jacobian_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
+        let d = match self {
+            PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
+            PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
+        };
+        d.su.cross(d.sv)
+    }
+}
+
+/// Folds of one patch: (folded samples, worst domain point).
+fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
+    let n = patch.sides();
+    let (Ok(domain), Some(mut ev)) = (Domain::regular(n), PatchEval::new(patch)) else {
+        return (0, None);
+    };
+    let ribbons = patch.ribbons();
+    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
+    for (i, ribbon) in ribbons.iter().enumerate().take(n) {
+        let pts = fold_sample_points(&domain, i, level);
+        let mut k = 0;
+        for a in 0..=level {
+            for b in 0..=(level - a) {
+                let c = level - a - b;
+                let uv = pts[k];
+                k += 1;
+                let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
+                let (_, t, x) = ribbon_frame(ribbon, s);
+                let reference = t.cross(x).normalize_or_zero();
+                if reference == DVec3::ZERO {
+                    continue;
+                }
+                let jn = ev.jacobian_normal(uv, form);
+                let scale = jn.length();
+                if !(scale > 0.0) {
+                    continue;
+                }
+                let rel = jn.dot(reference) / scale;
+                if rel < 0.0 {
+                    count += 1;
+                    if rel < worst {
+                        worst = rel;
+                        at = Some(uv);
+                    }
+                }
+            }
+        }
+    }
+    (count, at)
+}
+
+/// Barycentric weights (b, c) of `uv` on (v_{i−1}, v_i) in the domain triangle (centre, v_{i−1},
+/// v_i) of `domain` that contains it (the one whose smaller weight is largest), and that i.
+fn domain_sector(domain: &[DVec2], centre: DVec2, uv: DVec2) -> (usize, f64, f64) {
+    let n = domain.len();
+    let q = uv - centre;
+    let mut best = (0, 0.0, 0.0, f64::NEG_INFINITY);
+    for i in 0..n {
+        let (e0, e1) = (domain[(i + n - 1) % n] - centre, domain[i] - centre);
+        let det = e0.perp_dot(e1);
+        if det == 0.0 {
+            continue;
+        }
+        let (b, c) = (q.perp_dot(e1) / det, e0.perp_dot(q) / det);
+        if b.min(c) > best.3 {
+            best = (i, b, c, b.min(c));
+        }
+    }
+    (best.0, best.1, best.2)
+}
+
+/// Folds of one patch from its samples `points` at the domain points `uv`: (folded samples,
+/// worst domain point).
+fn sample_folds(patch: &Patch, domain: &[DVec2], uv: &[DVec2], points: &[SurfacePoint]) -> (usize, Option<DVec2>) {
+    let ribbons = patch.ribbons();
+    let centre = domain.iter().copied().sum::<DVec2>() / domain.len().max(1) as f64;
+    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
+    for (&x, sp) in uv.iter().zip(points) {
+        if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
+            continue;
+        }
+        let (i, b, c) = domain_sector(domain, centre, x);
+        let Some(ribbon) = ribbons.get(i) else { continue };
+        let s = if b + c > 1e-12 { (c / (b + c)).clamp(0.0, 1.0) } else { 0.5 };
+        let (_, t, xv) = ribbon_frame(ribbon, s);
+        let reference = t.cross(xv).normalize_or_zero();
+        let rel = sp.normal.dot(reference);
+        if reference != DVec3::ZERO && rel < 0.0 {
+            count += 1;
+            if rel < worst {
+                worst = rel;
+                at = Some(x);
+            }
+        }
+    }
+    (count, at)
+}
+
+/// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
+/// whose Jacobian turns negative against their ribbons' normals (see the module doc).
+///
+/// The samples are those of a tessellation at resolution `level` (the [`SampleLayout`] of the
+/// patch's domain, 1 + n·level(level+1)/2 points, boundary included), evaluated with the same
+/// weight-table kernel as the tessellation ([`GbSurfaceEvaluator`]); the sign of the unit normal
+/// (S_u × S_v)/|S_u × S_v| is that of the Jacobian. Samples whose normal is undefined (a
+/// degenerate Jacobian, e.g. at a collapsed corner) are skipped, as the sign is meaningless there.
+/// A surface the table evaluator refuses falls back to the direct evaluator on the grids of
+/// [`fold_sample_points`].
+pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
+    let level = level.max(1);
+    let per: Vec<(usize, Option<DVec2>)> = match table_folds(surface, level, form) {
+        Some(per) => per,
+        None => surface.patches.par_iter().map(|p| patch_folds(p, level, form)).collect(),
+    };
+    let mut f = Folds::default();
+    for (p, (count, at)) in per.into_iter().enumerate() {
+        if count == 0 {
+            continue;
+        }
+        f.patches += 1;
+        f.samples += count;
+        if let (Some(uv), true) = (at, f.sites.len() < MAX_FOLD_SITES) {
+            f.sites.push(FoldSite { patch: p, u: uv.x, v: uv.y });
+        }
+    }
+    f
+}
+
+/// Per patch (folded samples, worst point) through the table evaluator; `None` where it or a
+/// layout cannot be built.
+fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<(usize, Option<DVec2>)>> {
+    let eval = GbSurfaceEvaluator::new(surface, level, form).ok()?;
+    let mut layouts: HashMap<usize, (Vec<DVec2>, SampleLayout)> = HashMap::new();
+    for p in &surface.patches {
+        let n = p.sides();
+        if let std::collections::hash_map::Entry::Vacant(e) = layouts.entry(n) {
+            let domain = eval.domain(n);
+            let layout = SampleLayout::new(&domain, level).ok()?;
+            e.insert((domain, layout));
+        }
+    }
+    Some(
+        surface
+            .patches
+            .par_iter()
+            .enumerate()
+            .map_init(Vec::new, |buf, (i, p)| {
+                let (domain, layout) = &layouts[&p.sides()];
+                eval.evaluate(surface, i, layout, buf);
+                if buf.len() != layout.uv.len() {
+                    return patch_folds(p, level, form);
+                }
+                sample_folds(p, domain, &layout.uv, buf)
+            })
+            .collect(),
+    )
+}
+
+fn c3(p: DVec3) -> Coord3D<f64> {
+    Coord3D { x: p.x, y: p.y, z: p.z }
+}
+
+/// Sign of the orientation of d against the plane (a, b, c): −1, 0 or 1, exact.
+fn orient(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let o = orient3d(c3(a), c3(b), c3(c), c3(d));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Exact 2D orientation sign of points projected by dropping coordinate `drop`.
+fn orient_2d(drop: usize, a: DVec3, b: DVec3, c: DVec3) -> i8 {
+    let pr = |p: DVec3| {
+        let q = match drop {
+            0 => (p.y, p.z),
+            1 => (p.z, p.x),
+            _ => (p.x, p.y),
+        };
+        Coord { x: q.0, y: q.1 }
+    };
+    let o = orient2d(pr(a), pr(b), pr(c));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Closed segments [p, q] and [a, b], collinear-aware, in the projection dropping `drop`.
+fn segments_meet_2d(drop: usize, p: DVec3, q: DVec3, a: DVec3, b: DVec3) -> bool {
+    let (o1, o2) = (orient_2d(drop, p, q, a), orient_2d(drop, p, q, b));
+    let (o3, o4) = (orient_2d(drop, a, b, p), orient_2d(drop, a, b, q));
+    let keep = |x: DVec3| -> [f64; 2] {
+        match drop {
+            0 => [x.y, x.z],
+            1 => [x.z, x.x],
+            _ => [x.x, x.y],
+        }
+    };
+    let on = |s: DVec3, e: DVec3, x: DVec3| {
+        let (s, e, x) = (keep(s), keep(e), keep(x));
+        (0..2).all(|k| s[k].min(e[k]) <= x[k] && x[k] <= s[k].max(e[k]))
+    };
+    if o1 * o2 < 0 && o3 * o4 < 0 {
+        return true;
+    }
+    (o1 == 0 && on(p, q, a)) || (o2 == 0 && on(p, q, b)) || (o3 == 0 && on(a, b, p)) || (o4 == 0 && on(a, b, q))
+}
+
+/// The closed segment [p, q] meets the closed triangle t (non-degenerate), exactly.
+fn segment_meets_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
+    let (sp, sq) = (orient(t[0], t[1], t[2], p), orient(t[0], t[1], t[2], q));
+    if sp * sq > 0 {
+        return false;
+    }
+    if sp == 0 && sq == 0 {
+        // In the triangle's plane: project along the normal's largest coordinate.
+        let nrm = (t[1] - t[0]).cross(t[2] - t[0]).abs();
+        let drop = if nrm.x >= nrm.y && nrm.x >= nrm.z { 0 } else if nrm.y >= nrm.z { 1 } else { 2 };
+        let inside = |x: DVec3| {
+            let o = [orient_2d(drop, t[0], t[1], x), orient_2d(drop, t[1], t[2], x), orient_2d(drop, t[2], t[0], x)];
+            !(o.iter().any(|&s| s > 0) && o.iter().any(|&s| s < 0))
+        };
+        return inside(p) || inside(q) || (0..3).any(|k| segments_meet_2d(drop, p, q, t[k], t[(k + 1) % 3]));
+    }
+    // Crossing the plane: the line through p, q passes inside (or on) the triangle.
+    let o = [orient(p, q, t[0], t[1]), orient(p, q, t[1], t[2]), orient(p, q, t[2], t[0])];
+    !(o.iter().any(|&s| s > 0) && o.iter().any(|&s| s < 0))
+}
+
+/// Two closed, non-degenerate triangles have a point in common (exact predicates).
+pub fn triangles_intersect(a: [DVec3; 3], b: [DVec3; 3]) -> bool {
+    // Quick rejection: all of one triangle strictly on one side of the other's plane.
+    let sb = b.map(|x| orient(a[0], a[1], a[2], x));
+    if sb.iter().all(|&s| s > 0) || sb.iter().all(|&s| s < 0) {
+        return false;
+    }
+    let sa = a.map(|x| orient(b[0], b[1], b[2], x));
+    if sa.iter().all(|&s| s > 0) || sa.iter().all(|&s| s < 0) {
+        return false;
+    }
+    (0..3).any(|k| segment_meets_triangle(a[k], a[(k + 1) % 3], b)) || (0..3).any(|k| segment_meets_triangle(b[k], b[(k + 1) % 3], a))
+}
+
+fn degenerate(t: [DVec3; 3]) -> bool {
+    (t[1] - t[0]).cross(t[2] - t[0]) == DVec3::ZERO || t.iter().any(|p| !p.is_finite())
+}
+
+/// Shell (connected component through shared vertices) of every triangle.
+fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
+    let mut parent: Vec<u32> = (0..nv as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for t in triangles {
+        let r0 = find(&mut parent, t[0]);
+        for &v in &t[1..] {
+            let r = find(&mut parent, v);
+            if r != r0 {
+                parent[r as usize] = r0;
+            }
+        }
+    }
+    triangles.iter().map(|t| find(&mut parent, t[0])).collect()
+}
+
+/// Pairs (i, j), i < j, of triangles in the same shell, sharing no vertex index, whose closed
+/// triangles meet. `group[i]` ties triangles together (pairs within a group are skipped: a group
+/// is one input face cut into triangles; pass `None` for the output mesh). Triangles naming a
+/// missing vertex and degenerate ones are skipped.
+fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>) -> Vec<(u32, u32)> {
+    let nv = positions.len();
+    let good: Vec<bool> = triangles
+        .iter()
+        .map(|t| t.iter().all(|&i| (i as usize) < nv) && !degenerate(t.map(|i| positions[i as usize])))
+        .collect();
+    let kept: Vec<u32> = (0..triangles.len() as u32).filter(|&i| good[i as usize]).collect();
+    if kept.len() < 2 {
+        return Vec::new();
+    }
+    let kept_tris: Vec<[u32; 3]> = kept.iter().map(|&i| triangles[i as usize]).collect();
+    let shell = shells(nv, &kept_tris);
+    let boxes: Vec<Aabb> = kept_tris
+        .par_iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+            Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z))
+        })
+        .collect();
+    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
+    let mut candidates: Vec<(u32, u32)> = Vec::new();
+    bvh.traverse_bvtt_single_tree::<false>(&mut BvhWorkspace::default(), &mut |i, j| {
+        let (ti, tj) = (&kept_tris[i as usize], &kept_tris[j as usize]);
+        if shell[i as usize] != shell[j as usize] || ti.iter().any(|v| tj.contains(v)) {
+            return;
+        }
+        if let Some(g) = group {
+            if g[kept[i as usize] as usize] == g[kept[j as usize] as usize] {
+                return;
+            }
+        }
+        candidates.push((i.min(j), i.max(j)));
+    });
+    let mut hits: Vec<(u32, u32)> = candidates
+        .into_par_iter()
+        .with_min_len(1024)
+        .filter(|&(i, j)| {
+            let a = kept_tris[i as usize].map(|v| positions[v as usize]);
+            let b = kept_tris[j as usize].map(|v| positions[v as usize]);
+            triangles_intersect(a, b)
+        })
+        .map(|(i, j)| (kept[i as usize], kept[j as usize]))
+        .collect();
+    hits.par_sort_unstable();
+    hits.dedup();
+    hits
+}
+
+/// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
+/// module doc). Two separate shells crossing each other do not count.
+pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
+    intersecting_pairs(positions, triangles, None).len()
+}
+
+/// Number of pairs of faces of the input cage, in one shell and sharing no vertex, that meet:
+/// every face is split into convex pieces ([`crate::mesh::geometry::convexify`]) and each piece
+/// fan-triangulated.
+pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
+    let (convex, origin) = crate::mesh::geometry::convexify(mesh);
+    let mut tris = Vec::new();
+    let mut face = Vec::new();
+    for (k, f) in convex.faces.iter().enumerate() {
+        for i in 1..f.len().saturating_sub(1) {
+            tris.push([f[0], f[i], f[i + 1]]);
+            face.push(origin.get(k).copied().unwrap_or(k as u32));
+        }
+    }
+    // Two faces sharing a vertex are adjacent even where their fan triangles share none.
+    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face))
+        .into_iter()
+        .filter(|&(i, j)| {
+            let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);
+            !fi.iter().any(|v| fj.contains(v))
+        })
+        .map(|(i, j)| {
+            let (a, b) = (face[i as usize], face[j as usize]);
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs.len()
+}
+
+/// Largest |H| over the vertices times the diagonal of the positions' bounding box (0 for an
+/// empty mesh; non-finite curvatures are skipped).
+pub fn max_abs_mean_curvature_times_diagonal(positions: &[DVec3], mean_curvature: &[f64]) -> f64 {
+    let Some(first) = positions.first() else { return 0.0 };
+    let (lo, hi) = positions.iter().fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let h = mean_curvature.iter().filter(|h| h.is_finite()).fold(0.0f64, |m, h| m.max(h.abs()));
+    h * lo.distance(hi)
+}

@@ -1,0 +1,218 @@
+//! Validity checks of the report: folds (a patch made to fold on purpose is found, with its
+//! index), self-intersections (within one shell only, exact triangle–triangle tests checked
+//! against brute force), the input cage's own intersections, and every shared model converting to
+//! a valid surface with both structures.
+
+use gbsurf::api::{convert, convert_file, ConvertOptions, Method};
+use gbsurf::construct::{build_dual, Patch};
+use gbsurf::gb::{Domain, Evaluate, WeightForm};
+use gbsurf::mesh::{HalfEdgeMesh, PolyMesh};
+use gbsurf::quality::validity::{fold_level, max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
+use gbsurf::quality::{cage_self_intersections, find_folds, self_intersections};
+use gbsurf::DVec3;
+use proptest::prelude::*;
+
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
+
+fn cube(pulled: Option<DVec3>) -> PolyMesh {
+    let mut positions: Vec<DVec3> = (0..8).map(|i| DVec3::new([-1.0, 1.0][i & 1], [-1.0, 1.0][(i >> 1) & 1], [-1.0, 1.0][i >> 2])).collect();
+    if let Some(p) = pulled {
+        positions[7] = p;
+    }
+    let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    PolyMesh { positions, faces: faces.iter().map(|f| f.to_vec()).collect() }
+}
+
+/// A closed triangulated box [lo, hi] with its vertices from index `base`.
+fn box_tris(lo: DVec3, hi: DVec3, base: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let c = cube(None);
+    let pos = c.positions.iter().map(|p| lo + (*p + DVec3::ONE) * 0.5 * (hi - lo)).collect();
+    let tris = c.faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).map(|t| t.map(|i| i + base)).collect();
+    (pos, tris)
+}
+
+#[test]
+fn a_pulled_central_point_folds_its_patch() {
+    let he = HalfEdgeMesh::from_polymesh(&cube(None)).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let form = WeightForm::Squared;
+    assert_eq!(find_folds(&surface, fold_level(8), form).patches, 0);
+    let k = 3;
+    let Patch::Gb(g) = &mut surface.patches[k] else { panic!("dual cube patches are GB") };
+    // Moving the central point along the normal cannot fold (the normal component of S_u × S_v
+    // does not change); pulled far sideways, its weight's slope turns the Jacobian over.
+    let d = Domain::regular(g.ribbons.len()).unwrap();
+    let n = g.normal(d.center(), form).unwrap();
+    let t = g.eval_derivs(d.center(), form).su.normalize();
+    g.center += 40.0 * t;
+    let folds = find_folds(&surface, fold_level(8), form);
+    assert_eq!(folds.patches, 1, "{folds:?}");
+    assert!(folds.samples > 0);
+    assert_eq!(folds.sites.len(), 1);
+    assert_eq!(folds.sites[0].patch, k);
+    // The worst sample lies in the domain and the patch's Jacobian there points inward.
+    let site = &folds.sites[0];
+    let uv = gbsurf::DVec2::new(site.u, site.v);
+    assert!(uv.length() < 1.0 + 1e-9);
+    assert!(surface.patches[k].normal(uv, form).unwrap().dot(n) < 0.0);
+    // Pulled along the normal, far through the surface: a deep dimple, no fold.
+    let mut dimple = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let Patch::Gb(g) = &mut dimple.patches[k] else { panic!("GB") };
+    g.center -= 40.0 * n;
+    assert_eq!(find_folds(&dimple, fold_level(8), form).patches, 0);
+}
+
+#[test]
+fn fold_sites_are_listed_in_patch_order() {
+    let mesh = cube(None);
+    let he = HalfEdgeMesh::from_polymesh(&mesh).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let form = WeightForm::Squared;
+    for p in surface.patches.iter_mut() {
+        let Patch::Gb(g) = p else { panic!("GB patch expected") };
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        let t = g.eval_derivs(d.center(), form).su.normalize();
+        g.center += 40.0 * t;
+    }
+    let folds = find_folds(&surface, fold_level(8), form);
+    assert_eq!(folds.patches, surface.patches.len());
+    assert_eq!(folds.sites.len(), surface.patches.len().min(MAX_FOLD_SITES));
+    assert!(folds.sites.iter().enumerate().all(|(i, s)| s.patch == i));
+}
+
+#[test]
+fn crossing_shells_do_not_count_one_shell_does() {
+    let (mut pos, mut tris) = box_tris(DVec3::splat(-1.0), DVec3::splat(1.0), 0);
+    let (p2, t2) = box_tris(DVec3::new(0.0, -0.5, -0.5), DVec3::new(2.0, 0.5, 0.5), 8);
+    pos.extend(p2);
+    tris.extend(t2);
+    // Two separate shells crossing each other.
+    assert_eq!(self_intersections(&pos, &tris), 0);
+    // Tied into one shell by a sliver triangle sharing a vertex with each box, far from the
+    // crossing: now the crossing pairs count.
+    tris.push([0, 8, 1]);
+    let n = self_intersections(&pos, &tris);
+    assert!(n >= 8, "{n}");
+    // Each box alone is free of self-intersections.
+    let (pos, tris) = box_tris(DVec3::splat(-1.0), DVec3::splat(1.0), 0);
+    assert_eq!(self_intersections(&pos, &tris), 0);
+}
+
+#[test]
+fn exact_triangle_tests() {
+    let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    // Crossing through the interior.
+    assert!(triangles_intersect(t, [DVec3::new(0.2, 0.2, -1.0), DVec3::new(0.2, 0.2, 1.0), DVec3::new(5.0, 5.0, 0.0)]));
+    // Touching at one point (a vertex on the other's interior).
+    assert!(triangles_intersect(t, [DVec3::new(0.25, 0.25, 0.0), DVec3::new(0.2, 0.2, 1.0), DVec3::new(1.0, 1.0, 1.0)]));
+    // Just above the plane: disjoint.
+    let eps = f64::EPSILON;
+    assert!(!triangles_intersect(t, [DVec3::new(0.25, 0.25, eps), DVec3::new(0.2, 0.2, 1.0), DVec3::new(1.0, 1.0, 1.0)]));
+    // Coplanar: overlapping, contained, disjoint.
+    assert!(triangles_intersect(t, [DVec3::new(0.5, 0.0, 0.0), DVec3::new(1.5, 0.0, 0.0), DVec3::new(0.5, 1.0, 0.0)]));
+    assert!(triangles_intersect(t, [DVec3::new(0.1, 0.1, 0.0), DVec3::new(0.2, 0.1, 0.0), DVec3::new(0.1, 0.2, 0.0)]));
+    assert!(!triangles_intersect(t, [DVec3::new(1.0, 1.0, 0.0), DVec3::new(2.0, 1.0, 0.0), DVec3::new(1.0, 2.0, 0.0)]));
+}
+
+#[test]
+fn a_cage_with_a_corner_pulled_through_intersects_itself() {
+    assert_eq!(cage_self_intersections(&cube(None)), 0);
+    // Corner (1, 1, 1) pulled through the opposite face z = −1.
+    let bad = cube(Some(DVec3::new(-0.5, -0.5, -3.0)));
+    let n = cage_self_intersections(&bad);
+    assert!(n > 0, "{n}");
+    // The conversion reports the input's intersections, whatever it makes of the cage.
+    if let Ok(c) = convert(&bad, &ConvertOptions { method: Method::Dual, resolution: 4, ..Default::default() }, None) {
+        assert_eq!(c.report.input_self_intersections, n);
+    }
+}
+
+#[test]
+fn every_shared_model_is_valid_with_both_structures() {
+    let mut models: Vec<_> = std::fs::read_dir(MODELS)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    models.sort();
+    assert!(models.len() >= 10);
+    for path in &models {
+        for method in [Method::Dual, Method::Topology] {
+            let c = convert_file(path, &ConvertOptions { method, ..Default::default() }, None).unwrap();
+            let r = &c.report;
+            assert!(r.valid, "{} {method}: {:?}", path.display(), r.validity_problems());
+            assert_eq!((r.folds, r.self_intersections, r.input_self_intersections), (0, 0, 0), "{}", path.display());
+            assert!(r.max_abs_mean_curvature_times_diagonal.is_finite() && r.max_abs_mean_curvature_times_diagonal > 0.0);
+            let json: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+            for key in ["folds", "fold_sites", "self_intersections", "input_self_intersections", "max_abs_mean_curvature_times_diagonal", "valid", "closed", "max_g1_deg"] {
+                assert!(json.get(key).is_some(), "{key}");
+            }
+        }
+    }
+}
+
+#[test]
+fn curvature_times_diagonal_of_a_sphere_sample() {
+    // Unit sphere points with H = −1 everywhere: |H| × diagonal = 2√3.
+    let pos = [DVec3::splat(-1.0), DVec3::splat(1.0)];
+    let v = max_abs_mean_curvature_times_diagonal(&pos, &[-1.0, -1.0]);
+    assert!((v - 2.0 * 3f64.sqrt()).abs() < 1e-12);
+    assert_eq!(max_abs_mean_curvature_times_diagonal(&[], &[]), 0.0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// The BVH-pruned count equals a brute-force count over all pairs of one shell.
+    #[test]
+    fn bvh_count_matches_brute_force(coords in proptest::collection::vec(-4i32..4, 3 * 24), tris in proptest::collection::vec(proptest::array::uniform3(0u32..24), 1..30)) {
+        let pos: Vec<DVec3> = coords.chunks(3).map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64) * 0.5).collect();
+        // One shell: chain every triangle to the next through a shared vertex.
+        let mut all = tris.clone();
+        for w in tris.windows(2) {
+            all.push([w[0][0], w[1][0], w[0][1]]);
+        }
+        let good = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|i| pos[i as usize]);
+            (b - a).cross(c - a) != DVec3::ZERO
+        };
+        // Brute force over good triangles; shells by union–find over all triangles used.
+        let kept: Vec<[u32; 3]> = all.iter().copied().filter(good).collect();
+        let mut parent: Vec<usize> = (0..24).collect();
+        fn find(p: &mut Vec<usize>, x: usize) -> usize { if p[x] == x { x } else { let r = find(p, p[x]); p[x] = r; r } }
+        for t in &kept {
+            for &v in &t[1..] {
+                let (a, b) = (find(&mut parent, t[0] as usize), find(&mut parent, v as usize));
+                parent[a] = b;
+            }
+        }
+        let mut brute = 0;
+        for i in 0..all.len() {
+            for j in i + 1..all.len() {
+                let (a, b) = (all[i], all[j]);
+                if !good(&a) || !good(&b) || a.iter().any(|v| b.contains(v)) {
+                    continue;
+                }
+                if find(&mut parent, a[0] as usize) != find(&mut parent, b[0] as usize) {
+                    continue;
+                }
+                if triangles_intersect(a.map(|v| pos[v as usize]), b.map(|v| pos[v as usize])) {
+                    brute += 1;
+                }
+            }
+        }
+        prop_assert_eq!(self_intersections(&pos, &all), brute);
+    }
+
+    /// The exact test is symmetric and invariant under cyclic vertex order and reflection.
+    #[test]
+    fn triangle_test_is_symmetric(c in proptest::collection::vec(-3i32..3, 18)) {
+        let p: Vec<DVec3> = c.chunks(3).map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)).collect();
+        let (a, b) = ([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+        prop_assume!((a[1] - a[0]).cross(a[2] - a[0]) != DVec3::ZERO && (b[1] - b[0]).cross(b[2] - b[0]) != DVec3::ZERO);
+        let x = triangles_intersect(a, b);
+        prop_assert_eq!(x, triangles_intersect(b, a));
+        prop_assert_eq!(x, triangles_intersect([a[1], a[2], a[0]], [b[2], b[1], b[0]]));
+        let m = |t: [DVec3; 3]| t.map(|v| DVec3::new(-v.x, v.y, v.z));
+        prop_assert_eq!(x, triangles_intersect(m(a), m(b)));
+    }
+}
