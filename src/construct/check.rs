@@ -44,9 +44,14 @@ pub fn ribbon_frame(r: &Ribbon, s: f64) -> (DVec3, DVec3, DVec3) {
     (p, t, d as f64 * x)
 }
 
-/// Max angle (degrees) between the ribbon normals T × X of the two patches along every shared side,
-/// at `samples` ≥ 2 equally spaced parameters (ends included).
-pub fn ribbon_g1_angle(surface: &Surface, samples: usize) -> Worst {
+/// The worst value of `measure(frame of A at s, frame of B at 1 − s)` over every shared side
+/// (once per side, [`Surface::shared_sides`]) at `samples` ≥ 2 equally spaced parameters (ends
+/// included); frames are (point, tangent, cross-derivative) of [`ribbon_frame`].
+fn worst_along_shared_sides(
+    surface: &Surface,
+    samples: usize,
+    measure: impl Fn((DVec3, DVec3, DVec3), (DVec3, DVec3, DVec3)) -> f64,
+) -> Worst {
     let mut w = Worst::default();
     let samples = samples.max(2);
     for (p, i, n) in surface.shared_sides() {
@@ -54,33 +59,22 @@ pub fn ribbon_g1_angle(surface: &Surface, samples: usize) -> Worst {
         let rb = &surface.patches[n.patch].ribbons()[n.side];
         for k in 0..samples {
             let s = k as f64 / (samples - 1) as f64;
-            let (_, ta, xa) = ribbon_frame(ra, s);
-            let (_, tb, xb) = ribbon_frame(rb, 1.0 - s);
-            w.update(angle_deg(ta.cross(xa), tb.cross(xb)), p, i, s);
+            w.update(measure(ribbon_frame(ra, s), ribbon_frame(rb, 1.0 - s)), p, i, s);
         }
     }
     w
 }
 
+/// Max angle (degrees) between the ribbon normals T × X of the two patches along every shared side,
+/// at `samples` ≥ 2 equally spaced parameters (ends included).
+pub fn ribbon_g1_angle(surface: &Surface, samples: usize) -> Worst {
+    worst_along_shared_sides(surface, samples, |(_, ta, xa), (_, tb, xb)| angle_deg(ta.cross(xa), tb.cross(xb)))
+}
+
 /// Max distance between the two ribbons' boundary points along every shared side (the curve as
 /// seen from both patches, B at 1 − s).
 pub fn ribbon_gap(surface: &Surface, samples: usize) -> Worst {
-    let mut w = Worst::default();
-    let samples = samples.max(2);
-    for (p, nb) in surface.neighbors.iter().enumerate() {
-        for (i, n) in nb.iter().enumerate() {
-            let Some(n) = n else { continue };
-            let ra = &surface.patches[p].ribbons()[i];
-            let rb = &surface.patches[n.patch].ribbons()[n.side];
-            for k in 0..samples {
-                let s = k as f64 / (samples - 1) as f64;
-                let (pa, _, _) = ribbon_frame(ra, s);
-                let (pb, _, _) = ribbon_frame(rb, 1.0 - s);
-                w.update(pa.distance(pb), p, i, s);
-            }
-        }
-    }
-    w
+    worst_along_shared_sides(surface, samples, |(pa, _, _), (pb, _, _)| pa.distance(pb))
 }
 
 /// Max distance between corner-block points that must coincide: ribbon i's row 1 column 0 and the
