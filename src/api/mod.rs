@@ -170,6 +170,7 @@ fn convert_valid(
         let folds = crate::quality::find_folds(&surface, crate::quality::validity::fold_level(options.resolution), options.weights);
         report.folds = folds.patches;
         report.fold_sites = folds.sites;
+        tick(0.93)?;
         (m, Some(surface))
     } else {
         let (m, faces) = subdivision_mesh(&he.to_polymesh(), options)?;
@@ -191,6 +192,7 @@ fn convert_valid(
     report.zero_area_triangles = check.zero_area_triangles;
     report.input_closed = he.is_closed();
     report.self_intersections = crate::quality::self_intersections(&out.positions, &out.triangles);
+    tick(0.98)?;
     report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
     report.max_abs_mean_curvature_times_diagonal =
         crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
