@@ -63,7 +63,7 @@ def test_ctypes_structs_match_the_header():
     n = native()
     structs = {name: body for body, name in re.findall(r"typedef struct \{(.*?)\} (\w+);", _header(), re.S)}
     for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report), ("GbsurfCreases", n.Creases)):
-        fields = re.findall(r"([\w ]+?)\s+(\w+);", structs[name])
+        fields = re.findall(r"([\w ]+?\s*\**)\s*(\w+);", structs[name])
         assert [(f, _ctype(n, t)) for t, f in fields] == list(cls._fields_), name
 
 
