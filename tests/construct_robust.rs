@@ -193,7 +193,7 @@ fn cone(n: usize, bipyramid: bool) -> PolyMesh {
     } else {
         faces.push((0..n as u32).rev().collect());
     }
-    PolyMesh { positions, faces }
+    PolyMesh::new(positions, faces)
 }
 
 /// Valence 64 (apex of a 64-gon cone / bipyramid) and a 64-gon face (the cone's base).

@@ -224,7 +224,7 @@ fn cone_apex_tile_depth() {
     }));
     let mut faces: Vec<Vec<u32>> = (0..n as u32).map(|i| vec![0, 1 + i, 1 + (i + 1) % n as u32]).collect();
     faces.push((1..=n as u32).rev().collect());
-    let m = HalfEdgeMesh::from_polymesh(&PolyMesh { positions, faces }).unwrap();
+    let m = HalfEdgeMesh::from_polymesh(&PolyMesh::new(positions, faces)).unwrap();
     for w in [2.5, 3.0, 4.0, 7.0] {
         let o = ConvertOptions { tile_depth: w, ..Default::default() };
         let t = tiles(&m, &o).unwrap();

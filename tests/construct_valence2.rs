@@ -41,7 +41,7 @@ fn new_vertices_first(pm: &PolyMesh, k: usize) -> PolyMesh {
     let map = |v: u32| if (v as usize) < n - k { v + k as u32 } else { v - (n - k) as u32 };
     let mut positions = pm.positions[n - k..].to_vec();
     positions.extend_from_slice(&pm.positions[..n - k]);
-    PolyMesh { positions, faces: pm.faces.iter().map(|f| f.iter().map(|&v| map(v)).collect()).collect() }
+    PolyMesh::new(positions, pm.faces.iter().map(|f| f.iter().map(|&v| map(v)).collect()).collect())
 }
 
 fn he(pm: &PolyMesh) -> HalfEdgeMesh {
@@ -201,6 +201,7 @@ fn collapsing_face_is_a_typed_error() {
     let pm = PolyMesh {
         positions: vec![DVec3::ZERO, DVec3::new(0.5, 0.5, 0.0), DVec3::X, DVec3::new(0.5, -0.5, 0.3)],
         faces: vec![vec![0, 1, 2], vec![2, 1, 0, 3], vec![0, 2, 3]],
+        creases: Default::default(),
     };
     let m = he(&pm);
     for structure in ["dual", "topology"] {
@@ -227,6 +228,7 @@ fn existing_neighbour_edge_is_a_typed_error() {
             DVec3::new(0.5, -1.0, 0.5),
         ],
         faces: vec![vec![a, v, b, c], vec![b, v, a, d], vec![b, a, c], vec![a, b, d]],
+        creases: Default::default(),
     };
     let m = he(&pm);
     assert!(!m.is_boundary_vertex(gbsurf::mesh::VertexId(1)) && m.valence(gbsurf::mesh::VertexId(1)) == 2);

@@ -235,15 +235,19 @@ fn obj_free_form_and_tags_are_skipped_with_warnings() {
             skipped("lod", 21, 1),
             skipped("bevel", 22, 1),
             skipped("c_interp", 23, 1),
-            skipped("t crease", 24, 2),
-            skipped("t corner", 26, 1),
+            skipped("t interpolateboundary", 26, 1),
         ]
     );
-    assert!(w[9].to_string().contains("\"t crease\" (first on line 24)"), "{}", w[9]);
+    assert!(w[9].to_string().contains("\"t interpolateboundary\" (first on line 26)"), "{}", w[9]);
+    // the crease tags are read (tests/creases.rs has the details)
+    let (pm, map) = read_polymesh(path("obj_freeform.obj")).unwrap();
+    let c = gbsurf::mesh::io::obj_sharpness(4.0);
+    assert_eq!(pm.creases.edges, vec![([0, 1], c), ([1, 3], c)]);
+    assert_eq!(map.edge_crease_lines, vec![24, 25]);
     // the same path feeds the conversion's warnings
     let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::CatmullClark, levels: 1, ..Default::default() };
     let c = gbsurf::convert_file(path("obj_freeform.obj"), &opts, None).unwrap();
-    assert!(c.warnings.iter().any(|s| s.contains("t corner")), "{:?}", c.warnings);
+    assert!(c.warnings.iter().any(|s| s.contains("t interpolateboundary")), "{:?}", c.warnings);
     // still an error: a statement OBJ does not have
     assert!(matches!(parse_obj("v 0 0 0\nfoo 1\n"), Err(MeshError::Parse { line: Some(2), .. })));
 }

@@ -49,6 +49,7 @@ fn pillow(n: usize) -> Surface {
         sources: vec![PatchSource::Vertex(0), PatchSource::Vertex(1)],
         curves: Vec::new(),
         warnings: Vec::new(),
+        creases: Vec::new(),
     }
 }
 
@@ -94,6 +95,7 @@ fn single_patch_stays_open() {
             sources: vec![PatchSource::Vertex(0)],
             curves: Vec::new(),
             warnings: Vec::new(),
+            creases: Vec::new(),
         };
         let r = 4;
         let (m, stats) = tessellate_surface(&one, r, WeightForm::Squared, None).unwrap();

@@ -20,7 +20,7 @@ fn cube(pulled: Option<DVec3>) -> PolyMesh {
         positions[7] = p;
     }
     let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    PolyMesh { positions, faces: faces.iter().map(|f| f.to_vec()).collect() }
+    PolyMesh::new(positions, faces.iter().map(|f| f.to_vec()).collect())
 }
 
 /// A closed triangulated box [lo, hi] with its vertices from index `base`.

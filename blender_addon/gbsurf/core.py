@@ -48,6 +48,7 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
         patch_method = lib_options["method"] in {'DUAL', 'TOPOLOGY'}
         return native.convert(
             positions, sizes, indices, opts, progress,
+            creases=getattr(data, "creases", None),
             want_curves=patch_method and outputs.get("want_curves", False),
             want_control_net=patch_method and outputs.get("want_control_net", False),
         )

@@ -50,8 +50,55 @@ class SourceError(ValueError):
     """The source mesh cannot be converted (names the element)."""
 
 
+class MeshData(tuple):
+    """(positions, face_sizes, face_indices) as read by `read_mesh`, plus `creases`: None or
+    (edge_vertices (E,2) uint32, edge_sharpness (E,) float64, vertices (K,) uint32,
+    vertex_sharpness (K,) float64) from `read_creases`."""
+
+    creases = None
+
+
+def _float_attribute(mesh, name, domain, n):
+    """The float attribute `name` on `domain` with `n` values (numpy), or None."""
+    attr = mesh.attributes.get(name)
+    if attr is None or attr.domain != domain or attr.data_type != 'FLOAT' or len(attr.data) != n:
+        return None
+    out = np.empty(n, dtype=np.float32)
+    attr.data.foreach_get("value", out)
+    return out.astype(np.float64)
+
+
+def read_creases(mesh):
+    """Blender's crease attributes as the library's sharpness: `crease_edge` (edge domain) and
+    `crease_vert` (point domain). The Subdivision Surface modifier reads a crease c as
+    OpenSubdiv sharpness 10·c², and the library's sharpness is that same c (docs/math.md#creases),
+    so the values pass through unchanged; only entries above 0 are kept. None when there is no
+    crease."""
+    ne, nv = len(mesh.edges), len(mesh.vertices)
+    ec = _float_attribute(mesh, "crease_edge", 'EDGE', ne)
+    vc = _float_attribute(mesh, "crease_vert", 'POINT', nv)
+    ev = np.empty((0, 2), dtype=np.uint32)
+    es = np.empty(0, dtype=np.float64)
+    if ec is not None and ne and np.any(ec > 0):
+        verts = np.empty(ne * 2, dtype=np.int32)
+        mesh.edges.foreach_get("vertices", verts)
+        keep = ec > 0
+        ev = verts.reshape(-1, 2)[keep].astype(np.uint32)
+        es = np.clip(ec[keep], 0.0, 1.0)
+    vv = np.empty(0, dtype=np.uint32)
+    vs = np.empty(0, dtype=np.float64)
+    if vc is not None and nv and np.any(vc > 0):
+        keep = vc > 0
+        vv = np.nonzero(keep)[0].astype(np.uint32)
+        vs = np.clip(vc[keep], 0.0, 1.0)
+    if len(es) == 0 and len(vs) == 0:
+        return None
+    return ev, es, vv, vs
+
+
 def read_mesh(mesh):
-    """(positions (V,3) float64, face_sizes (F,) uint32, face_indices (sum sizes,) uint32)."""
+    """(positions (V,3) float64, face_sizes (F,) uint32, face_indices (sum sizes,) uint32) as a
+    `MeshData` whose `creases` are `read_creases(mesh)`."""
     nv, nl, nf = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
     co = np.empty(nv * 3, dtype=np.float32)
     _get_positions(mesh, co)
@@ -69,11 +116,13 @@ def read_mesh(mesh):
         corner_verts = corner_verts[order]
     else:
         corner_verts = corner_verts[: int(sizes.sum())]
-    return (
+    data = MeshData((
         co.astype(np.float64).reshape(-1, 3),
         sizes.astype(np.uint32),
         corner_verts.astype(np.uint32),
-    )
+    ))
+    data.creases = read_creases(mesh)
+    return data
 
 
 def read_object(obj, depsgraph=None):

@@ -97,6 +97,19 @@ class Report(Structure):
     ]
 
 
+class Creases(Structure):
+    """GbsurfCreases: edge pairs with sharpness and corner vertices with sharpness, in [0, 1]."""
+
+    _fields_ = [
+        ("edge_vertices", POINTER(c_uint32)),
+        ("edge_sharpness", POINTER(c_double)),
+        ("edge_count", c_size_t),
+        ("vertices", POINTER(c_uint32)),
+        ("vertex_sharpness", POINTER(c_double)),
+        ("vertex_count", c_size_t),
+    ]
+
+
 class _Result(Structure):
     """Opaque handle type (only used through pointers)."""
 
@@ -122,6 +135,16 @@ _SIGNATURES = {
             POINTER(c_double), c_size_t,
             POINTER(c_uint32), c_size_t,
             POINTER(c_uint32), c_size_t,
+            POINTER(Options), ProgressFn, c_void_p, POINTER(_R),
+        ],
+    ),
+    "gbsurf_convert_creased": (
+        c_uint32,
+        [
+            POINTER(c_double), c_size_t,
+            POINTER(c_uint32), c_size_t,
+            POINTER(c_uint32), c_size_t,
+            POINTER(Creases),
             POINTER(Options), ProgressFn, c_void_p, POINTER(_R),
         ],
     ),
@@ -305,10 +328,12 @@ def _count(lib, fn, handle, *args):
 
 
 def convert(positions, face_sizes, face_indices, options=None, progress=None,
-            want_patches=False, want_curves=False, want_control_net=False):
+            want_patches=False, want_curves=False, want_control_net=False, creases=None):
     """Converts a polygon mesh given as numpy arrays.
 
     positions: (V,3) or flat float64; face_sizes: (F,) uint32; face_indices: flat uint32.
+    creases: None or (edge_vertices (E,2), edge_sharpness (E,), vertices (K,), vertex_sharpness
+    (K,)) with sharpness in [0, 1] (see `mesh_io.read_creases`); only the topology method builds them.
     options: an `Options` (see `make_options`) or None for the defaults.
     progress: callable(fraction) -> bool (False cancels) or None.
     Raises `GbsurfError` (`Cancelled` when cancelled) with the library's message.
@@ -330,13 +355,26 @@ def convert(positions, face_sizes, face_indices, options=None, progress=None,
 
     cb = ProgressFn(trampoline)
     handle = _R()
-    status = lib.gbsurf_convert(
+    mesh_args = (
         pos.ctypes.data_as(POINTER(c_double)), pos.size,
         sizes.ctypes.data_as(POINTER(c_uint32)), sizes.size,
         idx.ctypes.data_as(POINTER(c_uint32)), idx.size,
-        ctypes.byref(options) if options is not None else None,
-        cb, None, ctypes.byref(handle),
     )
+    rest = (ctypes.byref(options) if options is not None else None, cb, None, ctypes.byref(handle))
+    if creases is None:
+        status = lib.gbsurf_convert(*mesh_args, *rest)
+    else:
+        ev = np.ascontiguousarray(creases[0], dtype=np.uint32).reshape(-1)
+        es = np.ascontiguousarray(creases[1], dtype=np.float64).reshape(-1)
+        vv = np.ascontiguousarray(creases[2], dtype=np.uint32).reshape(-1)
+        vs = np.ascontiguousarray(creases[3], dtype=np.float64).reshape(-1)
+        if ev.size != 2 * es.size or vv.size != vs.size:
+            raise ValueError("creases: need two edge vertices per edge sharpness and one sharpness per vertex")
+        cr = Creases(
+            ev.ctypes.data_as(POINTER(c_uint32)), es.ctypes.data_as(POINTER(c_double)), es.size,
+            vv.ctypes.data_as(POINTER(c_uint32)), vs.ctypes.data_as(POINTER(c_double)), vs.size,
+        )
+        status = lib.gbsurf_convert_creased(*mesh_args, ctypes.byref(cr), *rest)
     if failure:
         if handle:
             lib.gbsurf_result_free(handle)

@@ -200,3 +200,27 @@ def test_source_in_a_linked_collection(tmp_path):
     out = bpy.data.objects["cube.GB"]
     assert out.library is None and out.gbsurf.source == src
     assert out.name in bpy.context.scene.collection.objects and out.name not in col.objects
+
+
+def _crease_all_edges(obj, value=1.0):
+    attr = obj.data.attributes.get("crease_edge") or obj.data.attributes.new("crease_edge", 'FLOAT', 'EDGE')
+    attr.data.foreach_set("value", np.full(len(obj.data.edges), value, dtype=np.float32))
+
+
+def test_cube_with_crease_edge_one_keeps_its_corners():
+    mod = helpers.mesh_module()
+    src = helpers.add_primitive("cube")
+    _crease_all_edges(src)
+    data = mod.mesh_io.read_mesh(src.data)
+    ev, es, vv, vs = data.creases
+    assert ev.shape == (12, 2) and es.tolist() == [1.0] * 12 and len(vv) == 0 and len(vs) == 0
+    out = mod.core.convert_object(src, method='TOPOLOGY', resolution=4)
+    pos, _ = helpers.mesh_arrays(out.data)
+    assert np.abs(pos).max() <= 1.0 + 1e-6
+    for corner in np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float):
+        assert np.linalg.norm(pos - corner, axis=1).min() <= 1e-6, corner
+    # crease 0 is the smooth surface again (bit-identical positions)
+    _crease_all_edges(src, 0.0)
+    assert mod.mesh_io.read_mesh(src.data).creases is None
+    smooth = mod.core.convert_object(src, method='TOPOLOGY', resolution=4)
+    assert np.abs(helpers.mesh_arrays(smooth.data)[0]).max() < 0.99

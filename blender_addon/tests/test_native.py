@@ -51,7 +51,7 @@ def _ctype(n, decl):
             "uint32_t": ctypes.c_uint32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double,
             "float": ctypes.c_float, "size_t": ctypes.c_size_t, "bool": ctypes.c_bool, "void": None,
             "GbsurfResult": n._Result, "GbsurfOptions": n.Options, "GbsurfReport": n.Report,
-            "GbsurfProgressFn": n.ProgressFn,
+            "GbsurfProgressFn": n.ProgressFn, "GbsurfCreases": n.Creases,
         }[base[0]]
     for _ in range(stars):
         t = ctypes.POINTER(t)
@@ -62,8 +62,8 @@ def test_ctypes_structs_match_the_header():
     """The ctypes structs are hand copies of the generated header's: same fields, types, order."""
     n = native()
     structs = {name: body for body, name in re.findall(r"typedef struct \{(.*?)\} (\w+);", _header(), re.S)}
-    for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report)):
-        fields = re.findall(r"([\w ]+?)\s+(\w+);", structs[name])
+    for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report), ("GbsurfCreases", n.Creases)):
+        fields = re.findall(r"([\w ]+?\s*\**)\s*(\w+);", structs[name])
         assert [(f, _ctype(n, t)) for t, f in fields] == list(cls._fields_), name
 
 

@@ -140,7 +140,9 @@ pub(crate) fn mesh_error_code(e: &MeshError) -> u32 {
             GBSURF_ERR_IO
         }
         MeshError::NonFiniteCoordinate { .. } => GBSURF_ERR_NAN,
-        MeshError::IndexOutOfRange { .. } | MeshError::ObjIndexOutOfRange { .. } => GBSURF_ERR_INDEX,
+        MeshError::IndexOutOfRange { .. }
+        | MeshError::ObjIndexOutOfRange { .. }
+        | MeshError::CreaseVertexOutOfRange { .. } => GBSURF_ERR_INDEX,
         _ => GBSURF_ERR_INVALID_MESH,
     }
 }
@@ -292,6 +294,117 @@ pub unsafe extern "C" fn gbsurf_convert(
             )
         };
         let mesh = build_mesh(p, s, i)?;
+        let r = run(options, progress, user_data, |o, cb| {
+            gbsurf::api::convert(&mesh, o, cb)
+        })?;
+        write_out(out, r);
+        Ok(())
+    })
+}
+
+/// Edge and vertex sharpness of the input mesh for `gbsurf_convert_creased` (docs/math.md#creases).
+/// Sharpness c is in [0, 1]: 0 smooth (the same surface as without the entry), 1 infinitely
+/// sharp (edge: G0 across it; vertex: a corner); Blender's `crease_edge` / `crease_vert` values
+/// are c as they are. Only the topology method builds creases (the others warn and ignore them).
+/// A pointer may be NULL when its count is 0; a zeroed struct means "no creases".
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GbsurfCreases {
+    /// `2 * edge_count` 0-based vertex indices: edge k joins `edge_vertices[2k]` and
+    /// `edge_vertices[2k + 1]` (either order; it must be an edge of some face).
+    pub edge_vertices: *const u32,
+    /// `edge_count` sharpness values, one per edge.
+    pub edge_sharpness: *const f64,
+    /// Number of creased edges.
+    pub edge_count: usize,
+    /// `vertex_count` 0-based vertex indices of corner vertices.
+    pub vertices: *const u32,
+    /// `vertex_count` corner sharpness values, one per vertex.
+    pub vertex_sharpness: *const f64,
+    /// Number of corner vertices.
+    pub vertex_count: usize,
+}
+
+/// Reads the crease arrays into the mesh's [`gbsurf::mesh::Creases`] (NaN gets its own code;
+/// range, index and edge checks are the validator's, named in the message).
+///
+/// # Safety
+/// `c` must be NULL or point to a `GbsurfCreases` whose pointers hold the stated counts.
+unsafe fn read_creases(c: *const GbsurfCreases, mesh: &mut PolyMesh) -> FfiResult<()> {
+    if c.is_null() {
+        return Ok(());
+    }
+    // SAFETY: non-null and readable (contract).
+    let c = unsafe { *c };
+    let two = c
+        .edge_count
+        .checked_mul(2)
+        .ok_or_else(|| FfiError::new(GBSURF_ERR_COUNT, format!("edge_count = {} is too large", c.edge_count)))?;
+    // SAFETY: pointer/length pairs per the contract.
+    let (ev, es, vv, vs) = unsafe {
+        (
+            slice_arg(c.edge_vertices, two, "creases.edge_vertices")?,
+            slice_arg(c.edge_sharpness, c.edge_count, "creases.edge_sharpness")?,
+            slice_arg(c.vertices, c.vertex_count, "creases.vertices")?,
+            slice_arg(c.vertex_sharpness, c.vertex_count, "creases.vertex_sharpness")?,
+        )
+    };
+    let nan = |what: &str, k: usize, x: f64| {
+        FfiError::new(GBSURF_ERR_NAN, format!("{what} crease {k}: sharpness {x} is not finite"))
+    };
+    for (k, &x) in es.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(nan("edge", k, x));
+        }
+        mesh.creases.edges.push(([ev[2 * k], ev[2 * k + 1]], x));
+    }
+    for (k, &x) in vs.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(nan("vertex", k, x));
+        }
+        mesh.creases.vertices.push((vv[k], x));
+    }
+    Ok(())
+}
+
+/// `gbsurf_convert` with edge and vertex sharpness (`creases`: NULL for none, see
+/// `GbsurfCreases`). Additional errors: `GBSURF_ERR_NAN` (a sharpness is NaN or infinite),
+/// `GBSURF_ERR_INDEX` (a corner vertex out of range), `GBSURF_ERR_INVALID_MESH` (a sharpness
+/// outside [0, 1], or a vertex pair that is no edge: the message names the entry and its
+/// vertices), `GBSURF_ERR_NULL` (a NULL array with a non-zero count).
+///
+/// # Safety
+/// As for `gbsurf_convert`; `creases` must be NULL or point to a `GbsurfCreases` whose arrays
+/// hold the stated counts.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_convert_creased(
+    positions: *const f64,
+    positions_len: usize,
+    face_sizes: *const u32,
+    face_count: usize,
+    face_indices: *const u32,
+    face_indices_len: usize,
+    creases: *const GbsurfCreases,
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    boundary("gbsurf_convert_creased", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: pointer/length pairs per the contract above.
+        let (p, s, i) = unsafe {
+            (
+                slice_arg(positions, positions_len, "positions")?,
+                slice_arg(face_sizes, face_count, "face_sizes")?,
+                slice_arg(face_indices, face_indices_len, "face_indices")?,
+            )
+        };
+        let mut mesh = build_mesh(p, s, i)?;
+        // SAFETY: per the contract above.
+        unsafe { read_creases(creases, &mut mesh)? };
         let r = run(options, progress, user_data, |o, cb| {
             gbsurf::api::convert(&mesh, o, cb)
         })?;

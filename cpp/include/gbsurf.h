@@ -141,6 +141,27 @@ typedef struct {
 // `GBSURF_ERR_CANCELLED`). It runs on the calling thread and must not unwind.
 typedef bool (*GbsurfProgressFn)(float fraction, void *user_data);
 
+// Edge and vertex sharpness of the input mesh for `gbsurf_convert_creased` (docs/math.md#creases).
+// Sharpness c is in [0, 1]: 0 smooth (the same surface as without the entry), 1 infinitely
+// sharp (edge: G0 across it; vertex: a corner); Blender's `crease_edge` / `crease_vert` values
+// are c as they are. Only the topology method builds creases (the others warn and ignore them).
+// A pointer may be NULL when its count is 0; a zeroed struct means "no creases".
+typedef struct {
+  // `2 * edge_count` 0-based vertex indices: edge k joins `edge_vertices[2k]` and
+  // `edge_vertices[2k + 1]` (either order; it must be an edge of some face).
+  const uint32_t *edge_vertices;
+  // `edge_count` sharpness values, one per edge.
+  const double *edge_sharpness;
+  // Number of creased edges.
+  size_t edge_count;
+  // `vertex_count` 0-based vertex indices of corner vertices.
+  const uint32_t *vertices;
+  // `vertex_count` corner sharpness values, one per vertex.
+  const double *vertex_sharpness;
+  // Number of corner vertices.
+  size_t vertex_count;
+} GbsurfCreases;
+
 // Report figures of a conversion. Set `struct_size = sizeof(GbsurfReport)` before calling
 // `gbsurf_result_report` (unknown sizes are rejected so the struct can grow).
 typedef struct {
@@ -250,6 +271,27 @@ uint32_t gbsurf_convert(const double *positions,
                         GbsurfProgressFn progress,
                         void *user_data,
                         GbsurfResult **out);
+
+// `gbsurf_convert` with edge and vertex sharpness (`creases`: NULL for none, see
+// `GbsurfCreases`). Additional errors: `GBSURF_ERR_NAN` (a sharpness is NaN or infinite),
+// `GBSURF_ERR_INDEX` (a corner vertex out of range), `GBSURF_ERR_INVALID_MESH` (a sharpness
+// outside [0, 1], or a vertex pair that is no edge: the message names the entry and its
+// vertices), `GBSURF_ERR_NULL` (a NULL array with a non-zero count).
+//
+// # Safety
+// As for `gbsurf_convert`; `creases` must be NULL or point to a `GbsurfCreases` whose arrays
+// hold the stated counts.
+uint32_t gbsurf_convert_creased(const double *positions,
+                                size_t positions_len,
+                                const uint32_t *face_sizes,
+                                size_t face_count,
+                                const uint32_t *face_indices,
+                                size_t face_indices_len,
+                                const GbsurfCreases *creases,
+                                const GbsurfOptions *options,
+                                GbsurfProgressFn progress,
+                                void *user_data,
+                                GbsurfResult **out);
 
 // Reads a mesh file (OBJ, OFF, PLY, STL; strict readers, errors name the line) and converts it
 // like `gbsurf_convert`. `path` is a NUL-terminated UTF-8 path. Errors additionally include

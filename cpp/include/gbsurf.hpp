@@ -335,6 +335,50 @@ inline result convert(const std::vector<double>& positions, const std::vector<ui
                    face_indices.data(), face_indices.size(), opt, progress);
 }
 
+/// Edge and vertex sharpness in [0, 1] (see GbsurfCreases): 0 smooth, 1 infinitely sharp.
+/// Only the topology method builds creases.
+struct creases {
+    /// Pairs of 0-based vertex indices, one pair per creased edge (either order).
+    std::vector<uint32_t> edge_vertices;
+    /// One sharpness per edge pair.
+    std::vector<double> edge_sharpness;
+    /// 0-based corner vertices.
+    std::vector<uint32_t> vertices;
+    /// One corner sharpness per vertex.
+    std::vector<double> vertex_sharpness;
+
+    /// Adds edge (a, b) with sharpness c.
+    creases& edge(uint32_t a, uint32_t b, double c) {
+        edge_vertices.push_back(a);
+        edge_vertices.push_back(b);
+        edge_sharpness.push_back(c);
+        return *this;
+    }
+    /// Adds corner vertex v with sharpness c.
+    creases& corner(uint32_t v, double c) {
+        vertices.push_back(v);
+        vertex_sharpness.push_back(c);
+        return *this;
+    }
+};
+
+/// Converts a polygon mesh given as vectors with creases (see gbsurf_convert_creased). The
+/// arrays must pair up (two edge vertices and one sharpness per edge, one sharpness per corner):
+/// otherwise GBSURF_ERR_COUNT.
+inline result convert(const std::vector<double>& positions, const std::vector<uint32_t>& face_sizes,
+                      const std::vector<uint32_t>& face_indices, const creases& cr,
+                      const options& opt = options(), const progress_fn& progress = {}) {
+    if (cr.edge_vertices.size() != 2 * cr.edge_sharpness.size() || cr.vertices.size() != cr.vertex_sharpness.size()) {
+        throw error(GBSURF_ERR_COUNT, "creases: need two edge vertices per edge sharpness and one sharpness per corner");
+    }
+    GbsurfCreases raw{cr.edge_vertices.data(), cr.edge_sharpness.data(), cr.edge_sharpness.size(),
+                      cr.vertices.data(),      cr.vertex_sharpness.data(), cr.vertex_sharpness.size()};
+    return detail::run(progress, [&](GbsurfProgressFn cb, void* user, GbsurfResult** out) {
+        return gbsurf_convert_creased(positions.data(), positions.size(), face_sizes.data(), face_sizes.size(),
+                                      face_indices.data(), face_indices.size(), &raw, &opt.raw(), cb, user, out);
+    });
+}
+
 /// Reads a mesh file (OBJ, OFF, PLY, STL) with the library's strict readers and converts it.
 inline result convert_file(const std::string& path, const options& opt = options(),
                            const progress_fn& progress = {}) {

@@ -2,6 +2,7 @@
 // cannot outlive their result, the ABI check, and the progress callback's thread.
 #include <gbsurf.hpp>
 
+#include <cmath>
 #include <iostream>
 #include <thread>
 #include <type_traits>
@@ -129,6 +130,41 @@ int main() {
     CHECK(foreign == 0);
     CHECK(monotone && last == 1.0f);
     CHECK(progress_trampoline(0.5f, nullptr));
+
+    // Creases: the cube with every edge infinitely sharp keeps its corners (topology method);
+    // bad creases throw with the library's codes.
+    {
+        gbsurf::creases cr;
+        for (std::size_t f = 0; f < 6; ++f)
+            for (std::size_t i = 0; i < 4; ++i) {
+                const uint32_t u = F[4 * f + i], v = F[4 * f + (i + 1) % 4];
+                if (u < v) cr.edge(u, v, 1.0);
+            }
+        CHECK(cr.edge_sharpness.size() == 12);
+        const auto opt = gbsurf::options().method(gbsurf::method::topology).resolution(4);
+        gbsurf::result c = gbsurf::convert(P, S, F, cr, opt);
+        auto pos = c.positions().to_vector();
+        double lo = 1.0, hi = 0.0;
+        for (double x : pos) {
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+        }
+        CHECK(lo > -1e-12 && lo < 1e-12 && hi > 1.0 - 1e-12 && hi < 1.0 + 1e-12);
+        std::size_t corners = 0;
+        for (std::size_t k = 0; k < P.size(); k += 3)
+            for (std::size_t j = 0; j + 2 < pos.size(); j += 3)
+                if (std::fabs(pos[j] - P[k]) + std::fabs(pos[j + 1] - P[k + 1]) + std::fabs(pos[j + 2] - P[k + 2]) <= 1e-12) {
+                    ++corners;
+                    break;
+                }
+        CHECK(corners == 8);
+        CHECK(code_of([&] { gbsurf::convert(P, S, F, gbsurf::creases().edge(0, 2, 1.0), opt); }) == GBSURF_ERR_INVALID_MESH);
+        CHECK(code_of([&] { gbsurf::convert(P, S, F, gbsurf::creases().corner(9, 1.0), opt); }) == GBSURF_ERR_INDEX);
+        CHECK(code_of([&] { gbsurf::convert(P, S, F, gbsurf::creases().edge(0, 1, std::nan("")), opt); }) == GBSURF_ERR_NAN);
+        gbsurf::creases odd;
+        odd.edge_vertices = {0};
+        CHECK(code_of([&] { gbsurf::convert(P, S, F, odd, opt); }) == GBSURF_ERR_COUNT);
+    }
 
     if (failures) {
         std::cerr << failures << " failures\n";

@@ -153,6 +153,12 @@ fn convert_valid(
         Method::Topology => Some(crate::construct::build_topology),
         Method::DooSabin | Method::CatmullClark => None,
     };
+    if he.has_creases() && options.method != Method::Topology {
+        warnings.push(format!(
+            "creases are ignored by the {} method (only the topology structure builds them)",
+            options.method.name()
+        ));
+    }
     let (out, surface) = if let Some(build) = build {
         let surface = build(he, options).map_err(ConvertError::Construct)?;
         warnings.extend(surface.warnings.iter().cloned());
@@ -167,6 +173,7 @@ fn convert_valid(
         report.max_boundary_gap = stats.max_boundary_gap;
         report.max_g1_deg = stats.max_g1_deg;
         report.mean_g1_deg = stats.mean_g1_deg;
+        report.sharp_edges = stats.crease_sides;
         let folds = crate::quality::find_folds(&surface, crate::quality::validity::fold_level(options.resolution), options.weights);
         report.folds = folds.patches;
         report.fold_sites = folds.sites;

@@ -150,6 +150,7 @@ mod tests {
             sources: (0..n).map(PatchSource::Face).collect(),
             curves,
             warnings: Vec::new(),
+            creases: Vec::new(),
         }
     }
 

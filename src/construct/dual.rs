@@ -125,7 +125,7 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
     for v in mesh.vertices() {
         patches.push(vertex_patch(mesh, v, opts, &centroid, &fmid, &edge_curve, &edge_node, &mut curves, &mut curve_nodes, &mut mids)?);
     }
-    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches })
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease: Vec::new() })
 }
 
 #[allow(clippy::too_many_arguments)]

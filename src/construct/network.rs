@@ -50,6 +50,10 @@ pub struct CurveNetwork {
     pub mid: Vec<DVec3>,
     /// The patches.
     pub patches: Vec<PatchLayout>,
+    /// Sharpness of each curve in [0, 1] (docs/math.md#creases); empty when every curve is
+    /// smooth. A shared curve of sharpness 1 gets no direction blend: each side keeps the twists
+    /// of an open side (G0 across it); in between the blended twists move towards those.
+    pub crease: Vec<f64>,
 }
 
 /// Which patch sides use a curve: (patch, side, reversed).
@@ -160,6 +164,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
         shared[pa][sa] = true;
         shared[pb][sb] = true;
     }
+    let crease_of = |c: usize| net.crease.get(c).copied().unwrap_or(0.0);
     if let Some(kind) = kind {
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
@@ -168,7 +173,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
             .par_iter()
             .enumerate()
             .map(|(c, u)| {
-                if u.len() != 2 {
+                if u.len() != 2 || crease_of(c) >= 1.0 {
                     return Ok(None);
                 }
                 let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
@@ -184,6 +189,37 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
             rows[pa][sa][1][2] = t[1];
             rows[pb][sb][1][1] = t[2];
             rows[pb][sb][1][2] = t[3];
+        }
+    }
+    // Creased sides (docs/math.md#creases): at each corner the twist an open side would take (the
+    // adjacent side's when that side is shared and smooth, else the corner twist), reached at
+    // sharpness 1; in between the blended twist moves towards it linearly in the sharpness.
+    if !net.crease.is_empty() {
+        let blended = rows.clone();
+        for (p, lay) in net.patches.iter().enumerate() {
+            let n = lay.sides.len();
+            for i in 0..n {
+                let c = crease_of(lay.sides[i].curve);
+                if !shared[p][i] || c == 0.0 {
+                    continue;
+                }
+                let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
+                // The adjacent side j's twist at the corner, itself moved towards the corner twist
+                // by its own sharpness (so the target is continuous in every sharpness).
+                let adj = |j: usize, col: usize, corner: DVec3| {
+                    if kind.is_some() && shared[p][j] {
+                        let b = blended[p][j][1][col];
+                        b + crease_of(lay.sides[j].curve) * (corner - b)
+                    } else {
+                        corner
+                    }
+                };
+                let t0 = adj(prev, 2, lay.corner_twists[prev]);
+                let t1 = adj(next, 1, lay.corner_twists[i]);
+                let r = &mut rows[p][i][1];
+                r[1] += c * (t0 - r[1]);
+                r[2] += c * (t1 - r[2]);
+            }
         }
     }
     // Open sides: adopt the adjacent shared side's twist at each corner.
@@ -230,7 +266,17 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
         .collect();
     let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
     let sources: Vec<PatchSource> = net.patches.iter().map(|l| l.source).collect();
+    let creases: Vec<Vec<f64>> = if net.crease.is_empty() {
+        Vec::new()
+    } else {
+        net.patches
+            .iter()
+            .enumerate()
+            .map(|(p, l)| l.sides.iter().enumerate().map(|(i, s)| if shared[p][i] { crease_of(s.curve) } else { 0.0 }).collect())
+            .collect()
+    };
     Ok(Surface {
+        creases,
         patches,
         neighbors,
         sources,

@@ -89,6 +89,9 @@ pub fn dissolve_valence2(
             gone[v] = true;
         }
         let mut pm = cur.to_polymesh();
+        // Creases on the edges of a dissolved vertex go with it (its edges disappear).
+        pm.creases.edges.retain(|&([a, b], _)| !gone[a as usize] && !gone[b as usize]);
+        pm.creases.vertices.retain(|&(v, _)| !gone[v as usize]);
         let mut by_face: HashMap<usize, usize> = HashMap::new(); // face → a dissolved vertex of it
         for (fi, face) in pm.faces.iter_mut().enumerate() {
             if let Some(&v) = face.iter().find(|&&v| gone[v as usize]) {

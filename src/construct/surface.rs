@@ -67,9 +67,20 @@ pub struct Surface {
     /// see [`super::prepare`]), human-readable.
     #[serde(default)]
     pub warnings: Vec<String>,
+    /// `creases[p][i]`: sharpness in [0, 1] of the shared side i of patch p (docs/math.md#creases;
+    /// 0 on open sides); empty when the surface has no creases. Sides with sharpness above 0 are
+    /// not G1 and are counted apart from the G1 measurement. Not serialized when empty, so a
+    /// smooth surface serializes as before creases existed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub creases: Vec<Vec<f64>>,
 }
 
 impl Surface {
+    /// Sharpness of side `side` of patch `p` (0 when the surface has no creases).
+    pub fn side_crease(&self, p: usize, side: usize) -> f64 {
+        self.creases.get(p).and_then(|c| c.get(side)).copied().unwrap_or(0.0)
+    }
+
     /// Every shared side once: `(patch, side, neighbour)` with `(patch, side) < (neighbour.patch,
     /// neighbour.side)`, in patch order then side order. Open boundary sides are skipped.
     pub fn shared_sides(&self) -> impl Iterator<Item = (usize, usize, SideRef)> + '_ {

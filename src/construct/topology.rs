@@ -303,9 +303,17 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
             (curve, [u.idx(), v.idx()], d)
         })
         .collect();
-    let curves: Vec<[DVec3; 4]> = per_edge.iter().map(|x| x.0).collect();
+    let mut curves: Vec<[DVec3; 4]> = per_edge.iter().map(|x| x.0).collect();
     let curve_nodes: Vec<[usize; 2]> = per_edge.iter().map(|x| x.1).collect();
     let mids: Vec<DVec3> = per_edge.iter().map(|x| x.2).collect();
+    let mut corner_twist: Vec<DVec3> = t.vertex.clone();
+    let (mut nodes, mut node_normals) = (t.center, t.normal);
+    let crease: Vec<f64> = if mesh.has_creases() {
+        crease_network(mesh, opts, &mut nodes, &mut node_normals, &mut curves, &mut corner_twist);
+        mesh.edges().map(|e| mesh.edge_crease(e)).collect()
+    } else {
+        Vec::new()
+    };
     // One patch per face, built in parallel and collected in face order.
     let patches: Vec<PatchLayout> = (0..mesh.n_faces() as u32)
         .into_par_iter()
@@ -319,13 +327,118 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
                 .map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
             PatchLayout {
                 sides: sides.collect(),
-                corner_twists: hs.iter().map(|h| t.vertex[h.idx()]).collect(),
+                corner_twists: hs.iter().map(|h| corner_twist[h.idx()]).collect(),
                 center: None,
                 source: PatchSource::Face(f.idx()),
             }
         })
         .collect();
-    Ok(CurveNetwork { nodes: t.center, node_normals: t.normal, curves, curve_nodes, mid: mids, patches })
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease })
+}
+
+/// Control point `k` (1 = next to the start) of the curve of the edge of outgoing half-edge `h`,
+/// as seen from origin(h): the curve of edge e runs from origin(2e) to target(2e).
+fn curve_point<'a>(curves: &'a mut [[DVec3; 4]], mesh: &HalfEdgeMesh, h: HalfedgeId) -> &'a mut DVec3 {
+    let c = &mut curves[mesh.edge(h).idx()];
+    if h.0 & 1 == 0 {
+        &mut c[1]
+    } else {
+        &mut c[2]
+    }
+}
+
+/// Moves the tile network towards the crease polygons (docs/math.md#creases). Per vertex u with
+/// incident edge sharpness sorted c_(1) ≥ c_(2) ≥ c_(3) ≥ … and corner sharpness c_u:
+/// - crease weight w2 = c_(2), corner weight w3 = max(c_u, c_(3)) (both 0 when u has fewer than
+///   two, three sharp edges: they grow continuously from 0 as an edge's sharpness does);
+/// - X = (a + 4u + b)/6, a and b the far ends of the two sharpest edges (the limit point of the
+///   cubic B-spline of the crease polygon a–u–b; u itself when w2 = 0);
+/// - node N = T + w2 (X − T), then N ← N + w3 (u − N), T the tile centre;
+/// - every curve point next to u (C1 seen from u) moves with the node (by N − T); on a sharp edge
+///   (u, b) of sharpness c it is then pulled to (2u + b)/3: C1 ← C1 + c ((2u + b)/3 − C1) (at
+///   c = 1 the curve is the B-spline segment of the crease polygon, or a straight segment at a
+///   corner);
+/// - with `best_plane`, the tangent plane at N turns from the tile normal n towards the plane
+///   containing the crease direction d = (b − a)/|b − a|: n' ∝ n − w2 (n·d) d, and every C1 at u
+///   is projected onto it by the fraction 1 − w3 (all tangents coplanar again: G1 at the node
+///   across the smooth curves; at a corner, w3 = 1, nothing is projected and the node is a
+///   G0 point);
+/// - the first-approximation twist at each face corner at u moves from the tile vertex to the
+///   parallelogram point of the corner's two curves by max(w2, w3).
+///
+/// With every sharpness 0 nothing is changed (the caller does not call this at all).
+fn crease_network(
+    mesh: &HalfEdgeMesh,
+    opts: &ConvertOptions,
+    nodes: &mut [DVec3],
+    normals: &mut [DVec3],
+    curves: &mut [[DVec3; 4]],
+    corner_twist: &mut [DVec3],
+) {
+    for u in mesh.vertices() {
+        let up = mesh.position(u);
+        let out: Vec<HalfedgeId> = mesh.vertex_outgoing(u).collect();
+        let mut sharp: Vec<(f64, HalfedgeId)> =
+            out.iter().map(|&h| (mesh.edge_crease(mesh.edge(h)), h)).filter(|x| x.0 > 0.0).collect();
+        sharp.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let cu = mesh.vertex_crease(u);
+        if sharp.is_empty() && cu == 0.0 {
+            continue;
+        }
+        let w2 = sharp.get(1).map_or(0.0, |x| x.0);
+        let w3 = cu.max(sharp.get(2).map_or(0.0, |x| x.0));
+        let tc = nodes[u.idx()];
+        let (x, d) = if sharp.len() >= 2 {
+            let a = mesh.position(mesh.target(sharp[0].1));
+            let b = mesh.position(mesh.target(sharp[1].1));
+            ((a + 4.0 * up + b) / 6.0, (b - a).normalize_or_zero())
+        } else {
+            (up, DVec3::ZERO)
+        };
+        let mut node = tc + w2 * (x - tc);
+        node += w3 * (up - node);
+        let delta = node - tc;
+        for &h in &out {
+            let c = mesh.edge_crease(mesh.edge(h));
+            let p = curve_point(curves, mesh, h);
+            *p += delta;
+            if c > 0.0 {
+                let target = (2.0 * up + mesh.position(mesh.target(h))) / 3.0;
+                *p += c * (target - *p);
+            }
+        }
+        let n = normals[u.idx()];
+        let np = (n - w2 * n.dot(d) * d).normalize_or_zero();
+        if opts.best_plane && np != DVec3::ZERO {
+            for &h in &out {
+                let p = curve_point(curves, mesh, h);
+                *p -= (1.0 - w3) * np * np.dot(*p - node);
+            }
+            normals[u.idx()] = np;
+        }
+        nodes[u.idx()] = node;
+        // Curve ends at u.
+        for &h in &out {
+            let c = &mut curves[mesh.edge(h).idx()];
+            if h.0 & 1 == 0 {
+                c[0] = node;
+            } else {
+                c[3] = node;
+            }
+        }
+        // Face corners at u: between incoming prev(h) and outgoing h of face(h).
+        let wt = w2.max(w3);
+        for &h in &out {
+            if mesh.face(h).is_none() {
+                continue;
+            }
+            let hin = mesh.twin(mesh.prev(h)); // outgoing from u along the corner's other edge
+            let a = *curve_point(curves, mesh, h);
+            let b = *curve_point(curves, mesh, hin);
+            let par = a + b - node;
+            corner_twist[h.idx()] += wt * (par - corner_twist[h.idx()]);
+        }
+    }
 }
 
 /// Topology-preserving construction (seed 000 §3, §4): interior valence-2 vertices dissolved and

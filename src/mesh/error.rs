@@ -79,6 +79,21 @@ pub enum MeshError {
     /// A geometric operation could not be carried out (e.g. degenerate input to a generator).
     #[error("degenerate geometry: {0}")]
     Degenerate(String),
+    /// An edge crease ([`super::Creases::edges`] entry `entry`) has a sharpness that is not a
+    /// finite number in [0, 1].
+    #[error("edge crease {entry} on edge ({}, {}){}: sharpness {value} is not a finite number in [0, 1]", edge.0, edge.1, fmt_line(*line))]
+    EdgeCreaseValue { entry: usize, edge: (usize, usize), value: f64, line: Option<usize> },
+    /// An edge crease names a vertex pair that is no edge of any face (or a vertex that does not
+    /// exist).
+    #[error("edge crease {entry}{}: ({}, {}) is not an edge of any face", fmt_line(*line), edge.0, edge.1)]
+    CreaseEdgeMissing { entry: usize, edge: (usize, usize), line: Option<usize> },
+    /// A vertex crease (corner, [`super::Creases::vertices`] entry `entry`) has a sharpness that is
+    /// not a finite number in [0, 1].
+    #[error("vertex crease {entry} on vertex {vertex}{}: sharpness {value} is not a finite number in [0, 1]", fmt_line(*line))]
+    VertexCreaseValue { entry: usize, vertex: usize, value: f64, line: Option<usize> },
+    /// A vertex crease names a vertex that does not exist.
+    #[error("vertex crease {entry}{}: vertex {vertex} out of range (0..{n_vertices})", fmt_line(*line))]
+    CreaseVertexOutOfRange { entry: usize, vertex: usize, n_vertices: usize, line: Option<usize> },
 }
 
 fn obj_range(index: i64, n: usize) -> String {
@@ -115,6 +130,10 @@ pub struct SourceMap {
     pub vertex_lines: Vec<usize>,
     /// Line of each face.
     pub face_lines: Vec<usize>,
+    /// Line of each edge crease ([`super::Creases::edges`], OBJ `t crease`).
+    pub edge_crease_lines: Vec<usize>,
+    /// Line of each vertex crease ([`super::Creases::vertices`], OBJ `t corner`).
+    pub vertex_crease_lines: Vec<usize>,
     /// What the reader skipped (added to the mesh's warnings by
     /// [`super::HalfEdgeMesh::annotate_warnings`]).
     pub warnings: Vec<MeshWarning>,
@@ -160,6 +179,18 @@ impl MeshError {
             }
             UnresolvableExtent { extent, magnitude, min_ratio, vertex, .. } => {
                 UnresolvableExtent { extent, magnitude, min_ratio, vertex, line: map.vl(vertex) }
+            }
+            EdgeCreaseValue { entry, edge, value, .. } => {
+                EdgeCreaseValue { entry, edge, value, line: map.edge_crease_lines.get(entry).copied() }
+            }
+            CreaseEdgeMissing { entry, edge, .. } => {
+                CreaseEdgeMissing { entry, edge, line: map.edge_crease_lines.get(entry).copied() }
+            }
+            VertexCreaseValue { entry, vertex, value, .. } => {
+                VertexCreaseValue { entry, vertex, value, line: map.vertex_crease_lines.get(entry).copied() }
+            }
+            CreaseVertexOutOfRange { entry, vertex, n_vertices, .. } => {
+                CreaseVertexOutOfRange { entry, vertex, n_vertices, line: map.vertex_crease_lines.get(entry).copied() }
             }
             e => e,
         }

@@ -35,7 +35,7 @@ pub fn torus(n_major: usize, n_minor: usize, major_radius: f64, minor_radius: f6
             faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    Ok(PolyMesh { positions, faces })
+    Ok(PolyMesh::new(positions, faces))
 }
 
 /// Convex hull of `points` as a closed triangle mesh (outward, counter-clockwise), by the
@@ -153,7 +153,7 @@ pub fn convex_hull(points: &[DVec3]) -> Result<PolyMesh, MeshError> {
         }
     }
     let faces = faces.iter().flatten().map(|t| t.iter().map(|&i| new_id[i]).collect()).collect();
-    Ok(PolyMesh { positions, faces })
+    Ok(PolyMesh::new(positions, faces))
 }
 
 /// Merges edge-adjacent faces of a closed convex mesh whose unit normals agree within
@@ -240,5 +240,5 @@ pub fn merge_coplanar(mesh: &PolyMesh, cos_tol: f64) -> PolyMesh {
             faces.extend(g.iter().map(|&f| mesh.faces[f].clone()));
         }
     }
-    PolyMesh { positions: mesh.positions.clone(), faces }
+    PolyMesh::new(mesh.positions.clone(), faces)
 }

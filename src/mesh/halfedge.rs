@@ -79,6 +79,10 @@ pub struct HalfEdgeMesh {
     face_he: Vec<u32>,
     warnings: Vec<MeshWarning>,
     original_vertex: Vec<u32>,
+    /// Sharpness per edge (empty: all 0), see [`super::Creases`].
+    edge_crease: Vec<f64>,
+    /// Corner sharpness per vertex (empty: all 0).
+    vertex_crease: Vec<f64>,
 }
 
 impl HalfEdgeMesh {
@@ -178,6 +182,8 @@ impl HalfEdgeMesh {
             face_he,
             warnings,
             original_vertex,
+            edge_crease: Vec::new(),
+            vertex_crease: Vec::new(),
         };
         // Single fan per vertex: the CCW walk from vertex_he must visit every outgoing half-edge.
         for v in 0..nv {
@@ -192,7 +198,56 @@ impl HalfEdgeMesh {
             }
         }
         m.warnings.shrink_to_fit();
+        m.apply_creases(&mesh.creases, &edge_of)?;
         Ok(m)
+    }
+
+    /// Stores `creases` (input numbering) per edge and vertex; values were checked by
+    /// [`check_polymesh`] (re-checked here for meshes built without it). An edge crease must name
+    /// an edge of the mesh; a vertex crease on a dropped isolated vertex is ignored; a repeated
+    /// entry keeps the larger value. Nothing is stored when every value is 0.
+    fn apply_creases(&mut self, creases: &super::Creases, edge_of: &FxHashMap<(u32, u32), u32>) -> Result<(), MeshError> {
+        if creases.is_smooth() {
+            return Ok(());
+        }
+        super::validate::check_creases(creases, usize::MAX)?;
+        let mut new_index: FxHashMap<u32, u32> = fx_map(self.original_vertex.len());
+        for (v, &o) in self.original_vertex.iter().enumerate() {
+            new_index.insert(o, v as u32);
+        }
+        self.edge_crease = vec![0.0; self.n_edges()];
+        self.vertex_crease = vec![0.0; self.n_vertices()];
+        for (entry, &([a, b], c)) in creases.edges.iter().enumerate() {
+            let e = match (new_index.get(&a), new_index.get(&b)) {
+                (Some(&x), Some(&y)) => edge_of.get(&(x.min(y), x.max(y))).copied(),
+                _ => None,
+            };
+            let e = e.ok_or(MeshError::CreaseEdgeMissing { entry, edge: (a as usize, b as usize), line: None })?;
+            let slot = &mut self.edge_crease[e as usize];
+            *slot = slot.max(c);
+        }
+        for &(v, c) in &creases.vertices {
+            if let Some(&x) = new_index.get(&v) {
+                let slot = &mut self.vertex_crease[x as usize];
+                *slot = slot.max(c);
+            }
+        }
+        Ok(())
+    }
+
+    /// Sharpness of edge `e` in [0, 1] (0 = smooth), see [`super::Creases`].
+    pub fn edge_crease(&self, e: EdgeId) -> f64 {
+        self.edge_crease.get(e.idx()).copied().unwrap_or(0.0)
+    }
+
+    /// Corner sharpness of vertex `v` in [0, 1] (0 = smooth), see [`super::Creases`].
+    pub fn vertex_crease(&self, v: VertexId) -> f64 {
+        self.vertex_crease.get(v.idx()).copied().unwrap_or(0.0)
+    }
+
+    /// True when some edge or vertex has a sharpness above 0.
+    pub fn has_creases(&self) -> bool {
+        self.edge_crease.iter().chain(&self.vertex_crease).any(|&c| c > 0.0)
     }
 
     /// Number of separate fans of vertex `v` (only called for non-manifold vertices).
@@ -432,9 +487,21 @@ impl HalfEdgeMesh {
     /// The face loops as a plain [`PolyMesh`] (cleaned vertex numbering, input face order and
     /// corner order).
     pub fn to_polymesh(&self) -> PolyMesh {
+        let creases = super::Creases {
+            edges: self
+                .edges()
+                .filter(|&e| self.edge_crease(e) > 0.0)
+                .map(|e| {
+                    let (a, b) = self.edge_vertices(e);
+                    ([a.0, b.0], self.edge_crease(e))
+                })
+                .collect(),
+            vertices: self.vertices().filter(|&v| self.vertex_crease(v) > 0.0).map(|v| (v.0, self.vertex_crease(v))).collect(),
+        };
         PolyMesh {
             positions: self.positions.clone(),
             faces: self.faces().map(|f| self.face_vertices(f).map(|v| v.0).collect()).collect(),
+            creases,
         }
     }
 }

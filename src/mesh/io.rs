@@ -21,8 +21,9 @@
 //! Ours keeps n-gons, reads `f64` (`nan`/`inf` parse and are rejected by validation with the
 //! vertex and line), uses only position indices (`v/vt/vn` → `v`, negative = relative), merges
 //! all objects and groups into one [`PolyMesh`] in file order, strips `#` comments, joins lines
-//! ending in `\`, ignores `vn vt vp g o s usemtl mtllib l p` statements, skips free-form
-//! geometry, render attributes and OpenSubdiv `t` tags with a [`MeshWarning::SkippedStatement`]
+//! ending in `\`, ignores `vn vt vp g o s usemtl mtllib l p` statements, reads OpenSubdiv's
+//! `t crease` and `t corner` tags into [`super::Creases`] (see [`obj_sharpness`]), skips free-form
+//! geometry, render attributes and the other `t` tags with a [`MeshWarning::SkippedStatement`]
 //! (carried in [`SourceMap::warnings`] to the mesh's warnings), and rejects anything else with
 //! [`MeshError::Parse`] naming the line, so a garbage file is an error, never a partial mesh.
 //!
@@ -125,6 +126,7 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     let mut raw_faces: Vec<(Vec<i64>, usize, usize)> = Vec::new();
     let mut map = SourceMap::default();
     let mut skipped = Skipped::default();
+    let mut tags: Vec<ObjTag> = Vec::new();
     let mut lines = lines_from(bytes, 1);
     let mut joined: Vec<u8> = Vec::new();
     while let Some((ln, physical)) = lines.next() {
@@ -187,8 +189,13 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
             }
             b"vn" | b"vt" | b"vp" | b"g" | b"o" | b"s" | b"usemtl" | b"mtllib" | b"l" | b"p" => {}
             b"t" => {
-                let tag = toks.next().map_or_else(String::new, |t| String::from_utf8_lossy(t).into_owned());
-                skipped.add(format!("t {tag}"), ln);
+                let tag = toks.next().unwrap_or(b"");
+                match tag {
+                    b"crease" | b"corner" => {
+                        parse_obj_tag(tag == b"crease", text_at(content, ln)?, ln, &mut tags)?;
+                    }
+                    _ => skipped.add(format!("t {}", String::from_utf8_lossy(tag)), ln),
+                }
             }
             kw => {
                 let kw = String::from_utf8_lossy(kw);
@@ -215,7 +222,84 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
         faces.push(face);
     }
     map.warnings = skipped.into_warnings();
-    Ok((PolyMesh { positions, faces }, map))
+    let mut mesh = PolyMesh::new(positions, faces);
+    for tag in tags {
+        if let Some(&v) = tag.vertices.iter().find(|&&v| v >= nv as u64) {
+            return Err(parse_err(Some(tag.line), format!("vertex index {v} out of range (0..{nv}; tags are 0-based)")));
+        }
+        let c = tag.sharpness;
+        if tag.edge {
+            mesh.creases.edges.push(([tag.vertices[0] as u32, tag.vertices[1] as u32], c));
+            map.edge_crease_lines.push(tag.line);
+        } else {
+            mesh.creases.vertices.push((tag.vertices[0] as u32, c));
+            map.vertex_crease_lines.push(tag.line);
+        }
+    }
+    Ok((mesh, map))
+}
+
+/// One edge (`t crease`) or vertex (`t corner`) sharpness read from an OBJ tag line.
+struct ObjTag {
+    edge: bool,
+    vertices: Vec<u64>,
+    /// Sharpness mapped to [0, 1] by [`obj_sharpness`].
+    sharpness: f64,
+    line: usize,
+}
+
+/// OpenSubdiv sharpness s ≥ 0 (≥ 10 infinitely sharp) as the crease c ∈ [0, 1] of
+/// [`super::Creases`]: c = sqrt(min(s, 10)/10), the inverse of Blender's s = 10·c².
+pub fn obj_sharpness(s: f64) -> f64 {
+    (s.min(10.0) / 10.0).sqrt()
+}
+
+/// Parses the arguments of `t crease N/F/0 v0 v1 … s…` (N even ≥ 2: vertex pairs, one edge each)
+/// or `t corner N/F/0 v… s…` (N ≥ 1: one vertex each) in OpenSubdiv's tag syntax (0-based vertex
+/// indices): F = 1 gives every element the same sharpness, F = N/2 (crease) or N (corner) one
+/// each. Sharpness must be a finite number ≥ 0 and is mapped by [`obj_sharpness`]. Index range is
+/// checked once all vertices are read.
+fn parse_obj_tag(edge: bool, text: &str, ln: usize, out: &mut Vec<ObjTag>) -> Result<(), MeshError> {
+    let name = if edge { "t crease" } else { "t corner" };
+    let err = |m: String| parse_err(Some(ln), format!("{name}: {m}"));
+    let args: Vec<&str> = text.split_whitespace().skip(2).collect();
+    let counts = args.first().ok_or_else(|| err("missing the argument counts (e.g. 2/1/0)".into()))?;
+    let n: Vec<usize> = counts
+        .split('/')
+        .map(|t| t.parse::<usize>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| err(format!("bad argument counts {counts:?} (expected ints/floats/strings, e.g. 2/1/0)")))?;
+    let [ni, nf, ns] = n[..] else {
+        return Err(err(format!("bad argument counts {counts:?} (expected ints/floats/strings, e.g. 2/1/0)")));
+    };
+    let per = if edge { 2 } else { 1 };
+    let elems = ni / per;
+    if ni == 0 || ni % per != 0 || ns != 0 || !(nf == 1 || nf == elems) {
+        return Err(err(format!(
+            "unsupported argument counts {counts:?} ({} vertex indices, then 1 or one sharpness per {})",
+            if edge { "pairs of" } else { "one or more" },
+            if edge { "edge" } else { "vertex" }
+        )));
+    }
+    if args.len() != 1 + ni + nf {
+        return Err(err(format!("expected {} arguments after {counts}, found {}", ni + nf, args.len() - 1)));
+    }
+    let idx: Vec<u64> = args[1..=ni]
+        .iter()
+        .map(|t| t.parse::<u64>().map_err(|_| err(format!("bad vertex index {t:?}"))))
+        .collect::<Result<_, _>>()?;
+    let sharp: Vec<f64> = args[1 + ni..]
+        .iter()
+        .map(|t| match t.parse::<f64>() {
+            Ok(s) if s.is_finite() && s >= 0.0 => Ok(s),
+            _ => Err(err(format!("sharpness {t:?} is not a finite number >= 0"))),
+        })
+        .collect::<Result<_, _>>()?;
+    for k in 0..elems {
+        let s = if nf == 1 { sharp[0] } else { sharp[k] };
+        out.push(ObjTag { edge, vertices: idx[k * per..(k + 1) * per].to_vec(), sharpness: obj_sharpness(s), line: ln });
+    }
+    Ok(())
 }
 
 /// Parses ASCII OFF (`OFF`, counts, vertices, faces `n i0 … i(n−1)`; `#` comments; colours after
@@ -294,7 +378,7 @@ pub fn parse_off(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
             format!("data after the {nf} faces declared on line {counts_ln} (the face count is too low)"),
         ));
     }
-    Ok((PolyMesh { positions, faces }, map))
+    Ok((PolyMesh::new(positions, faces), map))
 }
 
 /// Parses mesh file contents in the format named by `ext` (`obj`, `off`, `ply`, `stl`, any
@@ -632,7 +716,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<(PolyMesh, SourceMap), MeshError> {
         }
         faces.push(face);
     }
-    Ok((PolyMesh { positions, faces }, map))
+    Ok((PolyMesh::new(positions, faces), map))
 }
 
 // ---------------------------------------------------------------- STL reading
@@ -692,7 +776,7 @@ pub fn parse_stl(bytes: &[u8]) -> Result<PolyMesh, MeshError> {
             .collect();
         faces.push(face);
     }
-    Ok(PolyMesh { positions, faces })
+    Ok(PolyMesh::new(positions, faces))
 }
 
 /// The triangles of an ASCII STL (see [`parse_stl`]); every error names its line.

@@ -12,12 +12,40 @@ pub struct PolyMesh {
     pub positions: Vec<DVec3>,
     /// Faces as vertex-index loops (3 or more entries each).
     pub faces: Vec<Vec<u32>>,
+    /// Edge and vertex sharpness (empty for a smooth mesh).
+    pub creases: Creases,
 }
 
 impl PolyMesh {
-    /// A mesh from positions and faces (no validation here; see the validation module).
+    /// A mesh from positions and faces, without creases (no validation here; see the validation
+    /// module).
     pub fn new(positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Self {
-        Self { positions, faces }
+        Self { positions, faces, creases: Creases::default() }
+    }
+}
+
+/// Sharpness of edges and vertices of a control mesh (the one definition; see docs/math.md#creases).
+///
+/// Sharpness c ∈ [0, 1]: 0 = smooth (the surface is exactly that of a mesh without the entry),
+/// 1 = infinitely sharp (edge: the surface is G0 across it; vertex: a corner), in between a
+/// semi-sharp crease. Readers map their own scales onto c (OBJ/OpenSubdiv `t crease` sharpness
+/// s: c = sqrt(min(s, 10)/10), inverting Blender's s = 10·c²; Blender's `crease_edge` and
+/// `crease_vert` attributes are c already). Indices are the mesh's vertex indices (0-based, input
+/// numbering). Validated by the one validator ([`HalfEdgeMesh::from_polymesh`]): c finite in
+/// [0, 1], vertices in range, the edge must be an edge of some face; an edge or vertex listed
+/// twice keeps the larger value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Creases {
+    /// `([a, b], c)`: the edge between vertices a and b (either order) has sharpness c.
+    pub edges: Vec<([u32; 2], f64)>,
+    /// `(v, c)`: vertex v has corner sharpness c.
+    pub vertices: Vec<(u32, f64)>,
+}
+
+impl Creases {
+    /// True when no entry has a sharpness above 0 (the mesh is smooth).
+    pub fn is_smooth(&self) -> bool {
+        self.edges.iter().all(|e| e.1 == 0.0) && self.vertices.iter().all(|v| v.1 == 0.0)
     }
 }
 

@@ -123,11 +123,34 @@ fn check_extent(mesh: &PolyMesh) -> Result<(), MeshError> {
     Ok(())
 }
 
-/// Checks 1–7 of the module doc (everything that needs no half-edge structure).
+/// The crease checks of [`check_polymesh`]: every sharpness finite in [0, 1], every vertex of a
+/// vertex crease below `n_vertices` (edge existence is checked when the half-edge structure is
+/// built).
+pub fn check_creases(creases: &super::Creases, n_vertices: usize) -> Result<(), MeshError> {
+    let ok = |c: f64| (0.0..=1.0).contains(&c);
+    for (entry, &([a, b], c)) in creases.edges.iter().enumerate() {
+        if !ok(c) {
+            return Err(MeshError::EdgeCreaseValue { entry, edge: (a as usize, b as usize), value: c, line: None });
+        }
+    }
+    for (entry, &(v, c)) in creases.vertices.iter().enumerate() {
+        if v as usize >= n_vertices {
+            return Err(MeshError::CreaseVertexOutOfRange { entry, vertex: v as usize, n_vertices, line: None });
+        }
+        if !ok(c) {
+            return Err(MeshError::VertexCreaseValue { entry, vertex: v as usize, value: c, line: None });
+        }
+    }
+    Ok(())
+}
+
+/// Checks 1–7 of the module doc (everything that needs no half-edge structure) and the crease
+/// values ([`check_creases`]).
 pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
     if mesh.faces.is_empty() {
         return Err(MeshError::Empty);
     }
+    check_creases(&mesh.creases, mesh.positions.len())?;
     for (v, p) in mesh.positions.iter().enumerate() {
         for axis in 0..3 {
             let x = p[axis];
@@ -293,5 +316,5 @@ pub(crate) fn drop_isolated(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>, Vec<MeshWar
         .iter()
         .map(|f| f.iter().map(|&i| new_index[i as usize]).collect())
         .collect();
-    (PolyMesh { positions, faces }, old, warnings)
+    (PolyMesh::new(positions, faces), old, warnings)
 }

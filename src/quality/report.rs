@@ -29,6 +29,10 @@ pub struct Report {
     pub max_g1_deg: f64,
     /// Mean of that angle over the output vertices on shared boundaries.
     pub mean_g1_deg: f64,
+    /// Shared patch sides with a crease (sharpness above 0, see [`crate::mesh::Creases`]): welded
+    /// but deliberately not G1, so left out of `max_g1_deg` and `mean_g1_deg`.
+    #[serde(default)]
+    pub sharp_edges: usize,
     /// Largest distance between the two patches' samples of a shared boundary before welding.
     pub max_boundary_gap: f64,
     /// Wall-clock seconds of the conversion (construction + tessellation + checks).

@@ -68,7 +68,9 @@ fn max_gap(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Welds the non-owner samples into `mesh` and measures gaps and G1 along every shared side,
+/// Welds the non-owner samples into `mesh` and measures gaps along every shared side and G1
+/// along every smooth one (creased sides, [`Surface::creases`], are welded and gap-measured but
+/// only counted in `crease_sides`, so G1 stays a measure of the smooth joins),
 /// each side pair once, from its smaller (patch, side), which also created the pair's inner
 /// vertices. So the inner samples run in parallel per patch, writing only that patch's
 /// vertices; the corners (nodes shared by any number of patches) follow serially in patch
@@ -116,8 +118,10 @@ pub(crate) fn join_shared_sides(
                             add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
                         }
                         gap_max = max_gap(gap_max, a.position.distance(b.position));
-                        g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
-                        sh[v] = true;
+                        if surface.side_crease(p, i) == 0.0 {
+                            g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
+                            sh[v] = true;
+                        }
                     }
                 }
                 gap_max
@@ -142,11 +146,15 @@ pub(crate) fn join_shared_sides(
                 let sa = lp.boundary_index(i, t);
                 let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
                 stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.position.distance(b.position));
+                if surface.side_crease(p, i) > 0.0 {
+                    continue;
+                }
                 let v = map.ids[map.offsets[p] + sa] as usize;
                 mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.normal, b.normal));
                 shared[v] = true;
             }
         }
+        stats.crease_sides += surface.shared_sides_of(p).filter(|&(i, nb)| (p, i) < (nb.patch, nb.side) && surface.side_crease(p, i) > 0.0).count();
     }
     mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
         if w > 1 {

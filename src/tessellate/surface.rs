@@ -64,8 +64,11 @@ pub struct WeldStats {
     pub max_g1_deg: f64,
     /// Mean of the per-vertex G1 deviation over the vertices on shared boundaries (0 if none).
     pub mean_g1_deg: f64,
-    /// Number of welded vertices lying on shared boundaries.
+    /// Number of welded vertices lying on smooth shared boundaries (creased sides excluded).
     pub shared_vertices: usize,
+    /// Number of shared sides (each pair once) with a crease sharpness above 0: welded but not
+    /// G1, so not in the G1 numbers.
+    pub crease_sides: usize,
 }
 
 /// `v` cut into the pieces `starts[p]..starts[p + 1]` (`starts` ascending, ending at most at

@@ -618,3 +618,118 @@ fn calls_from_a_thread_local_destructor_do_not_abort() {
     assert_eq!(CODE.load(SeqCst), GBSURF_ERR_NULL);
     assert_ne!(LEN.load(SeqCst), usize::MAX);
 }
+
+/// The cube's 12 edges as vertex pairs.
+fn cube_edges() -> Vec<u32> {
+    let (_, s, f) = cube();
+    let mut e = Vec::new();
+    let mut at = 0;
+    for &n in &s {
+        let face = &f[at..at + n as usize];
+        for i in 0..face.len() {
+            let (a, b) = (face[i], face[(i + 1) % face.len()]);
+            if a < b {
+                e.extend([a, b]);
+            }
+        }
+        at += n as usize;
+    }
+    e
+}
+
+/// The output positions of a live result handle, as points.
+fn out_positions(r: *const GbsurfResult) -> Vec<glam::DVec3> {
+    let (mut data, mut len) = (null(), 0usize);
+    // SAFETY: live handle, writable out-params; the view lives as long as the handle.
+    assert_eq!(unsafe { gbsurf_mesh_positions(r, &mut data, &mut len) }, GBSURF_OK);
+    // SAFETY: `len` readable values at `data`.
+    unsafe { std::slice::from_raw_parts(data, len) }.chunks_exact(3).map(glam::DVec3::from_slice).collect()
+}
+
+unsafe fn convert_creased(c: &GbsurfCreases, out: *mut *mut GbsurfResult) -> u32 {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = GBSURF_METHOD_TOPOLOGY;
+    o.resolution = 4;
+    // SAFETY: valid arrays and out pointer (caller).
+    unsafe {
+        gbsurf_convert_creased(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), c, &o, None, null_mut(), out)
+    }
+}
+
+#[test]
+fn creased_cube_keeps_its_corners_and_bad_creases_get_their_codes() {
+    let e = cube_edges();
+    assert_eq!(e.len(), 24);
+    let sharp = vec![1.0; 12];
+    let mut c = GbsurfCreases {
+        edge_vertices: e.as_ptr(),
+        edge_sharpness: sharp.as_ptr(),
+        edge_count: 12,
+        vertices: null(),
+        vertex_sharpness: null(),
+        vertex_count: 0,
+    };
+    let mut out = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert_creased(&c, &mut out) }, GBSURF_OK, "{}", last());
+    let pos = out_positions(out);
+    let (lo, hi) = pos.iter().flat_map(|p| p.to_array()).fold((1.0f64, 0.0f64), |(l, h), x| (l.min(x), h.max(x)));
+    assert!(lo.abs() <= 1e-12 && (hi - 1.0).abs() <= 1e-12, "{lo} {hi}");
+    let (p, _, _) = cube();
+    for q in p.chunks_exact(3) {
+        let q = glam::DVec3::from_slice(q);
+        assert!(pos.iter().any(|x| x.distance(q) <= 1e-12), "corner {q} missing");
+    }
+    // SAFETY: live handle.
+    unsafe { gbsurf_result_free(out) };
+    // NULL creases: the plain conversion
+    let mut a = null_mut();
+    let mut b = null_mut();
+    let (p, s, f) = cube();
+    // SAFETY: valid arrays and out pointers.
+    unsafe {
+        assert_eq!(convert_creased(&GbsurfCreases { edge_count: 0, ..c }, &mut a), GBSURF_OK);
+        let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+        gbsurf_options_init(o.as_mut_ptr());
+        let mut o = o.assume_init();
+        o.method = GBSURF_METHOD_TOPOLOGY;
+        o.resolution = 4;
+        assert_eq!(convert(&p, &s, &f, &o, &mut b), GBSURF_OK);
+        assert_eq!(out_positions(a), out_positions(b));
+        gbsurf_result_free(a);
+        gbsurf_result_free(b);
+    }
+    // NaN, out of range, missing edge, corner index, NULL with a count
+    let nan = vec![f64::NAN; 12];
+    c.edge_sharpness = nan.as_ptr();
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_creased(&c, &mut out) }, GBSURF_ERR_NAN);
+    assert!(last().contains("edge crease 0"), "{}", last());
+    let big = vec![2.0; 12];
+    c.edge_sharpness = big.as_ptr();
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_creased(&c, &mut out) }, GBSURF_ERR_INVALID_MESH);
+    assert!(last().contains("edge crease 0 on edge"), "{}", last());
+    let diag = [0u32, 2];
+    c.edge_sharpness = sharp.as_ptr();
+    let c2 = GbsurfCreases { edge_vertices: diag.as_ptr(), edge_count: 1, ..c };
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_creased(&c2, &mut out) }, GBSURF_ERR_INVALID_MESH);
+    assert!(last().contains("(0, 2) is not an edge"), "{}", last());
+    let v = [8u32];
+    let c3 = GbsurfCreases { edge_count: 0, vertices: v.as_ptr(), vertex_sharpness: sharp.as_ptr(), vertex_count: 1, ..c };
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_creased(&c3, &mut out) }, GBSURF_ERR_INDEX);
+    assert!(last().contains("vertex 8 out of range"), "{}", last());
+    let c4 = GbsurfCreases { edge_vertices: null(), ..c };
+    // SAFETY: as above (the NULL array is the error under test).
+    assert_eq!(unsafe { convert_creased(&c4, &mut out) }, GBSURF_ERR_NULL);
+    assert!(last().contains("creases.edge_vertices"), "{}", last());
+    assert!(out.is_null());
+}

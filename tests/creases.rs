@@ -1,0 +1,309 @@
+//! Creases and corners (docs/math.md#creases): infinitely sharp edges are G0 exactly there and
+//! leave the rest G1, semi-sharp creases move the surface continuously, sharpness 0 is
+//! bit-identical to no crease data, and the OBJ `t crease` / `t corner` tags.
+
+use gbsurf::api::{convert, ConvertOptions, Method};
+use gbsurf::construct::{build_topology, Surface};
+use gbsurf::gb::{angle_deg, Domain, Evaluate, WeightForm};
+use gbsurf::mesh::io::{obj_sharpness, parse_obj};
+use gbsurf::mesh::{HalfEdgeMesh, MeshError, MeshWarning, PolyMesh};
+
+use proptest::prelude::*;
+
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
+
+fn cube() -> PolyMesh {
+    gbsurf::mesh::read_polymesh(format!("{MODELS}/cube.obj")).unwrap().0
+}
+
+/// The 12 edges of a mesh as vertex pairs.
+fn edges(m: &PolyMesh) -> Vec<[u32; 2]> {
+    let mut e: Vec<[u32; 2]> = m
+        .faces
+        .iter()
+        .flat_map(|f| (0..f.len()).map(move |i| [f[i].min(f[(i + 1) % f.len()]), f[i].max(f[(i + 1) % f.len()])]))
+        .collect();
+    e.sort();
+    e.dedup();
+    e
+}
+
+fn with_creases(mut m: PolyMesh, pick: impl Fn([u32; 2]) -> bool, c: f64) -> PolyMesh {
+    m.creases.edges = edges(&m).into_iter().filter(|&e| pick(e)).map(|e| (e, c)).collect();
+    m
+}
+
+/// The four edges of the top face (z = 1) of the cube.
+fn top_loop(m: &PolyMesh) -> impl Fn([u32; 2]) -> bool + '_ {
+    move |[a, b]| m.positions[a as usize].z > 0.0 && m.positions[b as usize].z > 0.0
+}
+
+fn topology() -> ConvertOptions {
+    ConvertOptions { method: Method::Topology, ..Default::default() }
+}
+
+fn topo(m: &PolyMesh) -> Surface {
+    build_topology(&HalfEdgeMesh::from_polymesh(m).unwrap(), &ConvertOptions::default()).unwrap()
+}
+
+/// Max normal angle and max gap along the shared sides, separately for smooth and creased sides:
+/// ([smooth angle, smooth gap], [creased min-of-max angle, creased gap]).
+struct Joins {
+    smooth_angle: f64,
+    smooth_gap: f64,
+    sharp_min_angle: f64,
+    sharp_gap: f64,
+    sharp_sides: usize,
+}
+
+fn joins(s: &Surface) -> Joins {
+    let mut j = Joins { smooth_angle: 0.0, smooth_gap: 0.0, sharp_min_angle: f64::INFINITY, sharp_gap: 0.0, sharp_sides: 0 };
+    let ts: Vec<f64> = (1..16).map(|k| k as f64 / 16.0).collect();
+    for (p, i, n) in s.shared_sides() {
+        let da = Domain::regular(s.patches[p].sides()).unwrap();
+        let db = Domain::regular(s.patches[n.patch].sides()).unwrap();
+        let sharp = s.side_crease(p, i) > 0.0;
+        let mut side_min = f64::INFINITY;
+        for &t in &ts {
+            let a = s.patches[p].eval_derivs(da.side_point(i, t), WeightForm::Squared);
+            let b = s.patches[n.patch].eval_derivs(db.side_point(n.side, 1.0 - t), WeightForm::Squared);
+            let ang = angle_deg(a.normal().unwrap(), b.normal().unwrap());
+            let gap = a.p.distance(b.p);
+            if sharp {
+                j.sharp_gap = j.sharp_gap.max(gap);
+                side_min = side_min.min(ang);
+            } else {
+                j.smooth_gap = j.smooth_gap.max(gap);
+                j.smooth_angle = j.smooth_angle.max(ang);
+            }
+        }
+        if sharp {
+            j.sharp_sides += 1;
+            j.sharp_min_angle = j.sharp_min_angle.min(side_min);
+        }
+    }
+    j
+}
+
+#[test]
+fn cube_with_every_edge_sharp_keeps_its_corners() {
+    let m = with_creases(cube(), |_| true, 1.0);
+    let c = convert(&m, &topology(), None).unwrap();
+    let lim = c.mesh.positions.iter().flat_map(|p| p.to_array()).fold(0.0f64, |a, x| a.max(x.abs()));
+    assert!((lim - 1.0).abs() <= 1e-12, "largest coordinate {lim}");
+    for corner in &m.positions {
+        let d = c.mesh.positions.iter().map(|p| p.distance(*corner)).fold(f64::INFINITY, f64::min);
+        assert!(d <= 1e-12, "corner {corner} missed by {d}");
+    }
+    // every output point lies on the cube's surface: one coordinate at ±1
+    for p in &c.mesh.positions {
+        let on = p.to_array().iter().any(|x| (x.abs() - 1.0).abs() <= 1e-9);
+        assert!(on, "{p} is off the cube");
+    }
+    assert_eq!(c.report.sharp_edges, 12);
+    assert_eq!(c.report.folds, 0);
+    // the dual structure ignores creases, with a warning
+    let d = convert(&m, &ConvertOptions { method: Method::Dual, ..Default::default() }, None).unwrap();
+    assert!(d.warnings.iter().any(|w| w.contains("creases are ignored by the dual")), "{:?}", d.warnings);
+}
+
+#[test]
+fn one_sharp_loop_is_g0_there_and_g1_elsewhere() {
+    let base = cube();
+    let m = with_creases(base.clone(), top_loop(&base), 1.0);
+    let s = topo(&m);
+    let j = joins(&s);
+    assert_eq!(j.sharp_sides, 4);
+    assert!(j.sharp_gap <= 1e-12, "gap on the crease {}", j.sharp_gap);
+    assert!(j.smooth_gap <= 1e-12, "gap {}", j.smooth_gap);
+    assert!(j.smooth_angle <= 1e-4, "G1 off the crease: {}°", j.smooth_angle);
+    println!("sharp loop: crease angle >= {:.2}°, smooth G1 {:.2e}°, gaps {:.1e} / {:.1e}", j.sharp_min_angle, j.smooth_angle, j.sharp_gap, j.smooth_gap);
+    assert!(j.sharp_min_angle >= 5.0, "the crease is not sharp: {}°", j.sharp_min_angle);
+    let c = convert(&m, &topology(), None).unwrap();
+    assert_eq!(c.report.sharp_edges, 4);
+    assert!(c.report.max_g1_deg <= 1e-4, "report G1 {}", c.report.max_g1_deg);
+    assert_eq!(c.report.folds, 0);
+    assert!(c.report.closed);
+}
+
+#[test]
+fn crease_zero_is_bit_identical_to_no_creases() {
+    let base = cube();
+    let plain = convert(&base, &topology(), None).unwrap();
+    let zero = with_creases(base.clone(), |_| true, 0.0);
+    let mut zero = zero;
+    zero.creases.vertices = vec![(0, 0.0)];
+    let z = convert(&zero, &topology(), None).unwrap();
+    assert_eq!(plain.mesh.positions, z.mesh.positions);
+    assert_eq!(plain.mesh.normals, z.mesh.normals);
+    assert_eq!(plain.mesh.triangles, z.mesh.triangles);
+    assert_eq!(topo(&base).patches, topo(&zero).patches);
+}
+
+fn max_move(a: &Surface, b: &Surface) -> f64 {
+    let mut d = 0.0f64;
+    for (pa, pb) in a.patches.iter().zip(&b.patches) {
+        let dom = Domain::regular(pa.sides()).unwrap();
+        for k in 0..pa.sides() {
+            for t in [0.1, 0.3, 0.5, 0.7, 0.9] {
+                for depth in [0.0, 0.25, 0.5] {
+                    let q = dom.side_point(k, t);
+                    let uv = q + depth * (dom.center() - q);
+                    d = d.max(pa.eval_derivs(uv, WeightForm::Squared).p.distance(pb.eval_derivs(uv, WeightForm::Squared).p));
+                }
+            }
+        }
+    }
+    d
+}
+
+#[test]
+fn crease_sweep_is_continuous() {
+    let base = cube();
+    let mut prev = topo(&base);
+    let mut worst = 0.0f64;
+    for k in 1..=20 {
+        let c = k as f64 * 0.05;
+        let s = topo(&with_creases(base.clone(), top_loop(&base), c));
+        let d = max_move(&prev, &s);
+        worst = worst.max(d);
+        assert!(d <= 0.05, "step to c = {c}: the surface moved {d}");
+        prev = s;
+    }
+    println!("crease sweep: largest move per step of 0.05 = {worst:.4}");
+    // a tiny sharpness moves the surface only a little
+    let tiny = topo(&with_creases(base.clone(), top_loop(&base), 1e-9));
+    assert!(max_move(&topo(&base), &tiny) <= 1e-8);
+}
+
+#[test]
+fn corner_vertex_is_pulled_to_its_position() {
+    let mut m = cube();
+    m.creases.vertices = vec![(7, 1.0)];
+    let s = topo(&m);
+    let target = m.positions[7];
+    let hit = s.curves.iter().flat_map(|c| [c[0], *c.last().unwrap()]).any(|p| p.distance(target) <= 1e-12);
+    assert!(hit, "no node at the corner vertex");
+}
+
+// ------------------------------------------------------------ validation
+
+#[test]
+fn crease_values_and_edges_are_validated() {
+    let mut m = cube();
+    m.creases.edges = vec![([0, 1], 0.5), ([0, 3], 0.5)];
+    let e = HalfEdgeMesh::from_polymesh(&m).unwrap_err();
+    assert_eq!(e, MeshError::CreaseEdgeMissing { entry: 1, edge: (0, 3), line: None });
+    m.creases.edges = vec![([0, 1], f64::NAN)];
+    assert!(matches!(HalfEdgeMesh::from_polymesh(&m), Err(MeshError::EdgeCreaseValue { entry: 0, edge: (0, 1), .. })));
+    m.creases.edges = vec![([0, 1], 1.5)];
+    assert!(matches!(HalfEdgeMesh::from_polymesh(&m), Err(MeshError::EdgeCreaseValue { .. })));
+    m.creases.edges.clear();
+    m.creases.vertices = vec![(9, 1.0)];
+    assert_eq!(
+        HalfEdgeMesh::from_polymesh(&m).unwrap_err(),
+        MeshError::CreaseVertexOutOfRange { entry: 0, vertex: 9, n_vertices: 8, line: None }
+    );
+    m.creases.vertices = vec![(2, -0.1)];
+    assert!(matches!(HalfEdgeMesh::from_polymesh(&m), Err(MeshError::VertexCreaseValue { entry: 0, vertex: 2, .. })));
+    // repeated entries keep the larger value, in either vertex order
+    m.creases.vertices.clear();
+    m.creases.edges = vec![([1, 0], 0.25), ([0, 1], 0.75)];
+    let he = HalfEdgeMesh::from_polymesh(&m).unwrap();
+    let e = he.edges().find(|&e| he.edge_crease(e) > 0.0).unwrap();
+    assert_eq!(he.edge_crease(e), 0.75);
+    assert_eq!(he.edges().filter(|&e| he.edge_crease(e) > 0.0).count(), 1);
+}
+
+// ------------------------------------------------------------ OBJ tags
+
+const CUBE_OBJ: &str = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+
+fn obj(tags: &str) -> Result<(PolyMesh, gbsurf::mesh::SourceMap), MeshError> {
+    parse_obj(format!("{CUBE_OBJ}{tags}"))
+}
+
+fn line_of(e: &MeshError) -> Option<usize> {
+    match e {
+        MeshError::Parse { line, .. } => *line,
+        _ => None,
+    }
+}
+
+#[test]
+fn obj_crease_and_corner_tags_are_read() {
+    let (m, map) = obj("t crease 2/1/0 0 1 10\nt crease 4/1/0 1 3 3 2 2.5\nt crease 4/2/0 4 5 5 7 0 40\nt corner 2/1/0 6 7 5\n").unwrap();
+    assert_eq!(
+        m.creases.edges,
+        vec![([0, 1], 1.0), ([1, 3], 0.5), ([3, 2], 0.5), ([4, 5], 0.0), ([5, 7], 1.0)]
+    );
+    assert_eq!(m.creases.vertices, vec![(6, obj_sharpness(5.0)), (7, obj_sharpness(5.0))]);
+    assert_eq!(map.edge_crease_lines, vec![15, 16, 16, 17, 17]);
+    assert_eq!(map.vertex_crease_lines, vec![18, 18]);
+    assert_eq!(obj_sharpness(2.5), 0.5);
+    assert_eq!(obj_sharpness(1e9), 1.0);
+    assert!(HalfEdgeMesh::from_polymesh(&m).is_ok());
+}
+
+#[test]
+fn obj_bad_tags_name_their_line() {
+    for (tag, msg) in [
+        ("t crease 2/1/0 0 8 1", "vertex index 8 out of range"),
+        ("t crease 2/1/0 0 1 nan", "not a finite number"),
+        ("t crease 2/1/0 0 1 -1", "not a finite number"),
+        ("t crease 2/1/0 0 1", "expected 3 arguments"),
+        ("t crease 2/1/0 0 x 1", "bad vertex index"),
+        ("t crease", "missing the argument counts"),
+        ("t crease 3/1/0 0 1 2 1", "unsupported argument counts"),
+        ("t crease 2/1 0 1 1", "bad argument counts"),
+        ("t corner 1/1/0 12 1", "vertex index 12 out of range"),
+        ("t corner 1/0/0 1", "unsupported argument counts"),
+    ] {
+        let e = obj(&format!("{tag}\n")).unwrap_err();
+        assert_eq!(line_of(&e), Some(15), "{tag}: {e}");
+        assert!(e.to_string().contains(msg), "{tag}: {e}");
+    }
+    // an edge that no face has: named with its line by the reader
+    let path = std::env::temp_dir().join(format!("gbsurf_crease_{}.obj", std::process::id()));
+    std::fs::write(&path, format!("{CUBE_OBJ}t crease 2/1/0 0 1 1\nt crease 2/1/0 0 3 1\n")).unwrap();
+    let e = gbsurf::mesh::read_mesh(&path).unwrap_err();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(e, MeshError::CreaseEdgeMissing { entry: 1, edge: (0, 3), line: Some(16) });
+    assert!(e.to_string().contains("line 16"), "{e}");
+}
+
+#[test]
+fn obj_unsupported_tags_are_warned_and_skipped() {
+    let (m, map) = obj("t interpolateboundary 1/0/0 1\nt hole 1/0/0 3\nt hole 1/0/0 4\nt facevaryingpropagatecorners 1/0/0 1\n").unwrap();
+    assert!(m.creases.is_smooth());
+    let sk = |s: &str, line: usize, count: usize| MeshWarning::SkippedStatement { statement: s.into(), line, count };
+    assert_eq!(
+        map.warnings,
+        vec![sk("t interpolateboundary", 15, 1), sk("t hole", 16, 2), sk("t facevaryingpropagatecorners", 18, 1)]
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
+    /// The OBJ mapping is monotone, in [0, 1], and 1 from sharpness 10 on.
+    #[test]
+    fn obj_sharpness_is_monotone(a in 0.0f64..20.0, b in 0.0f64..20.0) {
+        let (ca, cb) = (obj_sharpness(a), obj_sharpness(b));
+        prop_assert!((0.0..=1.0).contains(&ca));
+        if a <= b { prop_assert!(ca <= cb); }
+        if a >= 10.0 { prop_assert_eq!(ca, 1.0); }
+        prop_assert!((10.0 * ca * ca - a.min(10.0)).abs() <= 1e-12);
+    }
+
+    /// Any sharpness on the top loop gives a closed, gap-free surface whose smooth joins stay G1.
+    #[test]
+    fn any_sharpness_keeps_the_smooth_joins_g1(c in 0.0f64..=1.0) {
+        let base = cube();
+        let s = topo(&with_creases(base.clone(), top_loop(&base), c));
+        let j = joins(&s);
+        prop_assert!(j.smooth_gap <= 1e-12 && j.sharp_gap <= 1e-12);
+        prop_assert!(j.smooth_angle <= 1e-4, "c = {}: {}°", c, j.smooth_angle);
+    }
+}
+
