@@ -59,7 +59,8 @@ pub(super) fn write_mesh_file(mesh: &impl WriteMesh, path: &Path) -> Result<(), 
 }
 
 impl PolyMesh {
-    /// Writes Wavefront OBJ (`v` with 17 significant digits, `f` with 1-based polygon loops).
+    /// Writes Wavefront OBJ (`v` with shortest round-trip coordinates, `f` with 1-based polygon
+    /// loops).
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         obj::write_polygons(w, &self.positions, &self.faces)
     }
@@ -83,7 +84,7 @@ impl PolyMesh {
 }
 
 impl TriMesh {
-    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
+    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), shortest round-trip coordinates.
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         obj::write_triangles(w, None, &self.positions, &self.normals, &self.triangles)
     }
@@ -98,8 +99,8 @@ impl TriMesh {
 }
 
 impl SurfaceMesh {
-    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, 17 significant
-    /// digits.
+    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, shortest
+    /// round-trip coordinates.
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         let comment = format!("gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len());
         obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.triangles)

@@ -57,7 +57,7 @@ impl ExportError {
 /// The mesh file formats, by extension (case-insensitive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MeshFormat {
-    /// Wavefront OBJ (`.obj`), 17 significant digits.
+    /// Wavefront OBJ (`.obj`), coordinates as the shortest text that parses back to the same `f64`.
     Obj,
     /// Binary little-endian PLY (`.ply`) with the mesh's per-vertex data.
     Ply,
