@@ -98,7 +98,7 @@ fn ply_round_trip_ascii_and_binary_with_scalars() {
     let quality: Vec<f64> = (0..m.positions.len()).map(|i| i as f64 * 0.5).collect();
     for format in [PlyFormat::Ascii, PlyFormat::BinaryLittleEndian] {
         let mut buf = Vec::new();
-        m.write_ply(&mut buf, format, &[VertexScalar { name: "quality", values: &quality }]).unwrap();
+        m.write_ply(&mut buf, format, &[VertexScalar::float("quality", &quality)]).unwrap();
         let header_end = buf.windows(10).position(|w| w == b"end_header").unwrap();
         let header = std::str::from_utf8(&buf[..header_end]).unwrap();
         assert!(header.contains("property float quality"), "{header}");
@@ -107,7 +107,7 @@ fn ply_round_trip_ascii_and_binary_with_scalars() {
     }
     // mismatched scalar length is refused
     let mut buf = Vec::new();
-    assert!(m.write_ply(&mut buf, PlyFormat::Ascii, &[VertexScalar { name: "q", values: &[1.0] }]).is_err());
+    assert!(m.write_ply(&mut buf, PlyFormat::Ascii, &[VertexScalar::float("q", &[1.0])]).is_err());
 }
 
 fn tri_mesh() -> TriMesh {

@@ -96,6 +96,35 @@ def read_creases(mesh):
     return ev, es, vv, vs
 
 
+F32_MAX = float(np.finfo(np.float32).max)
+
+
+class Float32RangeError(ValueError):
+    """An output position beyond Blender's float32 coordinates (names the vertex): the library
+    accepts coordinates up to 1e150, Blender stores float32, which would make it inf."""
+
+
+def float32_positions(positions):
+    """(V, 3) float32 copy of `positions`; a coordinate with |x| > float32 max raises
+    Float32RangeError naming the first such vertex (never a silent inf)."""
+    p = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    bad = np.flatnonzero((np.abs(p) > F32_MAX).any(axis=1))
+    if len(bad):
+        i = int(bad[0])
+        x = p[i][int(np.argmax(np.abs(p[i])))]
+        raise Float32RangeError(
+            f"vertex {i}: coordinate {x:g} is beyond Blender's float32 range (|x| <= {F32_MAX:g})")
+    return np.ascontiguousarray(p, dtype=np.float32)
+
+
+def float32_clamped(values):
+    """float32 copy of per-vertex display values (curvatures): values beyond the float32 range
+    become +-float32 max, never inf (the same rule as the library's PLY `float` fields; the
+    exact float64 values stay available from the library)."""
+    v = np.asarray(values, dtype=np.float64).reshape(-1)
+    return np.ascontiguousarray(np.clip(v, -F32_MAX, F32_MAX), dtype=np.float32)
+
+
 def read_mesh(mesh):
     """(positions (V,3) float64, face_sizes (F,) uint32, face_indices (sum sizes,) uint32) as a
     `MeshData` whose `creases` are `read_creases(mesh)`."""
@@ -140,8 +169,9 @@ def read_object(obj, depsgraph=None):
 
 
 def write_triangles(mesh, positions, triangles):
-    """Fills an empty mesh with vertices and triangles (numpy path)."""
-    positions = np.ascontiguousarray(positions, dtype=np.float32).reshape(-1, 3)
+    """Fills an empty mesh with vertices and triangles (numpy path). Positions beyond float32
+    raise Float32RangeError (see float32_positions) before the mesh is touched."""
+    positions = float32_positions(positions)
     tris = np.ascontiguousarray(triangles, dtype=np.int32).reshape(-1, 3)
     nv, nt = len(positions), len(tris)
     mesh.vertices.add(nv)
@@ -155,8 +185,9 @@ def write_triangles(mesh, positions, triangles):
 
 
 def write_polygons(mesh, positions, face_sizes, face_indices, edges=None):
-    """Fills an empty mesh with n-gons (and optional loose edges), numpy path."""
-    positions = np.ascontiguousarray(positions, dtype=np.float32).reshape(-1, 3)
+    """Fills an empty mesh with n-gons (and optional loose edges), numpy path. Positions beyond
+    float32 raise Float32RangeError (see float32_positions) before the mesh is touched."""
+    positions = float32_positions(positions)
     sizes = np.ascontiguousarray(face_sizes, dtype=np.int32).reshape(-1)
     idx = np.ascontiguousarray(face_indices, dtype=np.int32).reshape(-1)
     mesh.vertices.add(len(positions))
@@ -177,7 +208,8 @@ def write_polygons(mesh, positions, face_sizes, face_indices, edges=None):
 
 
 def set_point_attribute(mesh, name, kind, values):
-    """Creates (or replaces) a per-vertex attribute: kind 'INT', 'FLOAT' or 'FLOAT_COLOR'."""
+    """Creates (or replaces) a per-vertex attribute: kind 'INT', 'FLOAT' or 'FLOAT_COLOR'.
+    FLOAT values beyond float32 are clamped (float32_clamped), never inf."""
     old = mesh.attributes.get(name)
     if old is not None:
         mesh.attributes.remove(old)
@@ -185,7 +217,7 @@ def set_point_attribute(mesh, name, kind, values):
     if kind == 'INT':
         attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.int32).reshape(-1))
     elif kind == 'FLOAT':
-        attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
+        attr.data.foreach_set("value", float32_clamped(values))
     else:
         attr.data.foreach_set("color", np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
     return attr

@@ -62,6 +62,10 @@ def test_triangle_writer_and_attributes():
     assert np.allclose(mio().get_point_attribute(mesh, "c")[2], [0.1, 0.2, 0.3, 1.0])
     mio().set_point_attribute(mesh, "k", 'FLOAT', [1, 1, 1, 1])  # replaced, not duplicated
     assert [a.name for a in mesh.attributes].count("k") == 1
+    # float32 in Blender: display values are clamped, positions beyond it are refused by vertex
+    mio().set_point_attribute(mesh, "k", 'FLOAT', [1e39, -1e300, 0.5, 0.0])
+    big = float(np.finfo(np.float32).max)
+    assert mio().get_point_attribute(mesh, "k").tolist() == [big, -big, 0.5, 0.0]
     mio().shade_smooth(mesh)
     sm = np.empty(4, dtype=bool)
     mesh.polygons.foreach_get("use_smooth", sm)
@@ -80,3 +84,19 @@ def test_colour_maps():
     assert ((ic >= 0) & (ic <= 1)).all()
     nan = mio().diverging_colors([np.nan, 1.0])
     assert np.isfinite(nan).all()
+
+
+def test_positions_beyond_float32_name_the_vertex():
+    pos = np.array([[0, 0, 0], [1, 0, 0], [0, 1e39, 0], [0, 0, 1]], float)
+    tris = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]], np.uint32)
+    mesh = bpy.data.meshes.new("far")
+    try:
+        mio().write_triangles(mesh, pos, tris)
+        raise AssertionError("expected Float32RangeError")
+    except mio().Float32RangeError as e:
+        assert "vertex 2: coordinate 1e+39" in str(e), e
+    assert len(mesh.vertices) == 0  # refused before the mesh is touched
+    pos[2, 1] = float(np.finfo(np.float32).max)  # the edge of the range is kept, finite
+    mio().write_triangles(mesh, pos, tris)
+    p2, _, _ = mio().read_mesh(mesh)
+    assert np.isfinite(p2).all() and p2[2, 1] == pos[2, 1]

@@ -295,7 +295,7 @@ impl std::fmt::Display for RunError {
 }
 
 fn run_convert(args: &ConvertArgs) -> Result<(), RunError> {
-    let (conv, options, format) = convert_input(args)?;
+    let (mut conv, options, format) = convert_input(args)?;
     let problems = conv.report.validity_problems();
     if !problems.is_empty() {
         if args.strict {
@@ -305,7 +305,7 @@ fn run_convert(args: &ConvertArgs) -> Result<(), RunError> {
             eprintln!("warning: output is not valid: {}", problems.join("; "));
         }
     }
-    write_outputs(args, &conv, &options, format)?;
+    write_outputs(args, &mut conv, &options, format)?;
     Ok(())
 }
 
@@ -348,19 +348,12 @@ fn convert_input(args: &ConvertArgs) -> Result<(api::Conversion, ConvertOptions,
 
 /// Writes the output mesh and every optional output (all or none, see `AtomicFiles`), then the
 /// summary and the warnings unless `--quiet`.
-fn write_outputs(args: &ConvertArgs, conv: &api::Conversion, options: &ConvertOptions, format: Option<MeshFormat>) -> Result<(), ConvertError> {
-    let need_surface = |what: &str| -> Result<&gbsurf::construct::Surface, ConvertError> {
-        conv.surface.as_ref().ok_or_else(|| ConvertError::InvalidOption {
-            name: "method",
-            value: options.method.to_string(),
-            reason: format!("--{what} needs a patch method (dual or topology)"),
-        })
-    };
+fn write_outputs(args: &ConvertArgs, conv: &mut api::Conversion, options: &ConvertOptions, format: Option<MeshFormat>) -> Result<(), ConvertError> {
     // The .gbp files beside --patches are known only now: check the whole set again.
     let inputs = [FlagPath::new("input", &args.input)];
     let patch_files = match &args.patches {
         Some(path) => {
-            let surface = need_surface("patches")?;
+            let surface = need_surface(&conv.surface, options, "patches")?;
             let elevated = match args.degree {
                 Some(degree) => Some(surface.with_common_degree(degree).map_err(|e| ConvertError::InvalidOption {
                     name: "degree",
@@ -377,6 +370,8 @@ fn write_outputs(args: &ConvertArgs, conv: &api::Conversion, options: &ConvertOp
     let beside = patch_files.iter().filter(|(file, _)| Some(file) != args.patches.as_ref());
     outputs.extend(beside.map(|(file, _)| FlagPath::new("--patches", file)));
     export::check_output_paths(&inputs, &outputs)?;
+    drop_unneeded(args, conv, format);
+    let conv = &*conv;
     // All outputs go to temporaries first; dropping `files` on an error removes them.
     let mut files = AtomicFiles::new();
     match format {
@@ -384,10 +379,10 @@ fn write_outputs(args: &ConvertArgs, conv: &api::Conversion, options: &ConvertOp
         None => openmesh_io::add(&mut files, &conv.mesh, &args.output)?,
     }
     if let Some(path) = &args.curves {
-        files.add(path, export::curves_obj(need_surface("curves")?).as_bytes())?;
+        files.add(path, export::curves_obj(need_surface(&conv.surface, options, "curves")?).as_bytes())?;
     }
     if let Some(path) = &args.nets {
-        files.add(path, export::nets_obj(need_surface("nets")?).as_bytes())?;
+        files.add(path, export::nets_obj(need_surface(&conv.surface, options, "nets")?).as_bytes())?;
     }
     for (file, bytes) in &patch_files {
         files.add(file, bytes)?;
@@ -414,6 +409,37 @@ fn write_outputs(args: &ConvertArgs, conv: &api::Conversion, options: &ConvertOp
         }
     }
     Ok(())
+}
+
+/// The exact surface, which `--what` needs (an error for the subdivision methods).
+fn need_surface<'a>(surface: &'a Option<gbsurf::construct::Surface>, options: &ConvertOptions, what: &str) -> Result<&'a gbsurf::construct::Surface, ConvertError> {
+    surface.as_ref().ok_or_else(|| ConvertError::InvalidOption {
+        name: "method",
+        value: options.method.to_string(),
+        reason: format!("--{what} needs a patch method (dual or topology)"),
+    })
+}
+
+/// Frees what none of the chosen outputs reads, so that only the data being written stay
+/// resident while writing: the exact surface (kept for `--curves` and `--nets`; `--patches` is
+/// encoded before this), the per-triangle patch ids (no output writes them), the per-vertex patch
+/// ids, curvatures and G1 deviation (only the PLY output writes them) and the normals (unused by
+/// STL and `--slices`; kept for `--isophotes`).
+fn drop_unneeded(args: &ConvertArgs, conv: &mut api::Conversion, format: Option<MeshFormat>) {
+    if args.curves.is_none() && args.nets.is_none() {
+        conv.surface = None;
+    }
+    let mesh = &mut conv.mesh;
+    mesh.triangle_patch = Vec::new();
+    if format != Some(MeshFormat::Ply) {
+        mesh.patch = Vec::new();
+        mesh.mean_curvature = Vec::new();
+        mesh.gaussian_curvature = Vec::new();
+        mesh.g1_deviation_deg = Vec::new();
+    }
+    if format == Some(MeshFormat::Stl) && args.isophotes.is_none() {
+        mesh.normals = Vec::new();
+    }
 }
 
 /// Parses `x,y,z` into a non-zero vector.

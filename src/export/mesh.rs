@@ -1,7 +1,7 @@
 //! The mesh writers of [`PolyMesh`], [`TriMesh`] and [`SurfaceMesh`], and the by-extension
 //! dispatch ([`WriteMesh`], [`encode_mesh`]).
 
-use super::ply::{write_ply, PlyFormat, VertexScalar};
+use super::ply::{write_ply_faces, Faces, PlyFormat, VertexScalar};
 use super::{obj, stl, write_atomic, ExportError, MeshFormat};
 use crate::mesh::{PolyMesh, TriMesh};
 use crate::tessellate::SurfaceMesh;
@@ -59,14 +59,14 @@ pub(super) fn write_mesh_file(mesh: &impl WriteMesh, path: &Path) -> Result<(), 
 }
 
 impl PolyMesh {
-    /// Writes Wavefront OBJ (`v` with 17 significant digits, `f` with 1-based polygon loops).
+    /// Writes Wavefront OBJ (`v` with shortest round-trip coordinates, `f` with 1-based polygon
+    /// loops).
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         obj::write_polygons(w, &self.positions, &self.faces)
     }
     /// Writes PLY with polygon faces and optional per-vertex scalars.
     pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
-        let faces: Vec<&[u32]> = self.faces.iter().map(Vec::as_slice).collect();
-        write_ply(w, &self.positions, None, &faces, scalars, format)
+        write_ply_faces(w, &self.positions, None, Faces::Polygons(&self.faces), scalars, format)
     }
     /// Writes binary STL; faces are first split into convex pieces
     /// ([`crate::mesh::geometry::convexify`]) and then fan-triangulated, so concave faces come
@@ -84,14 +84,13 @@ impl PolyMesh {
 }
 
 impl TriMesh {
-    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), 17 significant digits.
+    /// Writes Wavefront OBJ (`v`, `vn`, `f a//a b//b c//c`), shortest round-trip coordinates.
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         obj::write_triangles(w, None, &self.positions, &self.normals, &self.triangles)
     }
     /// Writes PLY with per-vertex normals (when present) and optional per-vertex scalars.
     pub fn write_ply<W: Write>(&self, w: W, format: PlyFormat, scalars: &[VertexScalar<'_>]) -> io::Result<()> {
-        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
-        write_ply(w, &self.positions, Some(&self.normals), &faces, scalars, format)
+        write_ply_faces(w, &self.positions, Some(&self.normals), Faces::Triangles(&self.triangles), scalars, format)
     }
     /// Writes binary STL.
     pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
@@ -100,26 +99,28 @@ impl TriMesh {
 }
 
 impl SurfaceMesh {
-    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, 17 significant
-    /// digits.
+    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, shortest
+    /// round-trip coordinates.
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
         let comment = format!("gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len());
         obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.triangles)
     }
 
-    /// Binary little-endian PLY: `double x y z`, `float nx ny nz`, per-vertex `float` scalars
-    /// `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation` (degrees), triangles as
-    /// `uchar`-counted `int` lists.
+    /// Binary little-endian PLY: `double x y z`, `float nx ny nz` (unit normals), per-vertex
+    /// `double` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
+    /// (degrees), triangles as `uchar`-counted `int` lists. The per-vertex data are `double` so
+    /// that every value is written exactly: curvatures are unbounded (a cube scaled by 1e-20 has
+    /// Gaussian curvatures near 1e40, beyond `f32`, which would have been written as `inf`), and
+    /// patch indices above 2^24 are not all `f32` values.
     pub fn write_ply<W: Write>(&self, w: W) -> io::Result<()> {
         let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
-        let faces: Vec<&[u32]> = self.triangles.iter().map(|t| t.as_slice()).collect();
         let scalars = [
-            VertexScalar { name: "patch", values: &patch },
-            VertexScalar { name: "mean_curvature", values: &self.mean_curvature },
-            VertexScalar { name: "gaussian_curvature", values: &self.gaussian_curvature },
-            VertexScalar { name: "g1_deviation", values: &self.g1_deviation_deg },
+            VertexScalar::double("patch", &patch),
+            VertexScalar::double("mean_curvature", &self.mean_curvature),
+            VertexScalar::double("gaussian_curvature", &self.gaussian_curvature),
+            VertexScalar::double("g1_deviation", &self.g1_deviation_deg),
         ];
-        write_ply(w, &self.positions, Some(&self.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
+        write_ply_faces(w, &self.positions, Some(&self.normals), Faces::Triangles(&self.triangles), &scalars, PlyFormat::BinaryLittleEndian)
     }
 
     /// Binary STL (facet normals from the triangles).

@@ -9,6 +9,7 @@
 //! (`write_obj`, `write_ply`, `write_stl`, `write_file`), defined here.
 
 mod atomic;
+mod encode;
 mod mesh;
 mod obj;
 mod paths;
@@ -20,8 +21,8 @@ pub use atomic::{write_atomic, AtomicFiles};
 pub use mesh::{encode_mesh, WriteMesh};
 pub use obj::{curves_obj, nets_obj, slices_obj};
 pub use paths::{check_output_paths, FlagPath, OutputPathError, OutputPathProblem};
-pub use ply::{write_isophotes_ply, write_ply, PlyFormat, VertexScalar};
-pub use stl::write_stl_triangles;
+pub use ply::{write_isophotes_ply, write_ply, PlyFormat, ScalarType, VertexScalar};
+pub use stl::{write_stl_triangles, Float32RangeError};
 pub use surface::{gbp_texts, patch_files, patches_json};
 
 use crate::mesh::{PolyMesh, TriMesh};
@@ -56,7 +57,7 @@ impl ExportError {
 /// The mesh file formats, by extension (case-insensitive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MeshFormat {
-    /// Wavefront OBJ (`.obj`), 17 significant digits.
+    /// Wavefront OBJ (`.obj`), coordinates as the shortest text that parses back to the same `f64`.
     Obj,
     /// Binary little-endian PLY (`.ply`) with the mesh's per-vertex data.
     Ply,

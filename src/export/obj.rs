@@ -1,33 +1,62 @@
 //! Wavefront OBJ: meshes, the curve network, the control nets and planar slices. Every point
-//! line is written by [`ObjPoint`] (17 significant digits).
+//! line is `tag x y z` with each coordinate as the shortest decimal text that parses back to the
+//! same `f64` ([`push_point`], [`ObjPoint`]: round-trip exact).
 
+use super::encode::{push_f64, push_int, write_chunks};
 use crate::construct::Surface;
 use glam::DVec3;
 use std::fmt::{self, Write as _};
 use std::io::{self, Write};
 
-/// One OBJ point line `tag x y z` (`v` or `vn`), coordinates as `{:.17e}` (round-trip exact).
+/// Appends the OBJ point line `tag x y z\n` (`v` or `vn`), coordinates as the shortest
+/// round-trip decimal text ([`push_f64`]).
+pub(crate) fn push_point(buf: &mut Vec<u8>, tag: &str, p: DVec3) {
+    buf.extend_from_slice(tag.as_bytes());
+    for c in p.to_array() {
+        buf.push(b' ');
+        push_f64(buf, c);
+    }
+    buf.push(b'\n');
+}
+
+/// One OBJ point line `tag x y z` (`v` or `vn`), without the newline, as [`push_point`] writes it.
 pub(crate) struct ObjPoint(pub &'static str, pub DVec3);
 
 impl fmt::Display for ObjPoint {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let ObjPoint(tag, p) = self;
-        write!(f, "{tag} {:.17e} {:.17e} {:.17e}", p.x, p.y, p.z)
+        let mut buf = Vec::with_capacity(80);
+        push_point(&mut buf, tag, *p);
+        buf.pop();
+        f.write_str(std::str::from_utf8(&buf).map_err(|_| fmt::Error)?)
     }
+}
+
+/// Point lines `tag x y z` for every point, encoded in parallel chunks.
+fn write_points<W: Write + ?Sized>(w: &mut W, tag: &str, points: &[DVec3]) -> io::Result<()> {
+    write_chunks(w, points.len(), |r, buf| {
+        buf.reserve(r.len() * 64);
+        for &p in &points[r] {
+            push_point(buf, tag, p);
+        }
+        Ok(())
+    })
 }
 
 /// Polygon faces: `v` lines, then `f` lines with 1-based vertex loops.
 pub(crate) fn write_polygons<W: Write>(mut w: W, positions: &[DVec3], faces: &[Vec<u32>]) -> io::Result<()> {
-    for &p in positions {
-        writeln!(w, "{}", ObjPoint("v", p))?;
-    }
-    for f in faces {
-        write!(w, "f")?;
-        for i in f {
-            write!(w, " {}", i + 1)?;
+    write_points(&mut w, "v", positions)?;
+    write_chunks(&mut w, faces.len(), |r, buf| {
+        for f in &faces[r] {
+            buf.push(b'f');
+            for &i in f {
+                buf.push(b' ');
+                push_int(buf, u64::from(i) + 1);
+            }
+            buf.push(b'\n');
         }
-        writeln!(w)?;
-    }
+        Ok(())
+    })?;
     w.flush()
 }
 
@@ -43,21 +72,26 @@ pub(crate) fn write_triangles<W: Write>(
     if let Some(c) = comment {
         writeln!(w, "# {c}")?;
     }
-    for &p in positions {
-        writeln!(w, "{}", ObjPoint("v", p))?;
-    }
-    for &n in normals {
-        writeln!(w, "{}", ObjPoint("vn", n))?;
-    }
+    write_points(&mut w, "v", positions)?;
+    write_points(&mut w, "vn", normals)?;
     let with_normals = normals.len() == positions.len();
-    for t in triangles {
-        let [a, b, c] = t.map(|i| i + 1);
-        if with_normals {
-            writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
-        } else {
-            writeln!(w, "f {a} {b} {c}")?;
+    write_chunks(&mut w, triangles.len(), |r, buf| {
+        buf.reserve(r.len() * if with_normals { 48 } else { 24 });
+        for t in &triangles[r] {
+            buf.push(b'f');
+            for i in t {
+                let i = u64::from(*i) + 1;
+                buf.push(b' ');
+                push_int(buf, i);
+                if with_normals {
+                    buf.extend_from_slice(b"//");
+                    push_int(buf, i);
+                }
+            }
+            buf.push(b'\n');
         }
-    }
+        Ok(())
+    })?;
     w.flush()
 }
 

@@ -1,5 +1,12 @@
-//! PLY: `double` positions, optional `float` normals and per-vertex scalars, polygon faces.
+//! PLY: `double` positions, optional `float` normals, per-vertex scalars (`float` or `double`),
+//! polygon faces.
+//!
+//! No written value is ever infinite unless the `f64` was: `float` fields (normals, scalars
+//! declared [`ScalarType::Float`]) go through [`f32_clamped`] (values beyond the `f32` range
+//! become ±`f32::MAX`; every value in range is the nearest `f32`), and data whose range is not
+//! bounded (curvatures) are declared [`ScalarType::Double`] and written exactly.
 
+use super::encode::{f32_clamped, push_f64, push_int, write_chunks};
 use crate::tessellate::SurfaceMesh;
 use glam::DVec3;
 use std::io::{self, Write};
@@ -14,21 +21,85 @@ pub enum PlyFormat {
     BinaryLittleEndian,
 }
 
-/// A named per-vertex scalar written as `property float <name>` (e.g. `quality`, curvature).
+/// The PLY type a per-vertex scalar is written as.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ScalarType {
+    /// `property float`: for bounded display values (isophotes, stripes, quality); values beyond
+    /// the `f32` range are written as ±`f32::MAX` (never `inf`).
+    #[default]
+    Float,
+    /// `property double`: exact, for unbounded data (curvatures) and integers above 2^24.
+    Double,
+}
+
+/// A named per-vertex scalar written as `property float <name>` or `property double <name>`
+/// (e.g. `quality`, curvature).
 #[derive(Clone, Copy, Debug)]
 pub struct VertexScalar<'a> {
     pub name: &'a str,
     pub values: &'a [f64],
+    pub ty: ScalarType,
+}
+
+impl<'a> VertexScalar<'a> {
+    /// A scalar written as `float` (see [`ScalarType::Float`]).
+    pub fn float(name: &'a str, values: &'a [f64]) -> Self {
+        VertexScalar { name, values, ty: ScalarType::Float }
+    }
+    /// A scalar written as `double` (exact).
+    pub fn double(name: &'a str, values: &'a [f64]) -> Self {
+        VertexScalar { name, values, ty: ScalarType::Double }
+    }
 }
 
 /// Writes PLY: `double x y z`, optional `float nx ny nz` (when `normals` has one per vertex),
-/// the given per-vertex scalars as `float`, and faces as `list uchar int vertex_indices`
-/// (faces with more than 255 corners use `list int int`).
+/// the given per-vertex scalars as their [`ScalarType`], and faces as
+/// `list uchar int vertex_indices` (faces with more than 255 corners use `list int int`).
+/// `float` values are clamped to the `f32` range (see the module doc); ASCII numbers are the
+/// shortest text that parses back to the written `f64`/`f32`. The body is encoded in parallel
+/// chunks (bounded memory).
 pub fn write_ply<W: Write>(
-    mut w: W,
+    w: W,
     positions: &[DVec3],
     normals: Option<&[DVec3]>,
     faces: &[&[u32]],
+    scalars: &[VertexScalar<'_>],
+    format: PlyFormat,
+) -> io::Result<()> {
+    write_ply_faces(w, positions, normals, Faces::Slices(faces), scalars, format)
+}
+
+/// The faces [`write_ply_faces`] writes, borrowed as the caller holds them (no copy).
+#[derive(Clone, Copy)]
+pub(crate) enum Faces<'a> {
+    Slices(&'a [&'a [u32]]),
+    Polygons(&'a [Vec<u32>]),
+    Triangles(&'a [[u32; 3]]),
+}
+
+impl<'a> Faces<'a> {
+    fn len(self) -> usize {
+        match self {
+            Faces::Slices(f) => f.len(),
+            Faces::Polygons(f) => f.len(),
+            Faces::Triangles(f) => f.len(),
+        }
+    }
+    fn get(self, i: usize) -> &'a [u32] {
+        match self {
+            Faces::Slices(f) => f[i],
+            Faces::Polygons(f) => &f[i],
+            Faces::Triangles(f) => &f[i],
+        }
+    }
+}
+
+/// [`write_ply`] for faces in any of the layouts of [`Faces`].
+pub(crate) fn write_ply_faces<W: Write>(
+    mut w: W,
+    positions: &[DVec3],
+    normals: Option<&[DVec3]>,
+    faces: Faces<'_>,
     scalars: &[VertexScalar<'_>],
     format: PlyFormat,
 ) -> io::Result<()> {
@@ -42,7 +113,10 @@ pub fn write_ply<W: Write>(
         }
     }
     let normals = normals.filter(|n| n.len() == nv);
-    let wide = faces.iter().any(|f| f.len() > 255);
+    let wide = match faces {
+        Faces::Triangles(_) => false,
+        _ => (0..faces.len()).any(|i| faces.get(i).len() > 255),
+    };
     writeln!(w, "ply")?;
     match format {
         PlyFormat::Ascii => writeln!(w, "format ascii 1.0")?,
@@ -59,55 +133,97 @@ pub fn write_ply<W: Write>(
         }
     }
     for s in scalars {
-        writeln!(w, "property float {}", s.name)?;
+        let ty = match s.ty {
+            ScalarType::Float => "float",
+            ScalarType::Double => "double",
+        };
+        writeln!(w, "property {ty} {}", s.name)?;
     }
     writeln!(w, "element face {}", faces.len())?;
     writeln!(w, "property list {} int vertex_indices", if wide { "int" } else { "uchar" })?;
     writeln!(w, "end_header")?;
     match format {
         PlyFormat::Ascii => {
-            for (i, p) in positions.iter().enumerate() {
-                write!(w, "{:?} {:?} {:?}", p.x, p.y, p.z)?;
-                if let Some(n) = normals {
-                    write!(w, " {:?} {:?} {:?}", n[i].x as f32, n[i].y as f32, n[i].z as f32)?;
+            write_chunks(&mut w, nv, |r, buf| {
+                let mut f32_text = zmij::Buffer::new();
+                for i in r {
+                    let p = positions[i];
+                    push_f64(buf, p.x);
+                    for c in [p.y, p.z] {
+                        buf.push(b' ');
+                        push_f64(buf, c);
+                    }
+                    let mut push_f32 = |buf: &mut Vec<u8>, x: f64| {
+                        buf.push(b' ');
+                        buf.extend_from_slice(f32_text.format(f32_clamped(x)).as_bytes());
+                    };
+                    if let Some(n) = normals {
+                        for c in n[i].to_array() {
+                            push_f32(buf, c);
+                        }
+                    }
+                    for s in scalars {
+                        match s.ty {
+                            ScalarType::Float => push_f32(buf, s.values[i]),
+                            ScalarType::Double => {
+                                buf.push(b' ');
+                                push_f64(buf, s.values[i]);
+                            }
+                        }
+                    }
+                    buf.push(b'\n');
                 }
-                for s in scalars {
-                    write!(w, " {:?}", s.values[i] as f32)?;
+                Ok(())
+            })?;
+            write_chunks(&mut w, faces.len(), |r, buf| {
+                for f in r.map(|i| faces.get(i)) {
+                    push_int(buf, f.len());
+                    for &i in f.iter() {
+                        buf.push(b' ');
+                        push_int(buf, i);
+                    }
+                    buf.push(b'\n');
                 }
-                writeln!(w)?;
-            }
-            for f in faces {
-                write!(w, "{}", f.len())?;
-                for i in f.iter() {
-                    write!(w, " {i}")?;
-                }
-                writeln!(w)?;
-            }
+                Ok(())
+            })?;
         }
         PlyFormat::BinaryLittleEndian => {
-            for (i, p) in positions.iter().enumerate() {
-                for c in p.to_array() {
-                    w.write_all(&c.to_le_bytes())?;
-                }
-                if let Some(n) = normals {
-                    for c in n[i].to_array() {
-                        w.write_all(&(c as f32).to_le_bytes())?;
+            let record = 24
+                + if normals.is_some() { 12 } else { 0 }
+                + scalars.iter().map(|s| if s.ty == ScalarType::Double { 8 } else { 4 }).sum::<usize>();
+            write_chunks(&mut w, nv, |r, buf| {
+                buf.reserve(r.len() * record);
+                for i in r {
+                    for c in positions[i].to_array() {
+                        buf.extend_from_slice(&c.to_le_bytes());
+                    }
+                    if let Some(n) = normals {
+                        for c in n[i].to_array() {
+                            buf.extend_from_slice(&f32_clamped(c).to_le_bytes());
+                        }
+                    }
+                    for s in scalars {
+                        match s.ty {
+                            ScalarType::Float => buf.extend_from_slice(&f32_clamped(s.values[i]).to_le_bytes()),
+                            ScalarType::Double => buf.extend_from_slice(&s.values[i].to_le_bytes()),
+                        }
                     }
                 }
-                for s in scalars {
-                    w.write_all(&(s.values[i] as f32).to_le_bytes())?;
+                Ok(())
+            })?;
+            write_chunks(&mut w, faces.len(), |r, buf| {
+                for f in r.map(|i| faces.get(i)) {
+                    if wide {
+                        buf.extend_from_slice(&(f.len() as i32).to_le_bytes());
+                    } else {
+                        buf.push(f.len() as u8);
+                    }
+                    for &i in f.iter() {
+                        buf.extend_from_slice(&(i as i32).to_le_bytes());
+                    }
                 }
-            }
-            for f in faces {
-                if wide {
-                    w.write_all(&(f.len() as i32).to_le_bytes())?;
-                } else {
-                    w.write_all(&[f.len() as u8])?;
-                }
-                for &i in f.iter() {
-                    w.write_all(&(i as i32).to_le_bytes())?;
-                }
-            }
+                Ok(())
+            })?;
         }
     }
     w.flush()
@@ -122,7 +238,6 @@ pub fn write_isophotes_ply<W: Write>(w: W, mesh: &SurfaceMesh, light: DVec3, str
     let stripes = crate::options::check_stripes(stripes).map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))?;
     let iso = crate::quality::isophote(&mesh.normals, light);
     let band = crate::quality::isophote_stripes(&mesh.normals, light, stripes);
-    let faces: Vec<&[u32]> = mesh.triangles.iter().map(|t| t.as_slice()).collect();
-    let scalars = [VertexScalar { name: "isophote", values: &iso }, VertexScalar { name: "stripe", values: &band }];
-    write_ply(w, &mesh.positions, Some(&mesh.normals), &faces, &scalars, PlyFormat::BinaryLittleEndian)
+    let scalars = [VertexScalar::float("isophote", &iso), VertexScalar::float("stripe", &band)];
+    write_ply_faces(w, &mesh.positions, Some(&mesh.normals), Faces::Triangles(&mesh.triangles), &scalars, PlyFormat::BinaryLittleEndian)
 }
