@@ -388,3 +388,36 @@ proptest! {
         prop_assert_eq!(triangles_intersect(a, b), triangles_intersect_exact(a, b));
     }
 }
+
+/// Many triangles (several chunks of the coarse search): the count still equals brute force.
+#[test]
+fn chunked_search_matches_brute_force_on_a_crumpled_grid() {
+    // A 20 × 20 grid of quads, z crumpled so that far-apart triangles cross.
+    let n = 20usize;
+    let pos: Vec<DVec3> = (0..=n)
+        .flat_map(|i| (0..=n).map(move |j| DVec3::new(i as f64 * 0.1, j as f64 * 0.1, ((i * 7 + j * 13) % 5) as f64 * 0.4 - 0.8)))
+        .map(|p| DVec3::new(p.x + 0.6 * (p.z * 3.0).sin(), p.y, p.z))
+        .collect();
+    let id = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mut brute = 0;
+    for a in 0..tris.len() {
+        for b in a + 1..tris.len() {
+            let (x, y) = (tris[a], tris[b]);
+            if x.iter().any(|v| y.contains(v)) {
+                continue;
+            }
+            if triangles_intersect(x.map(|v| pos[v as usize]), y.map(|v| pos[v as usize])) {
+                brute += 1;
+            }
+        }
+    }
+    assert!(brute > 0);
+    assert_eq!(self_intersections(&pos, &tris), brute);
+}

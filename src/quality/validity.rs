@@ -30,7 +30,7 @@ use crate::tessellate::SurfaceMesh;
 use std::collections::HashMap;
 use crate::mesh::PolyMesh;
 use glam::{DVec2, DVec3};
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use rayon::prelude::*;
 use robust::{orient2d, orient3d, Coord, Coord3D};
@@ -423,31 +423,58 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
             Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z))
         })
         .collect();
-    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
-    // Every leaf queries the tree for the boxes it overlaps, in parallel; a pair is kept by its
-    // smaller index and decided at once (no list of candidates).
-    let mut hits: Vec<(u32, u32)> = (0..kept_tris.len())
+    // Coarse to fine: chunks of CHUNK consecutive triangles (the tessellation emits a patch's
+    // triangles together, so a chunk is a compact piece of surface) get the union of their
+    // triangles' boxes; a BVH over the chunk boxes gives the overlapping chunk pairs (in
+    // parallel). Two triangles whose boxes overlap lie in one chunk or in two chunks whose boxes
+    // overlap, so every candidate pair of the triangle-level search is still visited, once.
+    const CHUNK: usize = 64;
+    let chunk_boxes: Vec<Aabb> = boxes.par_chunks(CHUNK).map(|c| c.iter().skip(1).fold(c[0], |a, b| a.merged(b))).collect();
+    let mut chunk_pairs: Vec<(u32, u32)> = if chunk_boxes.len() > 1 {
+        Bvh::from_leaves(BvhBuildStrategy::Binned, &chunk_boxes).traverse_bvtt_single_tree_parallel::<false>()
+    } else {
+        Vec::new()
+    };
+    chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
+    let range = |c: u32| (c as usize * CHUNK)..((c as usize + 1) * CHUNK).min(kept_tris.len());
+    let candidate = |i: usize, j: usize| -> bool {
+        if !boxes[i].intersects(&boxes[j]) {
+            return false;
+        }
+        let (ti, tj) = (&kept_tris[i], &kept_tris[j]);
+        if shell[i] != shell[j] || ti.iter().any(|v| tj.contains(v)) {
+            return false;
+        }
+        if let Some(g) = group {
+            if g[kept[i] as usize] == g[kept[j] as usize] {
+                return false;
+            }
+        }
+        triangles_intersect(ti.map(|v| positions[v as usize]), tj.map(|v| positions[v as usize]))
+    };
+    let mut hits: Vec<(u32, u32)> = chunk_pairs
         .into_par_iter()
-        .with_min_len(256)
-        .fold(Vec::new, |mut acc, i| {
-            let ti = &kept_tris[i];
-            let a = ti.map(|v| positions[v as usize]);
-            for j in bvh.intersect_aabb(&boxes[i]) {
-                let j = j as usize;
-                if j <= i {
-                    continue;
-                }
-                let tj = &kept_tris[j];
-                if shell[i] != shell[j] || ti.iter().any(|v| tj.contains(v)) {
-                    continue;
-                }
-                if let Some(g) = group {
-                    if g[kept[i] as usize] == g[kept[j] as usize] {
-                        continue;
+        .fold(Vec::new, |mut acc, (ca, cb)| {
+            if ca == cb {
+                let r = range(ca);
+                for i in r.clone() {
+                    for j in i + 1..r.end {
+                        if candidate(i, j) {
+                            acc.push((kept[i], kept[j]));
+                        }
                     }
                 }
-                if triangles_intersect(a, tj.map(|v| positions[v as usize])) {
-                    acc.push((kept[i], kept[j]));
+            } else {
+                let (ra, rb) = (range(ca), range(cb));
+                let (ba, bb) = (chunk_boxes[ca as usize], chunk_boxes[cb as usize]);
+                let near_b: Vec<usize> = rb.filter(|&j| boxes[j].intersects(&ba)).collect();
+                for i in ra.filter(|&i| boxes[i].intersects(&bb)) {
+                    for &j in &near_b {
+                        if candidate(i, j) {
+                            let (x, y) = (kept[i].min(kept[j]), kept[i].max(kept[j]));
+                            acc.push((x, y));
+                        }
+                    }
                 }
             }
             acc
