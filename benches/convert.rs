@@ -3,10 +3,13 @@
 //! ratio time(40k)/time(10k) (linear growth: ≤ 4.4). A plain `harness = false` main, so it runs
 //! with `cargo bench --bench convert`; `-- --quick` runs each size once, `-- --resolution R`
 //! changes the resolution.
+//! Every size is also converted without the validity checks ([`gbsurf::api::convert_unchecked`])
+//! in the same run, and the checks' share (time(with) − time(without)) / time(without) is printed
+//! (goal: ≤ 30 % at the default resolution, `-- --resolution 8`).
 //! Besides wall time it prints the process CPU time of the best run (user + system, from
 //! /proc/self/stat on Linux) and the load average, since the machine may be shared.
 
-use gbsurf::api::{convert, ConvertOptions, Method};
+use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
 use gbsurf::mesh::generate::torus;
 use std::time::Instant;
 
@@ -61,6 +64,14 @@ fn main() {
                 }
                 drop(c);
             }
+            let mut bare = f64::INFINITY;
+            for _ in 0..runs {
+                let t = Instant::now();
+                let u = convert_unchecked(&mesh, &opts).expect("conversion");
+                std::hint::black_box(&u);
+                bare = bare.min(t.elapsed().as_secs_f64());
+                drop(u);
+            }
             let verts = c.report.vertices as f64;
             println!(
                 "{method:>8} torus {:>6} quads: {:>8} vertices {:>8} triangles  {:>8.3} s (cpu {:.2} s, main thread {:.2} s)  {:>6.2} M vertices/s  (max G1 {:.1e}°, gap {:.1e})",
@@ -73,6 +84,14 @@ fn main() {
                 verts / best / 1e6,
                 c.report.max_g1_deg,
                 c.report.max_boundary_gap,
+            );
+            println!(
+                "{method:>8} torus {:>6} quads: without checks {bare:.3} s, with {best:.3} s: checks {:.3} s = {:.1} % of the conversion (folds {}, self-intersections {})",
+                a * b,
+                best - bare,
+                100.0 * (best - bare) / bare,
+                c.report.folds,
+                c.report.self_intersections,
             );
             times.push(best);
         }

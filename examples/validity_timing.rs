@@ -1,9 +1,11 @@
 //! Times a conversion and its validity checks separately on a quad torus:
 //! `cargo run --release --example validity_timing -- [a b] [resolution] [dual|topology]`
 //! (defaults: 100 × 100 quads, the default resolution, dual); a first argument ending in `.obj`
-//! reads that model instead of the torus. `FOLD_LEVEL=L` overrides the fold sampling level.
+//! reads that model instead of the torus. `FOLD_LEVEL=L` overrides the fold sampling level of
+//! the dense reference check ([`gbsurf::quality::find_folds`]), timed separately after the
+//! conversion with and without its checks.
 
-use gbsurf::api::{convert, ConvertOptions, Method};
+use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
 use gbsurf::mesh::generate::torus;
 use std::time::Instant;
 
@@ -25,6 +27,18 @@ fn main() {
     let t = Instant::now();
     let c = convert(&mesh, &opts, None).expect("conversion");
     let total = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let bare = convert_unchecked(&mesh, &opts).expect("conversion");
+    let t_bare = t.elapsed().as_secs_f64();
+    drop(bare);
+    println!(
+        "convert {total:.3} s, without checks {t_bare:.3} s: checks (in-pass folds, self-intersections, cage) {:.3} s = {:.1} % [folds {}, flipped {}, self-intersections {}]",
+        total - t_bare,
+        100.0 * (total - t_bare) / t_bare,
+        c.report.folds,
+        c.report.flipped_triangles,
+        c.report.self_intersections
+    );
     let surface = c.surface.as_ref().expect("surface");
     let t = Instant::now();
     let folds = gbsurf::quality::find_folds(surface, level, opts.weights);

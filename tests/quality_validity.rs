@@ -216,3 +216,208 @@ proptest! {
         prop_assert_eq!(x, triangles_intersect(m(a), m(b)));
     }
 }
+
+/// Dual construction of `mesh` with its patches edited by `edit`.
+fn edited_dual(mesh: &PolyMesh, edit: impl Fn(&mut gbsurf::gb::GbPatch)) -> gbsurf::construct::Surface {
+    let he = HalfEdgeMesh::from_polymesh(mesh).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    for p in surface.patches.iter_mut() {
+        let Patch::Gb(g) = p else { panic!("dual patches are GB") };
+        edit(g);
+    }
+    surface
+}
+
+/// The patches the tessellation pass finds folded, and those the dense check finds.
+fn in_pass_and_dense(surface: &gbsurf::construct::Surface) -> (Vec<usize>, Vec<usize>, gbsurf::tessellate::SurfaceMesh) {
+    let form = WeightForm::Squared;
+    let (m, _) = gbsurf::tessellate::tessellate_surface(surface, 8, form, None).unwrap();
+    let in_pass: Vec<usize> = m.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect();
+    let dense = find_folds(surface, fold_level(8), form);
+    let dense_patches: Vec<usize> = (0..surface.patches.len())
+        .filter(|&p| {
+            let mut one = surface.clone();
+            one.patches = vec![surface.patches[p].clone()];
+            one.neighbors = vec![vec![None; surface.patches[p].sides()]];
+            find_folds(&one, fold_level(8), form).patches > 0
+        })
+        .collect();
+    assert_eq!(dense.patches, dense_patches.len());
+    (in_pass, dense_patches, m)
+}
+
+#[test]
+fn the_tessellation_pass_finds_the_folds_of_the_dense_check() {
+    let form = WeightForm::Squared;
+    // Every patch of the cube pulled sideways (as above), and one patch only.
+    let pulled = |g: &mut gbsurf::gb::GbPatch| {
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        let t = g.eval_derivs(d.center(), form).su.normalize();
+        g.center += 40.0 * t;
+    };
+    let all = edited_dual(&cube(None), pulled);
+    let (in_pass, dense, m) = in_pass_and_dense(&all);
+    assert_eq!(in_pass, dense);
+    assert_eq!(in_pass.len(), all.patches.len());
+    assert!(m.fold.iter().any(|&f| f == 1));
+    assert_eq!(m.fold.len(), m.positions.len());
+    // The report of a conversion counts what the pass found, with sites in patch order.
+    let folds = gbsurf::quality::Folds::of_tessellation(&m);
+    assert_eq!(folds.patches, all.patches.len());
+    assert!(folds.sites.iter().enumerate().all(|(i, s)| s.patch == i));
+    // An unedited surface: nothing folded, no vertex flagged.
+    let plain = edited_dual(&cube(None), |_| {});
+    let (in_pass, dense, m) = in_pass_and_dense(&plain);
+    assert!(in_pass.is_empty() && dense.is_empty());
+    assert!(m.fold.iter().all(|&f| f == 0));
+    assert!(m.flipped_triangles.is_empty());
+}
+
+#[test]
+fn a_quad_torus_ignores_its_central_points_but_folds_with_its_ribbons() {
+    // The finding behind the "dual 8×6 torus with pulled central points has no folds" report:
+    // on four-sided GB patches of odd degree the ribbons' layers cover the whole control net, so
+    // the central control point has weight 0 everywhere. Pulling it changes nothing, and 0 folds
+    // is right.
+    let form = WeightForm::Squared;
+    let torus = gbsurf::mesh::generate::torus(8, 6, 10.0, 3.0).unwrap();
+    let plain = edited_dual(&torus, |_| {});
+    let pulled = edited_dual(&torus, |g| {
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        g.center += 16.0 * g.eval_derivs(d.center(), form).su;
+    });
+    let (a, _) = gbsurf::tessellate::tessellate_surface(&plain, 8, form, None).unwrap();
+    let (b, _) = gbsurf::tessellate::tessellate_surface(&pulled, 8, form, None).unwrap();
+    // (Up to rounding: the weight is 1 − Σ ribbon weights, 0 up to a few ulps.)
+    let moved = a.positions.iter().zip(&b.positions).map(|(p, q)| p.distance(*q)).fold(0.0, f64::max);
+    assert!(moved < 1e-9, "the central point has no weight on these patches: moved {moved}");
+    assert!(b.fold.iter().all(|&f| f == 0));
+    // Pulling the inner row of one ribbon per patch sideways does fold them, and both checks
+    // see it on the same patches.
+    let ribbon_pulled = edited_dual(&torus, |g| {
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        let su = g.eval_derivs(d.center(), form).su;
+        let row = &mut g.ribbons[0].rows[1];
+        let last = row.len() - 1;
+        for p in &mut row[1..last] {
+            *p += 2.0 * su;
+        }
+    });
+    let (in_pass, dense, m) = in_pass_and_dense(&ribbon_pulled);
+    assert_eq!(in_pass, dense);
+    assert_eq!(in_pass.len(), 48);
+    assert!(m.fold.iter().filter(|&&f| f == 1).count() > 48);
+}
+
+#[test]
+fn flipped_triangles_are_found() {
+    use gbsurf::tessellate::fold::flipped_triangles;
+    let pos = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+    let up = [DVec3::Z; 4];
+    // Counter-clockwise seen from +z agrees with the normals; the reversed one opposes them.
+    let tris = [[0, 1, 2], [1, 3, 2], [0, 2, 1]];
+    assert_eq!(flipped_triangles(&pos, &up, &tris), vec![2]);
+    // A vertex without a normal, or one normal agreeing: not flipped.
+    let mut some = up;
+    some[0] = DVec3::ZERO;
+    assert!(flipped_triangles(&pos, &some, &[[0, 2, 1]]).is_empty());
+    some[0] = -DVec3::Z;
+    assert!(flipped_triangles(&pos, &some, &[[0, 2, 1]]).is_empty());
+}
+
+#[test]
+fn ribbon_normal_is_the_ribbon_frame_normal() {
+    use gbsurf::construct::check::ribbon_frame;
+    use gbsurf::tessellate::fold::ribbon_normal;
+    for method in [Method::Dual, Method::Topology] {
+        let he = HalfEdgeMesh::from_polymesh(&cube(Some(DVec3::new(1.5, 1.2, 0.9)))).unwrap();
+        let opts = ConvertOptions { method, ..Default::default() };
+        let surface = if method == Method::Dual { build_dual(&he, &opts) } else { gbsurf::construct::build_topology(&he, &opts) }.unwrap();
+        for p in &surface.patches {
+            for r in p.ribbons() {
+                for k in 0..=16 {
+                    let s = k as f64 / 16.0;
+                    let (_, t, x) = ribbon_frame(r, s);
+                    let want = t.cross(x).normalize();
+                    let got = ribbon_normal(r, s);
+                    assert!((got - want).length() < 1e-12, "{method} s = {s}: {got} vs {want}");
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+    /// Where the floating-point filter decides an orientation, it is the exact one.
+    #[test]
+    fn the_orientation_filter_agrees_with_the_exact_predicate(
+        c in proptest::collection::vec(-1.0e3f64..1.0e3, 9),
+        t in proptest::collection::vec(-1.0f64..2.0, 2),
+        h in prop_oneof![Just(0.0), -1e-12f64..1e-12, -1.0f64..1.0],
+        scale in prop_oneof![Just(1.0), Just(1e-150), Just(1e150)],
+    ) {
+        use gbsurf::quality::validity::orient_filtered;
+        let p = |i: usize| DVec3::new(c[3 * i], c[3 * i + 1], c[3 * i + 2]) * scale;
+        let (a, b, cc) = (p(0), p(1), p(2));
+        // A point near the plane (in it for h = 0, up to rounding), often on the exact boundary.
+        let n = (b - a).cross(cc - a);
+        let d = a + t[0] * (b - a) + t[1] * (cc - a) + h * scale * n.normalize_or_zero();
+        let exact = robust::orient3d(
+            robust::Coord3D { x: a.x, y: a.y, z: a.z },
+            robust::Coord3D { x: b.x, y: b.y, z: b.z },
+            robust::Coord3D { x: cc.x, y: cc.y, z: cc.z },
+            robust::Coord3D { x: d.x, y: d.y, z: d.z },
+        );
+        // robust::orient3d is positive when d lies below the plane: the opposite sign.
+        let sign = (exact < 0.0) as i8 - (exact > 0.0) as i8;
+        if let Some(s) = orient_filtered(a, b, cc, d) {
+            prop_assert_eq!(s, sign);
+        }
+    }
+
+    /// The filtered triangle test equals the exact one.
+    #[test]
+    fn filtered_triangle_test_equals_exact(c in proptest::collection::vec(-3i32..3, 18), e in -1e-9f64..1e-9) {
+        use gbsurf::quality::validity::triangles_intersect_exact;
+        let mut p: Vec<DVec3> = c.chunks(3).map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)).collect();
+        // One vertex nudged off the lattice: near-coplanar and near-touching cases.
+        p[3].z += e;
+        let (a, b) = ([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+        prop_assume!((a[1] - a[0]).cross(a[2] - a[0]) != DVec3::ZERO && (b[1] - b[0]).cross(b[2] - b[0]) != DVec3::ZERO);
+        prop_assert_eq!(triangles_intersect(a, b), triangles_intersect_exact(a, b));
+    }
+}
+
+/// Many triangles (several chunks of the coarse search): the count still equals brute force.
+#[test]
+fn chunked_search_matches_brute_force_on_a_crumpled_grid() {
+    // A 20 × 20 grid of quads, z crumpled so that far-apart triangles cross.
+    let n = 20usize;
+    let pos: Vec<DVec3> = (0..=n)
+        .flat_map(|i| (0..=n).map(move |j| DVec3::new(i as f64 * 0.1, j as f64 * 0.1, ((i * 7 + j * 13) % 5) as f64 * 0.4 - 0.8)))
+        .map(|p| DVec3::new(p.x + 0.6 * (p.z * 3.0).sin(), p.y, p.z))
+        .collect();
+    let id = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mut brute = 0;
+    for a in 0..tris.len() {
+        for b in a + 1..tris.len() {
+            let (x, y) = (tris[a], tris[b]);
+            if x.iter().any(|v| y.contains(v)) {
+                continue;
+            }
+            if triangles_intersect(x.map(|v| pos[v as usize]), y.map(|v| pos[v as usize])) {
+                brute += 1;
+            }
+        }
+    }
+    assert!(brute > 0);
+    assert_eq!(self_intersections(&pos, &tris), brute);
+}

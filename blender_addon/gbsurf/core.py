@@ -106,6 +106,8 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     mesh_io.set_point_attribute(mesh, "gb_mean_curvature", 'FLOAT', conv.mean_curvature)
     mesh_io.set_point_attribute(mesh, "gb_gaussian_curvature", 'FLOAT', conv.gaussian_curvature)
     mesh_io.set_point_attribute(mesh, "gb_g1_deviation", 'FLOAT', conv.g1_deviation)
+    # 1.0 where the surface folds (see the report's folds), else 0.0.
+    mesh_io.set_point_attribute(mesh, "gb_fold", 'FLOAT', conv.fold)
     mesh_io.set_point_attribute(
         mesh, "gb_curvature_color", 'FLOAT_COLOR', mesh_io.diverging_colors(conv.mean_curvature))
     mesh_io.set_point_attribute(

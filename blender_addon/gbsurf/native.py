@@ -21,6 +21,7 @@ from ctypes import (
     c_float,
     c_size_t,
     c_uint32,
+    c_uint8,
     c_uint64,
     c_void_p,
 )
@@ -119,6 +120,7 @@ ProgressFn = ctypes.CFUNCTYPE(c_bool, c_float, c_void_p)
 _R = POINTER(_Result)
 _PD = POINTER(POINTER(c_double))
 _PU = POINTER(POINTER(c_uint32))
+_PB = POINTER(POINTER(c_uint8))
 _S = POINTER(c_size_t)
 
 # name: (restype, argtypes); a restype of c_uint32 means a status code.
@@ -158,6 +160,7 @@ _SIGNATURES = {
     "gbsurf_mesh_mean_curvature": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_gaussian_curvature": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_g1_deviation": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_fold": (c_uint32, [_R, _PB, _S]),
     "gbsurf_patch_count": (c_uint32, [_R, _S]),
     "gbsurf_patch_kind": (c_uint32, [_R, c_size_t, POINTER(c_uint32)]),
     "gbsurf_patch_sides": (c_uint32, [_R, c_size_t, _S]),
@@ -303,7 +306,8 @@ class Conversion:
     """Everything copied out of a result handle (plain numpy arrays; the handle is freed).
 
     positions (V,3) float64, normals (V,3), triangles (T,3) uint32, patch_index (V,) uint32,
-    mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees),
+    mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees), fold (V,) uint8
+    (1 on folded samples and the vertices of flipped triangles),
     curves: list of (3k+1,3) arrays, each curve's cubic Bezier chain (segment i = rows 3i..3i+3),
     control_net: dict of positions (N,3), face_sizes (F,), face_indices, edges (E,2), patch (N,)
     or None, patches: list of dicts {"kind", "center" (3,) or None, "ribbons": [(layers,
@@ -315,7 +319,7 @@ def _view(lib, fn, handle, ctype, *args):
     data = POINTER(ctype)()
     n = c_size_t()
     _check(lib, fn(handle, *args, ctypes.byref(data), ctypes.byref(n)))
-    dtype = np.float64 if ctype is c_double else np.uint32
+    dtype = {c_double: np.float64, c_uint8: np.uint8}.get(ctype, np.uint32)
     if n.value == 0:
         return np.zeros(0, dtype=dtype)
     return np.ctypeslib.as_array(data, shape=(n.value,)).copy()
@@ -395,6 +399,7 @@ def _unpack(lib, h, want_patches, want_curves, want_control_net):
     c.mean_curvature = _view(lib, lib.gbsurf_mesh_mean_curvature, h, c_double)
     c.gaussian_curvature = _view(lib, lib.gbsurf_mesh_gaussian_curvature, h, c_double)
     c.g1_deviation = _view(lib, lib.gbsurf_mesh_g1_deviation, h, c_double)
+    c.fold = _view(lib, lib.gbsurf_mesh_fold, h, c_uint8)
     rep = Report()
     rep.struct_size = ctypes.sizeof(Report)
     _check(lib, lib.gbsurf_result_report(h, ctypes.byref(rep)))

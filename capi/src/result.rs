@@ -741,6 +741,36 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
     copy_array("gbsurf_mesh_copy_g1_deviation", result, |r| Ok(&r.mesh.g1_deviation_deg), buf, capacity, written)
 }
 
+/// View of the per-vertex fold flag: 1 where the vertex is a folded sample (its normal turned
+/// against its ribbon's normal) or a vertex of a flipped triangle, else 0 (all 0 for the
+/// subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
+/// values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_fold(
+    result: *const GbsurfResult,
+    data: *mut *const u8,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_fold", result, |r| Ok(&r.mesh.fold), data, len)
+}
+
+/// Copy-out variant of `gbsurf_mesh_fold`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_fold(
+    result: *const GbsurfResult,
+    buf: *mut u8,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_mesh_copy_fold", result, |r| Ok(&r.mesh.fold), buf, capacity, written)
+}
+
 /// Number of vertices of the output mesh.
 ///
 /// # Safety

@@ -429,6 +429,24 @@ uint32_t gbsurf_mesh_copy_g1_deviation(const GbsurfResult *result,
                                        size_t capacity,
                                        size_t *written);
 
+// View of the per-vertex fold flag: 1 where the vertex is a folded sample (its normal turned
+// against its ribbon's normal) or a vertex of a flipped triangle, else 0 (all 0 for the
+// subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
+// values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_fold(const GbsurfResult *result, const uint8_t **data, size_t *len);
+
+// Copy-out variant of `gbsurf_mesh_fold`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_mesh_copy_fold(const GbsurfResult *result,
+                               uint8_t *buf,
+                               size_t capacity,
+                               size_t *written);
+
 // Number of vertices of the output mesh.
 //
 // # Safety

@@ -179,6 +179,9 @@ public:
     /// G1 deviation in degrees per vertex.
     span<double> g1_deviation() const& { return view(gbsurf_mesh_g1_deviation); }
     span<double> g1_deviation() const&& = delete;
+    /// Fold flag per vertex: 1 on folded samples and flipped triangles' vertices, else 0.
+    span<uint8_t> fold() const& { return view(gbsurf_mesh_fold); }
+    span<uint8_t> fold() const&& = delete;
 
     std::size_t patch_count() const { return count(gbsurf_patch_count); }
     patch_kind kind(std::size_t patch) const {

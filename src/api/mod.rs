@@ -121,7 +121,18 @@ pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, progress: Progress<'_>
     let start = std::time::Instant::now();
     options.validate()?;
     let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
-    convert_valid(&he, mesh, options, progress, start)
+    convert_valid(&he, mesh, options, progress, start, true)
+}
+
+/// [`convert`] without the validity checks (no fold test, no self-intersection counts: the
+/// report's `folds`, `flipped_triangles`, `self_intersections` and `input_self_intersections`
+/// stay 0 and `valid` is false). Only for measuring what the checks cost (benches/convert.rs).
+#[doc(hidden)]
+pub fn convert_unchecked(mesh: &PolyMesh, options: &ConvertOptions) -> Result<Conversion, ConvertError> {
+    let start = std::time::Instant::now();
+    options.validate()?;
+    let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
+    convert_valid(&he, mesh, options, None, start, false)
 }
 
 fn convert_valid(
@@ -130,6 +141,7 @@ fn convert_valid(
     options: &ConvertOptions,
     mut progress: Progress<'_>,
     start: std::time::Instant,
+    checks: bool,
 ) -> Result<Conversion, ConvertError> {
     let mut warnings: Vec<String> = he.warnings().iter().map(|w| w.to_string()).collect();
     let mut report = Report {
@@ -164,7 +176,7 @@ fn convert_valid(
         warnings.extend(surface.warnings.iter().cloned());
         tick(0.2)?;
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
-        let (m, stats) = crate::tessellate::tessellate_surface(&surface, options.resolution, options.weights, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.resolution, options.weights, checks, Some(&mut sub))?;
         for p in &surface.patches {
             report.count_sides(p.sides());
         }
@@ -174,9 +186,11 @@ fn convert_valid(
         report.max_g1_deg = stats.max_g1_deg;
         report.mean_g1_deg = stats.mean_g1_deg;
         report.sharp_edges = stats.crease_sides;
-        let folds = crate::quality::find_folds(&surface, crate::quality::validity::fold_level(options.resolution), options.weights);
+        // Checked in the tessellation pass, on its own samples (crate::tessellate::fold).
+        let folds = crate::quality::Folds::of_tessellation(&m);
         report.folds = folds.patches;
         report.fold_sites = folds.sites;
+        report.flipped_triangles = folds.flipped_triangles;
         tick(0.93)?;
         (m, Some(surface))
     } else {
@@ -198,12 +212,16 @@ fn convert_valid(
     report.duplicate_vertices = check.duplicate_vertices;
     report.zero_area_triangles = check.zero_area_triangles;
     report.input_closed = he.is_closed();
-    report.self_intersections = crate::quality::self_intersections(&out.positions, &out.triangles);
-    tick(0.98)?;
-    report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
+    if checks {
+        report.self_intersections = crate::quality::self_intersections(&out.positions, &out.triangles);
+        tick(0.98)?;
+        report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
+    }
     report.max_abs_mean_curvature_times_diagonal =
         crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
-    report.set_valid();
+    if checks {
+        report.set_valid();
+    }
     if !check.is_two_manifold() {
         warnings.push(format!(
             "output is not a consistently oriented two-manifold: {} non-manifold edges, {} non-manifold vertices, {} inconsistent edges",
@@ -237,7 +255,7 @@ pub fn convert_file(path: impl AsRef<Path>, options: &ConvertOptions, progress: 
     let (mesh, map) = crate::mesh::read_polymesh(path)?;
     let mut he = crate::mesh::HalfEdgeMesh::from_polymesh(&mesh).map_err(|e| e.with_source(&map))?;
     he.annotate_warnings(&map);
-    convert_valid(&he, &mesh, options, progress, start)
+    convert_valid(&he, &mesh, options, progress, start, true)
 }
 
 #[allow(unused)]

@@ -26,6 +26,7 @@ pub(super) fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Res
     let nv = current.positions.len();
     let mut out = SurfaceMesh { positions: current.positions.clone(), ..Default::default() };
     out.patch = vec![u32::MAX; nv];
+    out.fold = vec![0; nv];
     for (k, f) in convex.faces.iter().enumerate() {
         let anc = piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0);
         for i in 1..f.len().saturating_sub(1) {

@@ -44,14 +44,18 @@ pub struct Report {
     pub input_faces: usize,
     /// Warnings collected on the way (dropped vertices, split faces, …).
     pub warnings: Vec<String>,
-    /// Patches that fold: their Jacobian turns negative against their ribbons' normals somewhere
-    /// on a dense sampling ([`crate::quality::validity::find_folds`]; 0 for subdivision methods).
+    /// Patches that fold: a tessellation sample whose normal turns against its ribbon's normal,
+    /// or a flipped output triangle ([`crate::quality::validity::Folds::of_tessellation`]; 0 for
+    /// subdivision methods).
     #[serde(default)]
     pub folds: usize,
     /// The first few folded patches (at most [`crate::quality::validity::MAX_FOLD_SITES`]) with
     /// the domain point of their worst sample.
     #[serde(default)]
     pub fold_sites: Vec<FoldSite>,
+    /// Output triangles whose geometric normal opposes all three vertex normals.
+    #[serde(default)]
+    pub flipped_triangles: usize,
     /// Pairs of output triangles of one connected shell, sharing no vertex, that meet.
     #[serde(default)]
     pub self_intersections: usize,
@@ -89,7 +93,8 @@ impl Report {
         }
         if self.folds > 0 {
             let first = self.fold_sites.first().map(|s| format!(" (first: patch {} at ({:.4}, {:.4}))", s.patch, s.u, s.v)).unwrap_or_default();
-            out.push(format!("{} folded patches{first}", self.folds));
+            let flipped = if self.flipped_triangles > 0 { format!(", {} flipped triangles", self.flipped_triangles) } else { String::new() };
+            out.push(format!("{} folded patches{first}{flipped}", self.folds));
         }
         if self.self_intersections > 0 && self.input_self_intersections == 0 {
             out.push(format!("{} self-intersecting triangle pairs", self.self_intersections));

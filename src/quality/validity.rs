@@ -2,14 +2,17 @@
 //! output triangle mesh (and of the input cage, so a report can tell new intersections from the
 //! input's own), and the largest |H| times the bounding-box diagonal.
 //!
-//! - Folds ([`find_folds`]): every patch is sampled on the barycentric grids of
-//!   [`fold_sample_points`] with its exact first derivatives S_u, S_v. At a sample of domain
-//!   triangle i (centre, v_{i−1}, v_i) with barycentric weights (a, b, c) on (centre, v_{i−1}, v_i),
-//!   the reference normal is the boundary frame normal T × X of ribbon i
-//!   ([`ribbon_frame`]) at s = c/(b + c), the foot of the sample on side i. The sample is folded
-//!   where the Jacobian measured against that normal, (S_u × S_v)·(T × X), is negative: the
+//! - Folds: a sample of domain triangle i (centre, v_{i−1}, v_i) with barycentric weights
+//!   (a, b, c) on (centre, v_{i−1}, v_i) is folded where its unit normal (S_u × S_v)/|S_u × S_v|
+//!   turns against the reference normal, the boundary frame normal T × X of ribbon i
+//!   ([`ribbon_frame`]) at s = c/(b + c), the foot of the sample on side i: the
 //!   parameterisation turned over, or the surface normal turned against its ribbon's normal. Both
-//!   are oriented alike (side i runs counter-clockwise, X points into the domain).
+//!   are oriented alike (side i runs counter-clockwise, X points into the domain). Every
+//!   conversion applies this rule inside the tessellation pass to the samples it evaluates anyway
+//!   ([`crate::tessellate::fold`], collected by [`Folds::of_tessellation`]), and also counts
+//!   flipped output triangles (geometric normal against all three vertex normals). The per-vertex
+//!   flag `SurfaceMesh::fold` marks both. [`find_folds`] applies the same rule on a denser
+//!   sampling (level [`fold_level`]) as a reference for tests and studies.
 //! - Self-intersections ([`self_intersections`]): pairs of triangles sharing no vertex, in the
 //!   same connected shell, that have a point in common. Candidate pairs come from a bounding
 //!   volume hierarchy of the triangles' boxes (parry3d's [`Bvh`]); each pair is decided exactly
@@ -21,12 +24,14 @@
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
-use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
+use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator};
+use crate::tessellate::fold::Sectors;
+use crate::tessellate::SurfaceMesh;
 use std::collections::HashMap;
 use crate::mesh::PolyMesh;
 use glam::{DVec2, DVec3};
-use parry3d_f64::bounding_volume::Aabb;
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use rayon::prelude::*;
 use robust::{orient2d, orient3d, Coord, Coord3D};
 
@@ -49,8 +54,35 @@ pub struct Folds {
     pub patches: usize,
     /// Folded samples in all.
     pub samples: usize,
-    /// The first [`MAX_FOLD_SITES`] folded patches (in patch order) and where.
+    /// The first [`MAX_FOLD_SITES`] patches with folded samples (in patch order) and where.
     pub sites: Vec<FoldSite>,
+    /// Output triangles turned over against their vertices' normals (0 from [`find_folds`]).
+    pub flipped_triangles: usize,
+}
+
+impl Folds {
+    /// The folds the tessellation found on its own samples ([`crate::tessellate::fold`]): a
+    /// patch folds where it has a folded sample or a flipped triangle.
+    pub fn of_tessellation(mesh: &SurfaceMesh) -> Folds {
+        let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
+        for &t in &mesh.flipped_triangles {
+            if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
+                *f = true;
+            }
+        }
+        let mut out = Folds { flipped_triangles: mesh.flipped_triangles.len(), ..Folds::default() };
+        for (p, (f, &is)) in mesh.patch_folds.iter().zip(&folded).enumerate() {
+            if !is {
+                continue;
+            }
+            out.patches += 1;
+            out.samples += f.samples;
+            if let (Some(uv), true) = (f.worst, out.sites.len() < MAX_FOLD_SITES) {
+                out.sites.push(FoldSite { patch: p, u: uv.x, v: uv.y });
+            }
+        }
+        out
+    }
 }
 
 /// Fold sampling level for tessellation resolution `r`: twice as dense as the tessellation, at
@@ -122,53 +154,6 @@ fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<
     (count, at)
 }
 
-/// Barycentric weights (b, c) of `uv` on (v_{i−1}, v_i) in the domain triangle (centre, v_{i−1},
-/// v_i) of `domain` that contains it (the one whose smaller weight is largest), and that i.
-fn domain_sector(domain: &[DVec2], centre: DVec2, uv: DVec2) -> (usize, f64, f64) {
-    let n = domain.len();
-    let q = uv - centre;
-    let mut best = (0, 0.0, 0.0, f64::NEG_INFINITY);
-    for i in 0..n {
-        let (e0, e1) = (domain[(i + n - 1) % n] - centre, domain[i] - centre);
-        let det = e0.perp_dot(e1);
-        if det == 0.0 {
-            continue;
-        }
-        let (b, c) = (q.perp_dot(e1) / det, e0.perp_dot(q) / det);
-        if b.min(c) > best.3 {
-            best = (i, b, c, b.min(c));
-        }
-    }
-    (best.0, best.1, best.2)
-}
-
-/// Folds of one patch from its samples `points` at the domain points `uv`: (folded samples,
-/// worst domain point).
-fn sample_folds(patch: &Patch, domain: &[DVec2], uv: &[DVec2], points: &[SurfacePoint]) -> (usize, Option<DVec2>) {
-    let ribbons = patch.ribbons();
-    let centre = domain.iter().copied().sum::<DVec2>() / domain.len().max(1) as f64;
-    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
-    for (&x, sp) in uv.iter().zip(points) {
-        if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
-            continue;
-        }
-        let (i, b, c) = domain_sector(domain, centre, x);
-        let Some(ribbon) = ribbons.get(i) else { continue };
-        let s = if b + c > 1e-12 { (c / (b + c)).clamp(0.0, 1.0) } else { 0.5 };
-        let (_, t, xv) = ribbon_frame(ribbon, s);
-        let reference = t.cross(xv).normalize_or_zero();
-        let rel = sp.normal.dot(reference);
-        if reference != DVec3::ZERO && rel < 0.0 {
-            count += 1;
-            if rel < worst {
-                worst = rel;
-                at = Some(x);
-            }
-        }
-    }
-    (count, at)
-}
-
 /// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
 /// whose Jacobian turns negative against their ribbons' normals (see the module doc).
 ///
@@ -203,13 +188,13 @@ pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
 /// layout cannot be built.
 fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<(usize, Option<DVec2>)>> {
     let eval = GbSurfaceEvaluator::new(surface, level, form).ok()?;
-    let mut layouts: HashMap<usize, (Vec<DVec2>, SampleLayout)> = HashMap::new();
+    let mut layouts: HashMap<usize, (Sectors, SampleLayout)> = HashMap::new();
     for p in &surface.patches {
         let n = p.sides();
         if let std::collections::hash_map::Entry::Vacant(e) = layouts.entry(n) {
             let domain = eval.domain(n);
             let layout = SampleLayout::new(&domain, level).ok()?;
-            e.insert((domain, layout));
+            e.insert((Sectors::new(&domain, &layout.uv), layout));
         }
     }
     Some(
@@ -218,12 +203,13 @@ fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<
             .par_iter()
             .enumerate()
             .map_init(Vec::new, |buf, (i, p)| {
-                let (domain, layout) = &layouts[&p.sides()];
+                let (sectors, layout) = &layouts[&p.sides()];
                 eval.evaluate(surface, i, layout, buf);
                 if buf.len() != layout.uv.len() {
                     return patch_folds(p, level, form);
                 }
-                sample_folds(p, domain, &layout.uv, buf)
+                let f = crate::tessellate::fold::patch_folds(p, sectors, &layout.uv, buf);
+                (f.samples.len(), f.worst)
             })
             .collect(),
     )
@@ -295,8 +281,86 @@ fn segment_meets_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
     !(o.iter().any(|&s| s > 0) && o.iter().any(|&s| s < 0))
 }
 
+/// The plane of a triangle, for the floating-point filter of [`orient_filtered`]: its first
+/// vertex, the rounded normal (e1 × e2 with e1 = b − a, e2 = c − a) and the rounded absolute
+/// products of every minor (|e1_j e2_k| + |e1_k e2_j|).
+#[derive(Clone, Copy)]
+struct FilterPlane {
+    a: DVec3,
+    n: DVec3,
+    m: DVec3,
+}
+
+impl FilterPlane {
+    fn new(t: [DVec3; 3]) -> FilterPlane {
+        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+        let m = DVec3::new(
+            (e1.y * e2.z).abs() + (e1.z * e2.y).abs(),
+            (e1.z * e2.x).abs() + (e1.x * e2.z).abs(),
+            (e1.x * e2.y).abs() + (e1.y * e2.x).abs(),
+        );
+        FilterPlane { a: t[0], n: e1.cross(e2), m }
+    }
+
+    /// The sign of det(e1, e2, x − a) where floating point proves it, else 0 (see
+    /// [`orient_filtered`] for the bound).
+    fn side(&self, x: DVec3) -> i8 {
+        let w = x - self.a;
+        let det = w.dot(self.n);
+        let perm = w.abs().dot(self.m);
+        // Below 1e-200 (or on overflow) the relative bound does not cover underflow: undecided.
+        if !(perm >= 1e-200 && perm < f64::MAX) {
+            return 0;
+        }
+        let bound = FILTER_EPS * perm;
+        (det > bound) as i8 - (det < -bound) as i8
+    }
+}
+
+/// Relative error bound of the filter: 12 u with the unit roundoff u = ε/2 (the derivation in
+/// [`orient_filtered`] gives 8.01 u).
+const FILTER_EPS: f64 = 12.0 * f64::EPSILON / 2.0;
+
+/// The orientation of `d` against the plane of (a, b, c) decided in floating point where that is
+/// provably right, `None` where the exact predicate must decide. `Some(s)` has the sign of
+/// det(b − a, c − a, d − a) (the opposite of [`robust::orient3d`]'s, which is positive below).
+///
+/// Bound: det = Σ ± w_i e1_j e2_k over six products of the differences w = d − a, e1 = b − a,
+/// e2 = c − a. In floating point (unit roundoff u = ε/2) every product passes through at most 8
+/// roundings (three differences, the product e1_j e2_k, the minor's subtraction, the product with
+/// w_i, two additions of the dot product), so |fl(det) − det| ≤ γ₈ P with γ₈ = 8u/(1 − 8u) and
+/// P = Σ |w_i e1_j e2_k| of the exact differences (Higham, Accuracy and Stability, §3.1).
+/// P ≤ fl(P̂)/((1 − γ₈)(1 − u)³) for the permanent fl(P̂) computed alike from the rounded
+/// differences, so |fl(det) − det| < 8.01 u fl(P̂) ≤ 12 u fl(P̂): a rounded det beyond that bound
+/// has the exact sign. Underflow adds at most a few subnormal units, far below the bound once
+/// fl(P̂) ≥ 1e-200; smaller or non-finite permanents are left undecided.
+pub fn orient_filtered(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Option<i8> {
+    match FilterPlane::new([a, b, c]).side(d) {
+        0 => None,
+        s => Some(s),
+    }
+}
+
+/// All three points strictly on one side of the plane, proven in floating point.
+fn separated_by(plane: &FilterPlane, t: &[DVec3; 3]) -> bool {
+    let s = t.map(|x| plane.side(x));
+    (s[0] == 1 && s[1] == 1 && s[2] == 1) || (s[0] == -1 && s[1] == -1 && s[2] == -1)
+}
+
 /// Two closed, non-degenerate triangles have a point in common (exact predicates).
+///
+/// A floating-point filter with a proven error bound ([`orient_filtered`]) first rejects pairs
+/// where one triangle lies strictly on one side of the other's plane, the common case for nearby
+/// triangles of a smooth surface; every other pair goes to the exact predicates.
 pub fn triangles_intersect(a: [DVec3; 3], b: [DVec3; 3]) -> bool {
+    if separated_by(&FilterPlane::new(a), &b) || separated_by(&FilterPlane::new(b), &a) {
+        return false;
+    }
+    triangles_intersect_exact(a, b)
+}
+
+/// [`triangles_intersect`] with the exact predicates only.
+pub fn triangles_intersect_exact(a: [DVec3; 3], b: [DVec3; 3]) -> bool {
     // Quick rejection: all of one triangle strictly on one side of the other's plane.
     let sb = b.map(|x| orient(a[0], a[1], a[2], x));
     if sb.iter().all(|&s| s > 0) || sb.iter().all(|&s| s < 0) {
@@ -359,30 +423,66 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
             Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z))
         })
         .collect();
-    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
-    let mut candidates: Vec<(u32, u32)> = Vec::new();
-    bvh.traverse_bvtt_single_tree::<false>(&mut BvhWorkspace::default(), &mut |i, j| {
-        let (ti, tj) = (&kept_tris[i as usize], &kept_tris[j as usize]);
-        if shell[i as usize] != shell[j as usize] || ti.iter().any(|v| tj.contains(v)) {
-            return;
+    // Coarse to fine: chunks of CHUNK consecutive triangles (the tessellation emits a patch's
+    // triangles together, so a chunk is a compact piece of surface) get the union of their
+    // triangles' boxes; a BVH over the chunk boxes gives the overlapping chunk pairs (in
+    // parallel). Two triangles whose boxes overlap lie in one chunk or in two chunks whose boxes
+    // overlap, so every candidate pair of the triangle-level search is still visited, once.
+    const CHUNK: usize = 64;
+    let chunk_boxes: Vec<Aabb> = boxes.par_chunks(CHUNK).map(|c| c.iter().skip(1).fold(c[0], |a, b| a.merged(b))).collect();
+    let mut chunk_pairs: Vec<(u32, u32)> = if chunk_boxes.len() > 1 {
+        Bvh::from_leaves(BvhBuildStrategy::Binned, &chunk_boxes).traverse_bvtt_single_tree_parallel::<false>()
+    } else {
+        Vec::new()
+    };
+    chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
+    let range = |c: u32| (c as usize * CHUNK)..((c as usize + 1) * CHUNK).min(kept_tris.len());
+    let candidate = |i: usize, j: usize| -> bool {
+        if !boxes[i].intersects(&boxes[j]) {
+            return false;
+        }
+        let (ti, tj) = (&kept_tris[i], &kept_tris[j]);
+        if shell[i] != shell[j] || ti.iter().any(|v| tj.contains(v)) {
+            return false;
         }
         if let Some(g) = group {
-            if g[kept[i as usize] as usize] == g[kept[j as usize] as usize] {
-                return;
+            if g[kept[i] as usize] == g[kept[j] as usize] {
+                return false;
             }
         }
-        candidates.push((i.min(j), i.max(j)));
-    });
-    let mut hits: Vec<(u32, u32)> = candidates
+        triangles_intersect(ti.map(|v| positions[v as usize]), tj.map(|v| positions[v as usize]))
+    };
+    let mut hits: Vec<(u32, u32)> = chunk_pairs
         .into_par_iter()
-        .with_min_len(1024)
-        .filter(|&(i, j)| {
-            let a = kept_tris[i as usize].map(|v| positions[v as usize]);
-            let b = kept_tris[j as usize].map(|v| positions[v as usize]);
-            triangles_intersect(a, b)
+        .fold(Vec::new, |mut acc, (ca, cb)| {
+            if ca == cb {
+                let r = range(ca);
+                for i in r.clone() {
+                    for j in i + 1..r.end {
+                        if candidate(i, j) {
+                            acc.push((kept[i], kept[j]));
+                        }
+                    }
+                }
+            } else {
+                let (ra, rb) = (range(ca), range(cb));
+                let (ba, bb) = (chunk_boxes[ca as usize], chunk_boxes[cb as usize]);
+                let near_b: Vec<usize> = rb.filter(|&j| boxes[j].intersects(&ba)).collect();
+                for i in ra.filter(|&i| boxes[i].intersects(&bb)) {
+                    for &j in &near_b {
+                        if candidate(i, j) {
+                            let (x, y) = (kept[i].min(kept[j]), kept[i].max(kept[j]));
+                            acc.push((x, y));
+                        }
+                    }
+                }
+            }
+            acc
         })
-        .map(|(i, j)| (kept[i as usize], kept[j as usize]))
-        .collect();
+        .reduce(Vec::new, |mut x, mut y| {
+            x.append(&mut y);
+            x
+        });
     hits.par_sort_unstable();
     hits.dedup();
     hits

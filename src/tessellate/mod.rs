@@ -4,10 +4,12 @@
 //! - [`surface`]: a whole surface, step by step: layouts, the welding map ([`weld`]), parallel
 //!   evaluation into per-patch pieces of the output, the joins (module `measure`: welding of
 //!   shared samples, boundary gaps, G1) and the normal fallback.
+//! - [`fold`]: the fold rule on the samples the tessellation evaluates, and flipped triangles.
 //! - [`evaluator`]: the patch evaluators and the weight tables they own ([`TableCache`]).
 
 pub mod error;
 pub mod evaluator;
+pub mod fold;
 mod measure;
 pub mod patch;
 pub mod surface;
@@ -15,4 +17,4 @@ pub mod weld;
 
 pub use error::TessellateError;
 pub use evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint, TableCache};
-pub use surface::{tessellate_surface, tessellate_surface_with, SurfaceMesh, WeldStats};
+pub use surface::{tessellate_surface, tessellate_surface_with, SurfaceMesh, TessellationFolds, WeldStats};

@@ -23,6 +23,7 @@
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
+use super::fold::{flipped_triangles, patch_folds, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
@@ -53,6 +54,22 @@ pub struct SurfaceMesh {
     /// Per vertex: largest angle (degrees) between the normals of two patches sharing the vertex;
     /// 0 inside patches and on open boundaries.
     pub g1_deviation_deg: Vec<f64>,
+    /// Per vertex: 1 where the vertex is folded (a folded sample of some patch, see
+    /// [`super::fold`], or a vertex of a flipped triangle), else 0 (all 0 for subdivision methods).
+    pub fold: Vec<u8>,
+    /// Per patch: the fold test's result on the tessellation samples (empty for subdivision).
+    pub patch_folds: Vec<TessellationFolds>,
+    /// Indices of the flipped triangles ([`super::fold::flipped_triangles`]).
+    pub flipped_triangles: Vec<u32>,
+}
+
+/// The fold test's result for one patch on the samples of the tessellation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TessellationFolds {
+    /// Folded samples of the patch (those shared with a neighbour counted here too).
+    pub samples: usize,
+    /// Domain point of the worst folded sample.
+    pub worst: Option<glam::DVec2>,
 }
 
 /// Measurements taken while welding.
@@ -117,6 +134,9 @@ struct PatchOut<'a> {
     tris: &'a mut [[u32; 3]],
     tri_patch: &'a mut [u32],
     bnd: &'a mut [SurfacePoint],
+    fold: &'a mut TessellationFolds,
+    /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
+    folded: Vec<u32>,
 }
 
 /// Allocates the output arrays and cuts them into per-patch pieces. The vertices a patch
@@ -151,9 +171,11 @@ fn partition<'a>(
     let mut tr = split_by(&mut mesh.triangles, &tri_start).into_iter();
     let mut tp = split_by(&mut mesh.triangle_patch, &tri_start).into_iter();
     let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
+    mesh.patch_folds = vec![TessellationFolds::default(); np];
     // Every split has exactly np pieces; an empty slice is never taken.
     (0..np)
-        .map(|p| PatchOut {
+        .zip(mesh.patch_folds.iter_mut())
+        .map(|(p, fold)| PatchOut {
             p,
             pos: pos.next().unwrap_or_default(),
             nrm: nrm.next().unwrap_or_default(),
@@ -164,6 +186,8 @@ fn partition<'a>(
             tris: tr.next().unwrap_or_default(),
             tri_patch: tp.next().unwrap_or_default(),
             bnd: bd.next().unwrap_or_default(),
+            fold,
+            folded: Vec::new(),
         })
         .collect()
 }
@@ -173,14 +197,15 @@ fn partition<'a>(
 fn evaluate_patch<E: PatchEvaluator>(
     surface: &Surface,
     evaluator: &E,
-    layouts: &HashMap<usize, SampleLayout>,
+    layouts: &HashMap<usize, (SampleLayout, Sectors)>,
     map: &WeldMap,
     r: usize,
+    folds: bool,
     buf: &mut Vec<SurfacePoint>,
     o: &mut PatchOut<'_>,
 ) -> Result<(), TessellateError> {
     let p = o.p;
-    let layout = &layouts[&surface.patches[p].sides()];
+    let (layout, sectors) = &layouts[&surface.patches[p].sides()];
     evaluator.evaluate(surface, p, layout, buf);
     if buf.len() != layout.uv.len() {
         return Err(TessellateError::Evaluation { patch: p, sample: buf.len().min(layout.uv.len()) });
@@ -212,22 +237,48 @@ fn evaluate_patch<E: PatchEvaluator>(
         *t = lt.map(|x| ids[x as usize]);
     }
     o.tri_patch.fill(p as u32);
+    if !folds {
+        return Ok(());
+    }
+    let folds = patch_folds(&surface.patches[p], sectors, &layout.uv, buf);
+    o.fold.samples = folds.samples.len();
+    o.fold.worst = folds.worst;
+    o.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
 }
 
 /// Tessellates `surface` at resolution `r` (samples per patch side) with `evaluator`, welds the
 /// patches (see the module doc) and returns the mesh with the measurements. `progress` is called
 /// with the fraction done (0..1) after every chunk of patches; returning false cancels.
+///
+/// Every patch's samples also go through the fold test ([`super::fold`]): the result is in
+/// `SurfaceMesh::patch_folds`, `fold` and `flipped_triangles`.
 pub fn tessellate_surface_with<E: PatchEvaluator>(
     surface: &Surface,
     r: usize,
     evaluator: &E,
+    progress: Option<&mut dyn FnMut(f32) -> bool>,
+) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    tessellate_checked(surface, r, evaluator, true, progress)
+}
+
+/// [`tessellate_surface_with`], with the fold test (`folds`) or without it (then `fold` is all
+/// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share).
+pub fn tessellate_checked<E: PatchEvaluator>(
+    surface: &Surface,
+    r: usize,
+    evaluator: &E,
+    folds: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     check_adjacency(surface)?;
     let np = surface.patches.len();
     let layouts = layouts_of(surface, r, evaluator)?;
     let map = WeldMap::new(surface, &layouts, r)?;
+    let with_sectors: HashMap<usize, (SampleLayout, Sectors)> = layouts
+        .iter()
+        .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv))))
+        .collect();
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
         positions: zeroed(nv),
@@ -238,18 +289,21 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
         mean_curvature: vec![0.0; nv],
         gaussian_curvature: vec![0.0; nv],
         g1_deviation_deg: vec![0.0; nv],
+        fold: vec![0; nv],
+        patch_folds: Vec::new(),
+        flipped_triangles: Vec::new(),
     };
     let mut boundary = BoundarySamples::new(surface, &layouts, r);
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
-    {
+    let folded: Vec<u32> = {
         let mut outs = partition(surface, r, &map, &mut mesh, &mut weight, &mut boundary);
         let mut done = 0usize;
         while done < np {
             let end = (done + CHUNK).min(np);
             outs[done..end]
                 .par_iter_mut()
-                .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &layouts, &map, r, buf, o))?;
+                .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, r, folds, buf, o))?;
             done = end;
             if let Some(cb) = progress.as_mut() {
                 if !cb(done as f32 / np.max(1) as f32) {
@@ -257,9 +311,27 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
                 }
             }
         }
+        outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)).collect()
+    };
+    for v in folded {
+        if let Some(f) = mesh.fold.get_mut(v as usize) {
+            *f = 1;
+        }
     }
     let stats = join_shared_sides(surface, &layouts, &map, r, &boundary, &mut mesh, &mut weight);
     finish_normals(&mut mesh, &weight);
+    if !folds {
+        mesh.patch_folds.clear();
+        return Ok((mesh, stats));
+    }
+    mesh.flipped_triangles = flipped_triangles(&mesh.positions, &mesh.normals, &mesh.triangles);
+    for &t in &mesh.flipped_triangles {
+        for &v in &mesh.triangles[t as usize] {
+            if let Some(f) = mesh.fold.get_mut(v as usize) {
+                *f = 1;
+            }
+        }
+    }
     Ok((mesh, stats))
 }
 
@@ -273,6 +345,18 @@ pub fn tessellate_surface(
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
     tessellate_surface_with(surface, r, &eval, progress)
+}
+
+/// [`tessellate_surface`] with or without the fold test (see [`tessellate_checked`]).
+pub fn tessellate_surface_checked(
+    surface: &Surface,
+    r: usize,
+    form: WeightForm,
+    folds: bool,
+    progress: Option<&mut dyn FnMut(f32) -> bool>,
+) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    let eval = GbSurfaceEvaluator::new(surface, r, form)?;
+    tessellate_checked(surface, r, &eval, folds, progress)
 }
 
 impl SurfaceMesh {
