@@ -102,6 +102,7 @@ impl From<TessellateError> for ConvertError {
     fn from(e: TessellateError) -> Self {
         match e {
             TessellateError::Cancelled => ConvertError::Cancelled,
+            TessellateError::OutOfMemory { what, bytes } => ConvertError::OutOfMemory { what, bytes },
             e => ConvertError::Tessellate(e),
         }
     }
