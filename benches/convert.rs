@@ -47,7 +47,8 @@ fn main() {
         let mut times = Vec::new();
         for &(a, b) in &sizes {
             let mesh = torus(a, b, 10.0, 3.0).expect("torus");
-            let opts = ConvertOptions { method, resolution, ..Default::default() };
+            // The largest torus (1.6 million output vertices) is above the default memory bound.
+            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..Default::default() };
             // Warm-up (also checks the result), then the best of a few runs.
             let c = convert(&mesh, &opts, None).expect("conversion");
             assert!(c.report.closed, "{method}: not closed");

@@ -32,6 +32,15 @@ pub const MAX_SLICES: usize = 1000;
 /// Largest subdivision level count.
 pub const MAX_LEVELS: u32 = 8;
 
+/// Default memory bound of one conversion, in MiB (`ConvertOptions::max_memory_mb`): 2 GiB,
+/// about 2 M output vertices by the measured figures of `api::estimate_output` (a 10k-face cage
+/// at the default resolution passes, a 40k-face one is refused with the figures). Chosen so that
+/// a conversion inside Blender (itself some 300–500 MB) stays safe on a 4 GB machine.
+pub const DEFAULT_MAX_MEMORY_MB: u64 = 2048;
+
+/// Largest accepted memory bound, in MiB (1 TiB): the bound must stay a number of bytes in u64.
+pub const MAX_MEMORY_MB: u64 = 1 << 20;
+
 /// Largest weight table built, in bytes (1 GiB).
 pub const MAX_TABLE_BYTES: u128 = 1 << 30;
 
@@ -57,5 +66,12 @@ pub const MAX_INPUT_BYTES: u64 = 2 << 30;
 /// construction: a unit cube at x = 1e15 gives visibly wrong surfaces. Such meshes are refused
 /// with [`crate::mesh::MeshError::UnresolvableExtent`].
 pub const MIN_RELATIVE_EXTENT: f64 = 1e-9;
+
+/// Range of a control mesh's bounding-box extent (largest side) that a conversion accepts. The
+/// conversion scales the cage to a unit box, so inside this range every extent converts the same
+/// way; outside it, the curvatures mapped back (H ~ 1/extent, K ~ 1/extent²) would overflow f64
+/// (K at extent 1e-160 is about 1e320) or vanish into subnormals. Refused with
+/// `api::ConvertError::ScaleOutOfRange`.
+pub const EXTENT_RANGE: (f64, f64) = (1e-140, 1e140);
 
 const _: () = assert!(MAX_GBP_DEGREE <= MAX_DEGREE);

@@ -153,7 +153,7 @@ impl fmt::Display for WeightForm {
     }
 }
 
-pub use crate::limits::{MAX_LEVELS, MAX_RESOLUTION, MAX_SLICES, MAX_STRIPES};
+pub use crate::limits::{DEFAULT_MAX_MEMORY_MB, MAX_LEVELS, MAX_MEMORY_MB, MAX_RESOLUTION, MAX_SLICES, MAX_STRIPES};
 
 /// `value` of option `name` if it is in `1..=max`.
 fn count_in_range<T: PartialOrd + From<u8> + fmt::Display + Copy>(name: &'static str, value: T, max: T) -> Result<T, OptionError> {
@@ -225,6 +225,17 @@ pub struct ConvertOptions {
     pub weights: WeightForm,
     /// Subdivision levels of the comparison methods, 0..=8. Default 3.
     pub levels: u32,
+    /// Memory bound of one conversion in MiB (1..=[`MAX_MEMORY_MB`]). A conversion whose estimated
+    /// peak memory ([`crate::api::estimate_output`], an upper bound of measured peaks) exceeds it
+    /// is refused before any work with [`crate::api::ConvertError::OutputTooLarge`]. Default
+    /// [`DEFAULT_MAX_MEMORY_MB`] (2048 MiB: about 2 M output vertices, a 10k-face cage at the
+    /// default resolution, safe beside Blender and the OS on a 4 GB machine).
+    #[serde(default = "default_max_memory_mb")]
+    pub max_memory_mb: u64,
+}
+
+fn default_max_memory_mb() -> u64 {
+    DEFAULT_MAX_MEMORY_MB
 }
 
 impl Default for ConvertOptions {
@@ -239,6 +250,7 @@ impl Default for ConvertOptions {
             best_plane: true,
             weights: WeightForm::Squared,
             levels: 3,
+            max_memory_mb: DEFAULT_MAX_MEMORY_MB,
         }
     }
 }
@@ -259,6 +271,7 @@ impl ConvertOptions {
         if self.levels > MAX_LEVELS {
             return Err(OptionError::new("levels", self.levels, format!("must be in 0..={MAX_LEVELS}")));
         }
+        count_in_range("max-memory-mb", self.max_memory_mb, MAX_MEMORY_MB)?;
         Ok(())
     }
 }

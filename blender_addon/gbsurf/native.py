@@ -28,7 +28,7 @@ from ctypes import (
 
 import numpy as np
 
-ABI_VERSION = 1
+ABI_VERSION = 2
 
 METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
 TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
@@ -72,6 +72,7 @@ class Options(Structure):
         ("fullness", c_double),
         ("tile_depth", c_double),
         ("mid_scale", c_double),
+        ("max_memory_mb", c_uint64),
     ]
 
 
@@ -247,10 +248,10 @@ def _check(lib, status):
 
 _ENUMS = {"method": METHODS, "twist": TWISTS, "weights": WEIGHTS}
 # The `Options` fields that are Python values as they are (the others: enums, best_plane).
-_PLAIN = {"resolution": int, "levels": int, "fullness": float, "tile_depth": float, "mid_scale": float}
+_PLAIN = {"resolution": int, "levels": int, "fullness": float, "tile_depth": float, "mid_scale": float, "max_memory_mb": int}
 # The library options by their Python names (as the add-on's properties and keyword options).
 OPTION_NAMES = ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
-                "weights", "levels")
+                "weights", "levels", "max_memory_mb")
 
 
 def _init_options(lib):

@@ -83,6 +83,10 @@ class ConvertOptionsMixin:
     levels: IntProperty(
         name="Levels", description="Subdivision levels of the comparison methods",
         min=0, max=8, soft_max=5, update=_settings_changed)
+    max_memory_mb: IntProperty(
+        name="Memory Limit (MiB)",
+        description="A conversion estimated to need more memory is refused before any work",
+        min=1, max=1 << 20, update=_settings_changed)
     want_curves: BoolProperty(
         name="Curve Network", description="Also create the boundary curves as a Bezier curve object",
         default=OUTPUT_DEFAULTS["want_curves"], update=_settings_changed)
@@ -115,6 +119,7 @@ class ConvertOptionsMixin:
             col.prop(self, "weights")
         else:
             col.prop(self, "levels")
+        layout.prop(self, "max_memory_mb")
         col = layout.column(heading="Outputs")
         sub = col.column()
         sub.active = patch_method

@@ -98,3 +98,21 @@ def test_library_missing_is_reported(monkeypatch, tmp_path):
     helpers.add_primitive("cube")
     monkeypatch.setenv("GBSURF_LIB", str(tmp_path / "libgbsurf.so"))
     assert_fails_unchanged(match="library missing")
+
+
+def test_catmull_clark_levels_8_on_a_big_cage_is_an_error_not_a_crash():
+    # 192 quads at 8 levels would be 12.6 million vertices (~14 GB): the library refuses before
+    # any work, Blender keeps running and the scene is unchanged.
+    helpers.add_primitive("torus")
+    before = helpers.snapshot()
+    with pytest.raises(RuntimeError, match="output too large") as e:
+        bpy.ops.object.gbsurf_convert(method='CATMULL_CLARK', levels=8)
+    message = str(e.value)
+    assert "12582912 output vertices" in message and "Memory Limit" in message
+    assert helpers.snapshot() == before
+    # The limit is a property with the library's default; raising it is what the message says.
+    mod = helpers.mesh_module()
+    assert mod.native.library_defaults()["max_memory_mb"] == 2048
+    with pytest.raises(mod.core.ConvertError, match="above the limit of 1 MiB"):
+        mod.core.convert_object(bpy.data.objects["torus"], method='CATMULL_CLARK', levels=1, max_memory_mb=1)
+    assert helpers.snapshot() == before

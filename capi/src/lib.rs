@@ -61,9 +61,13 @@ pub const GBSURF_ERR_CONSTRUCTION: u32 = 12;
 /// `GBSURF_ABI_VERSION` (reported by wrappers that compare it with `gbsurf_abi_version()`, such
 /// as gbsurf.hpp; the library itself never returns it).
 pub const GBSURF_ERR_VERSION: u32 = 13;
+/// The conversion would need more memory than `GbsurfOptions::max_memory_mb` allows (refused
+/// before any work; the message names the estimate, the output vertex count, the limit and how to
+/// raise it), or an output buffer could not be allocated.
+pub const GBSURF_ERR_TOO_LARGE: u32 = 14;
 
 /// ABI version: incremented on every incompatible change of this header.
-pub const GBSURF_ABI_VERSION: u32 = 1;
+pub const GBSURF_ABI_VERSION: u32 = 2;
 
 // ---------------------------------------------------------------------------------------------
 // Error state and the panic boundary
@@ -342,6 +346,7 @@ pub extern "C" fn gbsurf_status_name(status: u32) -> *const c_char {
         GBSURF_ERR_KIND => b"GBSURF_ERR_KIND\0",
         GBSURF_ERR_CONSTRUCTION => b"GBSURF_ERR_CONSTRUCTION\0",
         GBSURF_ERR_VERSION => b"GBSURF_ERR_VERSION\0",
+        GBSURF_ERR_TOO_LARGE => b"GBSURF_ERR_TOO_LARGE\0",
         _ => b"GBSURF_ERR_UNKNOWN\0",
     };
     s.as_ptr() as *const c_char
@@ -468,7 +473,7 @@ mod boundary_tests {
 
     #[test]
     fn status_names_are_distinct() {
-        let names: Vec<String> = (0..=14)
+        let names: Vec<String> = (0..=15)
             // SAFETY: static NUL-terminated strings.
             .map(|c| {
                 unsafe { CStr::from_ptr(gbsurf_status_name(c)) }
@@ -478,10 +483,11 @@ mod boundary_tests {
             .collect();
         assert_eq!(names[0], "GBSURF_OK");
         assert_eq!(names[13], "GBSURF_ERR_VERSION");
-        assert_eq!(names[14], "GBSURF_ERR_UNKNOWN");
-        let mut uniq = names[..14].to_vec();
+        assert_eq!(names[14], "GBSURF_ERR_TOO_LARGE");
+        assert_eq!(names[15], "GBSURF_ERR_UNKNOWN");
+        let mut uniq = names[..15].to_vec();
         uniq.sort();
         uniq.dedup();
-        assert_eq!(uniq.len(), 14);
+        assert_eq!(uniq.len(), 15);
     }
 }

@@ -53,6 +53,9 @@ pub struct GbsurfOptions {
     pub tile_depth: f64,
     /// Factor on the middle constraint of the direction blends, finite. Default 1.
     pub mid_scale: f64,
+    /// Memory bound of the conversion in MiB, 1..=1048576: a conversion estimated to need more is
+    /// refused before any work (`GBSURF_ERR_TOO_LARGE`). Default 1024.
+    pub max_memory_mb: u64,
 }
 
 const OPTIONS_SIZE: u32 = std::mem::size_of::<GbsurfOptions>() as u32;
@@ -101,7 +104,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
     /// The C struct of `o` (`gbsurf_options_init` passes `ConvertOptions::default()`).
     fn from(o: &ConvertOptions) -> Self {
         // No `..`: a new option is a compile error here until the struct has it.
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = *o;
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
             method: method.code(),
@@ -114,6 +117,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
             fullness,
             tile_depth,
             mid_scale,
+            max_memory_mb,
         }
     }
 }
@@ -173,6 +177,7 @@ impl GbsurfOptions {
             best_plane,
             weights,
             levels: self.levels,
+            max_memory_mb: self.max_memory_mb,
         };
         o.validate()
             .map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;
@@ -213,6 +218,8 @@ pub(crate) fn convert_error(e: ConvertError) -> FfiError {
         ConvertError::Construct(_) | ConvertError::Subdiv(_) | ConvertError::Tessellate(_) => {
             GBSURF_ERR_CONSTRUCTION
         }
+        ConvertError::OutputTooLarge { .. } | ConvertError::OutOfMemory { .. } => GBSURF_ERR_TOO_LARGE,
+        ConvertError::ScaleOutOfRange { .. } => GBSURF_ERR_INVALID_MESH,
     };
     FfiError::new(code, e.to_string())
 }

@@ -137,6 +137,9 @@ struct OptionFlags {
     /// Subdivision levels (doo-sabin, catmull-clark).
     #[arg(long)]
     levels: Option<u32>,
+    /// Memory bound in MiB: a conversion estimated to need more is refused before any work.
+    #[arg(long)]
+    max_memory_mb: Option<u64>,
 }
 
 impl OptionFlags {
@@ -148,7 +151,7 @@ impl OptionFlags {
             }
         }
         // No `..`: a new option is a compile error here until it has a flag.
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = &mut options;
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = &mut options;
         set(method, self.method);
         set(resolution, self.resolution);
         set(fullness, self.fullness);
@@ -158,12 +161,13 @@ impl OptionFlags {
         set(best_plane, self.best_plane);
         set(weights, self.weights);
         set(levels, self.levels);
+        set(max_memory_mb, self.max_memory_mb);
         options
     }
 
     /// `(argument id, value)` of every flag for `options`, for the defaults shown in `--help`.
-    fn shown(options: &ConvertOptions) -> [(&'static str, String); 9] {
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels } = *options;
+    fn shown(options: &ConvertOptions) -> [(&'static str, String); 10] {
+        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *options;
         [
             ("method", method.to_string()),
             ("resolution", resolution.to_string()),
@@ -174,6 +178,7 @@ impl OptionFlags {
             ("best_plane", on_off_name(best_plane).to_string()),
             ("weights", weights.to_string()),
             ("levels", levels.to_string()),
+            ("max_memory_mb", max_memory_mb.to_string()),
         ]
     }
 }

@@ -250,3 +250,19 @@ fn isophotes_and_slices_of_the_torus() {
     assert!(!ok && err.contains("non-zero"), "{err}");
     assert!(!bad_out.exists());
 }
+
+#[test]
+fn output_too_large_is_one_error_line_naming_the_flag() {
+    let torus = format!("{MODELS}/torus.obj");
+    fails(
+        &torus,
+        &["--method", "catmull-clark", "--levels", "8"],
+        "output too large: catmull-clark would make about 6291456 output vertices and need about 6928 MiB, above the limit of 2048 MiB; lower --resolution or --levels, or raise --max-memory-mb",
+    );
+    fails(&torus, &["--max-memory-mb", "1"], "above the limit of 1 MiB");
+    fails(&torus, &["--max-memory-mb", "0"], "invalid --max-memory-mb 0: must be in 1..=1048576");
+    let (ok, _) = gbsurf(&["convert", "--help"]);
+    assert!(ok);
+    let help = Command::new(env!("CARGO_BIN_EXE_gbsurf")).args(["convert", "--help"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&help.stdout).contains("[default: 2048]"));
+}

@@ -67,8 +67,13 @@
 // as gbsurf.hpp; the library itself never returns it).
 #define GBSURF_ERR_VERSION 13
 
+// The conversion would need more memory than `GbsurfOptions::max_memory_mb` allows (refused
+// before any work; the message names the estimate, the output vertex count, the limit and how to
+// raise it), or an output buffer could not be allocated.
+#define GBSURF_ERR_TOO_LARGE 14
+
 // ABI version: incremented on every incompatible change of this header.
-#define GBSURF_ABI_VERSION 1
+#define GBSURF_ABI_VERSION 2
 
 // Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 #define GBSURF_METHOD_DUAL 0
@@ -134,6 +139,9 @@ typedef struct {
   double tile_depth;
   // Factor on the middle constraint of the direction blends, finite. Default 1.
   double mid_scale;
+  // Memory bound of the conversion in MiB, 1..=1048576: a conversion estimated to need more is
+  // refused before any work (`GBSURF_ERR_TOO_LARGE`). Default 1024.
+  uint64_t max_memory_mb;
 } GbsurfOptions;
 
 // Progress callback: called with the finished fraction in [0, 1] and the caller's `user_data`;

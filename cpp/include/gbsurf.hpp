@@ -129,6 +129,8 @@ public:
     options& fullness(double f) { raw_.fullness = f; return *this; }
     options& tile_depth(double w) { raw_.tile_depth = w; return *this; }
     options& mid_scale(double s) { raw_.mid_scale = s; return *this; }
+    /// Memory bound in MiB: a conversion estimated to need more throws GBSURF_ERR_TOO_LARGE.
+    options& max_memory_mb(uint64_t mb) { raw_.max_memory_mb = mb; return *this; }
     /// Throws gbsurf::error if a value is out of range.
     void validate() const { check(gbsurf_options_validate(&raw_)); }
     const GbsurfOptions& raw() const noexcept { return raw_; }

@@ -13,7 +13,11 @@
 //! println!("{} vertices, max G1 {}°", conv.mesh.vertex_count(), conv.report.max_g1_deg);
 //! ```
 
+mod budget;
+mod scale;
 mod subdivision;
+
+pub use budget::{estimate_output, OutputEstimate, BASE_BYTES, GB_BYTES_PER_SAMPLE, SUBDIV_BYTES_PER_VERTEX};
 
 pub use crate::options::{ConvertOptions, Method, OptionError, OptionValue, Twist, MAX_LEVELS, MAX_RESOLUTION};
 
@@ -51,6 +55,20 @@ pub enum ConvertError {
     /// The progress callback returned false.
     #[error("cancelled")]
     Cancelled,
+    /// The estimated peak memory ([`estimate_output`]) exceeds `--max-memory-mb`; nothing was
+    /// computed.
+    #[error(
+        "output too large: {method} would make about {vertices} output vertices and need about {} MiB, above the limit of {limit_mb} MiB; lower --resolution or --levels, or raise --max-memory-mb (C ABI: GbsurfOptions.max_memory_mb; Blender: Memory Limit)",
+        bytes.div_ceil(1 << 20)
+    )]
+    OutputTooLarge { method: &'static str, vertices: u64, bytes: u64, limit_mb: u64 },
+    /// An output buffer could not be allocated (`what` names it).
+    #[error("out of memory: could not allocate {bytes} bytes for {what}; lower --resolution or --levels")]
+    OutOfMemory { what: &'static str, bytes: u64 },
+    /// The control mesh's bounding-box extent is outside [`crate::limits::EXTENT_RANGE`]: the
+    /// curvatures of the output would overflow or vanish in f64.
+    #[error("control mesh extent {extent:e} is outside the supported range {min:e}..{max:e} (curvature would overflow f64); rescale the mesh")]
+    ScaleOutOfRange { extent: f64, min: f64, max: f64 },
 }
 
 impl From<OptionError> for ConvertError {
@@ -84,6 +102,7 @@ impl From<TessellateError> for ConvertError {
     fn from(e: TessellateError) -> Self {
         match e {
             TessellateError::Cancelled => ConvertError::Cancelled,
+            TessellateError::OutOfMemory { what, bytes } => ConvertError::OutOfMemory { what, bytes },
             e => ConvertError::Tessellate(e),
         }
     }
@@ -159,6 +178,27 @@ fn convert_valid(
         Ok(())
     };
     tick(0.0)?;
+    let estimate = estimate_output(he, options);
+    if estimate.bytes > options.max_memory_mb.saturating_mul(1 << 20) {
+        return Err(ConvertError::OutputTooLarge {
+            method: options.method.name(),
+            vertices: estimate.vertices,
+            bytes: estimate.bytes,
+            limit_mb: options.max_memory_mb,
+        });
+    }
+    let norm = scale::Normalisation::of(he.positions()).map_err(|e| ConvertError::ScaleOutOfRange {
+        extent: e.extent,
+        min: crate::limits::EXTENT_RANGE.0,
+        max: crate::limits::EXTENT_RANGE.1,
+    })?;
+    let normalised;
+    let (he, mesh) = if norm.is_identity() {
+        (he, mesh)
+    } else {
+        normalised = norm.apply(he, mesh);
+        (&normalised.0, &normalised.1)
+    };
     type Build = fn(&HalfEdgeMesh, &ConvertOptions) -> Result<Surface, ConstructError>;
     let build: Option<Build> = match options.method {
         Method::Dual => Some(crate::construct::build_dual),
@@ -202,6 +242,7 @@ fn convert_valid(
         report.resolution = options.levels as usize;
         (m, None)
     };
+    let (mut out, mut surface) = (out, surface);
     tick(0.95)?;
     let check = crate::quality::check_mesh(&out.positions, &out.triangles);
     report.vertices = out.positions.len();
@@ -231,6 +272,13 @@ fn convert_valid(
     let problems = report.validity_problems();
     if !problems.is_empty() {
         warnings.push(format!("output is not valid: {}", problems.join("; ")));
+    }
+    if !norm.is_identity() {
+        norm.restore_mesh(&mut out);
+        if let Some(s) = surface.as_mut() {
+            norm.restore_surface(s);
+        }
+        report.max_boundary_gap = norm.restore_length(report.max_boundary_gap);
     }
     report.warnings = warnings.clone();
     report.seconds = start.elapsed().as_secs_f64();

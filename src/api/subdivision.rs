@@ -24,9 +24,17 @@ pub(super) fn subdivision_mesh(mesh: &PolyMesh, options: &ConvertOptions) -> Res
         subdivide(mesh, scheme, options.levels).map_err(|e| ConvertError::Subdiv(e.to_string()))?;
     let (convex, piece_face) = crate::mesh::geometry::convexify(&current);
     let nv = current.positions.len();
-    let mut out = SurfaceMesh { positions: current.positions.clone(), ..Default::default() };
-    out.patch = vec![u32::MAX; nv];
-    out.fold = vec![0; nv];
+    let oom = |what: &'static str, bytes: usize| ConvertError::OutOfMemory { what, bytes: bytes as u64 };
+    let nt: usize = convex.faces.iter().map(|f| f.len().saturating_sub(2)).sum();
+    let mut out = SurfaceMesh::default();
+    out.positions.try_reserve_exact(nv).map_err(|_| oom("output positions", nv * 24))?;
+    out.positions.extend_from_slice(&current.positions);
+    out.triangles.try_reserve_exact(nt).map_err(|_| oom("output triangles", nt * 12))?;
+    out.triangle_patch.try_reserve_exact(nt).map_err(|_| oom("output triangle patches", nt * 4))?;
+    out.patch.try_reserve_exact(nv).map_err(|_| oom("output patch indices", nv * 4))?;
+    out.patch.resize(nv, u32::MAX);
+    out.fold.try_reserve_exact(nv).map_err(|_| oom("output fold flags", nv))?;
+    out.fold.resize(nv, 0);
     for (k, f) in convex.faces.iter().enumerate() {
         let anc = piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0);
         for i in 1..f.len().saturating_sub(1) {

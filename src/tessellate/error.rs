@@ -31,4 +31,7 @@ pub enum TessellateError {
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
+    /// An output array could not be allocated (`what` names it).
+    #[error("out of memory: could not allocate {bytes} bytes for {what}")]
+    OutOfMemory { what: &'static str, bytes: u64 },
 }

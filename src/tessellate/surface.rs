@@ -106,6 +106,18 @@ pub(crate) fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
     (0..len).into_par_iter().with_min_len(1 << 14).map(|_| T::default()).collect()
 }
 
+/// `len` copies of `value`, reserved with `try_reserve_exact`: an allocation failure is the typed
+/// [`TessellateError::OutOfMemory`] naming `what`, never an abort of the host process.
+pub(crate) fn try_filled<T: Clone>(len: usize, value: T, what: &'static str) -> Result<Vec<T>, TessellateError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| TessellateError::OutOfMemory {
+        what,
+        bytes: (len as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+    })?;
+    v.resize(len, value);
+    Ok(v)
+}
+
 /// Patches evaluated per progress step.
 const CHUNK: usize = 2048;
 
@@ -150,7 +162,7 @@ fn partition<'a>(
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
     boundary: &'a mut BoundarySamples,
-) -> Vec<PatchOut<'a>> {
+) -> Result<Vec<PatchOut<'a>>, TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
     let mut nt = 0usize;
@@ -159,8 +171,8 @@ fn partition<'a>(
         nt += SampleLayout::triangle_count(patch.sides(), r);
     }
     tri_start.push(nt);
-    mesh.triangles = vec![[0; 3]; nt];
-    mesh.triangle_patch = vec![0; nt];
+    mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
+    mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
     let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
@@ -173,7 +185,7 @@ fn partition<'a>(
     let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
     mesh.patch_folds = vec![TessellationFolds::default(); np];
     // Every split has exactly np pieces; an empty slice is never taken.
-    (0..np)
+    Ok((0..np)
         .zip(mesh.patch_folds.iter_mut())
         .map(|(p, fold)| PatchOut {
             p,
@@ -189,7 +201,7 @@ fn partition<'a>(
             fold,
             folded: Vec::new(),
         })
-        .collect()
+        .collect())
 }
 
 /// Evaluates patch `o.p` and writes the samples that create vertices, its boundary samples
@@ -281,15 +293,15 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         .collect();
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
-        positions: zeroed(nv),
-        normals: zeroed(nv),
+        positions: try_filled(nv, DVec3::ZERO, "output positions")?,
+        normals: try_filled(nv, DVec3::ZERO, "output normals")?,
         triangles: Vec::new(),
-        patch: vec![0; nv],
+        patch: try_filled(nv, 0, "output patch indices")?,
         triangle_patch: Vec::new(),
-        mean_curvature: vec![0.0; nv],
-        gaussian_curvature: vec![0.0; nv],
-        g1_deviation_deg: vec![0.0; nv],
-        fold: vec![0; nv],
+        mean_curvature: try_filled(nv, 0.0, "output mean curvature")?,
+        gaussian_curvature: try_filled(nv, 0.0, "output Gaussian curvature")?,
+        g1_deviation_deg: try_filled(nv, 0.0, "output G1 deviation")?,
+        fold: try_filled(nv, 0, "output fold flags")?,
         patch_folds: Vec::new(),
         flipped_triangles: Vec::new(),
     };
@@ -297,7 +309,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
     let folded: Vec<u32> = {
-        let mut outs = partition(surface, r, &map, &mut mesh, &mut weight, &mut boundary);
+        let mut outs = partition(surface, r, &map, &mut mesh, &mut weight, &mut boundary)?;
         let mut done = 0usize;
         while done < np {
             let end = (done + CHUNK).min(np);
@@ -378,5 +390,17 @@ impl SurfaceMesh {
     /// Triangles as a flat index array.
     pub fn triangles_flat(&self) -> Vec<u32> {
         self.triangles.iter().flatten().copied().collect()
+    }
+}
+
+#[cfg(test)]
+mod try_filled_tests {
+    use super::*;
+
+    #[test]
+    fn an_impossible_allocation_is_a_typed_error() {
+        let e = try_filled(usize::MAX / 16, 0.0f64, "output mean curvature").unwrap_err();
+        assert!(matches!(e, TessellateError::OutOfMemory { what: "output mean curvature", .. }), "{e}");
+        assert_eq!(try_filled(3, 7u32, "x").unwrap(), vec![7, 7, 7]);
     }
 }

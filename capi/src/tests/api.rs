@@ -53,6 +53,7 @@ fn options_init_matches_rust_defaults_and_validates() {
     assert_eq!(o.method, GBSURF_METHOD_DUAL);
     assert_eq!(o.twist, GBSURF_TWIST_INTERP);
     assert_eq!(o.fullness, d.fullness);
+    assert_eq!(o.max_memory_mb, d.max_memory_mb);
     // SAFETY: valid struct.
     assert_eq!(unsafe { gbsurf_options_validate(&o) }, GBSURF_OK);
     // SAFETY: NULL is allowed and reported.
@@ -61,7 +62,7 @@ fn options_init_matches_rust_defaults_and_validates() {
 
     type Case = (fn(&mut GbsurfOptions), u32, &'static str);
     // The limits are the core's (gbsurf::limits), whatever the width of the C field.
-    let cases: [Case; 12] = [
+    let cases: [Case; 14] = [
         (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
         (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
         (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
@@ -74,6 +75,8 @@ fn options_init_matches_rust_defaults_and_validates() {
         (|o| o.levels = u32::MAX, GBSURF_ERR_INVALID_OPTION, "levels 4294967295"),
         (|o| o.fullness = f64::NAN, GBSURF_ERR_NAN, "fullness"),
         (|o| o.fullness = 1.0, GBSURF_ERR_INVALID_OPTION, "fullness"),
+        (|o| o.max_memory_mb = 0, GBSURF_ERR_INVALID_OPTION, "max-memory-mb 0"),
+        (|o| o.max_memory_mb = u64::MAX, GBSURF_ERR_INVALID_OPTION, "max-memory-mb"),
     ];
     for (edit, code, word) in cases {
         let mut bad = o;
@@ -732,4 +735,33 @@ fn creased_cube_keeps_its_corners_and_bad_creases_get_their_codes() {
     assert_eq!(unsafe { convert_creased(&c4, &mut out) }, GBSURF_ERR_NULL);
     assert!(last().contains("creases.edge_vertices"), "{}", last());
     assert!(out.is_null());
+}
+
+#[test]
+fn output_too_large_is_refused_with_its_code_and_message() {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = GBSURF_METHOD_CATMULL_CLARK;
+    o.levels = 8;
+    o.max_memory_mb = 64;
+    let mut out = 1usize as *mut GbsurfResult;
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut out) }, GBSURF_ERR_TOO_LARGE);
+    assert!(out.is_null());
+    let m = last();
+    assert!(m.contains("output too large: catmull-clark would make about 393218 output vertices"), "{m}");
+    assert!(m.contains("above the limit of 64 MiB") && m.contains("GbsurfOptions.max_memory_mb"), "{m}");
+    // The default limit lets a smaller conversion through.
+    o.max_memory_mb = 1024;
+    o.levels = 4;
+    let mut out = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut out) }, GBSURF_OK, "{}", last());
+    // SAFETY: a result of gbsurf_convert.
+    unsafe { gbsurf_result_free(out) };
 }
