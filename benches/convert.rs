@@ -83,7 +83,11 @@ fn main() {
         }
         println!("{method:>8} time(40k)/time(10k) = {:.2}   (load average {})", times[2] / times[1], load_average());
     }
-    large_n_cases(resolution);
+    // Only under `cargo bench` (which passes --bench): under `cargo test --all-targets` these
+    // would take minutes in the test profile.
+    if std::env::args().any(|a| a == "--bench") {
+        large_n_cases(resolution);
+    }
 }
 
 /// The large-n cases (run once each): seconds, output vertices and ns per output vertex.
