@@ -8,9 +8,14 @@
 //! (goal: ≤ 30 % at the default resolution, `-- --resolution 8`).
 //! Besides wall time it prints the process CPU time of the best run (user + system, from
 //! /proc/self/stat on Linux) and the load average, since the machine may be shared.
+//! Then the large-n cases, once each, in ns per output vertex next to an ordinary torus: a
+//! planar face of 1000 sides, a cone whose apex has valence 1000, a prism with 1000-gon caps
+//! and a 100k-face torus. An n-sided patch costs O(n) per sample (docs/math.md#cost-per-point),
+//! so expect ns/vertex of the 1000-sided patches ≈ 1000/4 × the torus's, not equal to it.
 
 use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
-use gbsurf::mesh::generate::torus;
+use gbsurf::mesh::generate::{cone, polygon, prism, torus};
+use gbsurf::mesh::PolyMesh;
 use std::time::Instant;
 
 /// User + system CPU seconds of this process so far (Linux; 0 elsewhere).
@@ -97,5 +102,36 @@ fn main() {
             times.push(best);
         }
         println!("{method:>8} time(40k)/time(10k) = {:.2}   (load average {})", times[2] / times[1], load_average());
+    }
+    // Only under `cargo bench` (which passes --bench): under `cargo test --all-targets` these
+    // would take minutes in the test profile.
+    if std::env::args().any(|a| a == "--bench") {
+        large_n_cases(resolution);
+    }
+}
+
+/// The large-n cases (run once each): seconds, output vertices and ns per output vertex.
+fn large_n_cases(resolution: usize) {
+    let cases: Vec<(&str, PolyMesh)> = vec![
+        ("torus 40x25", torus(40, 25, 10.0, 3.0).expect("torus")),
+        ("polygon 1000", polygon(1000).expect("polygon")),
+        ("cone 1000", cone(1000).expect("cone")),
+        ("prism 1000", prism(1000).expect("prism")),
+        ("torus 400x250 (100k faces)", torus(400, 250, 10.0, 3.0).expect("torus")),
+    ];
+    for method in [Method::Dual, Method::Topology] {
+        for (name, mesh) in &cases {
+            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..Default::default() };
+            let t = Instant::now();
+            let c = convert(mesh, &opts, None).expect("conversion");
+            let wall = t.elapsed().as_secs_f64();
+            println!(
+                "{method:>8} {name:<28} {:>8.3} s {:>9} vertices {:>9.0} ns/vertex  (valid {})",
+                wall,
+                c.report.vertices,
+                wall * 1e9 / c.report.vertices.max(1) as f64,
+                c.report.valid,
+            );
+        }
     }
 }

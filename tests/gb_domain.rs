@@ -229,3 +229,108 @@ fn many_sided_domains_stay_finite_and_exact() {
         }
     }
 }
+
+/// The product form of seed 000 eq. 2.12 term by term, O(n²) per point: the reference of the
+/// O(n) prefix/suffix evaluation.
+fn wachspress_product_form(dom: &Domain, x: DVec2) -> Vec<Jet2> {
+    let n = dom.n();
+    let v = |i: usize| dom.vertex(i % n);
+    let area = |a: DVec2, b: DVec2, c: DVec2| 0.5 * (b - a).perp_dot(c - a);
+    // D_j(x) = A(x, v_{j−1}, v_j), affine in x
+    let d: Vec<Jet2> = (0..n)
+        .map(|j| {
+            let (a, b) = (v(j + n - 1), v(j));
+            let e = b - a;
+            Jet2::affine(area(x, a, b), -0.5 * e.y, 0.5 * e.x)
+        })
+        .collect();
+    let w: Vec<Jet2> = (0..n)
+        .map(|i| {
+            let mut w = Jet2::constant(area(v(i + n - 1), v(i), v(i + 1)));
+            for m in 2..n {
+                w = w * d[(i + m) % n];
+            }
+            w
+        })
+        .collect();
+    let sum = w.iter().fold(Jet2::ZERO, |a, &b| a + b);
+    w.into_iter().map(|wi| wi / sum).collect()
+}
+
+fn assert_jets_near(a: &Jet2, b: &Jet2, tol: f64, what: &str) {
+    for (p, q) in [(a.val, b.val), (a.du, b.du), (a.dv, b.dv), (a.duu, b.duu), (a.duv, b.duv), (a.dvv, b.dvv)] {
+        assert!((p - q).abs() <= tol * (1.0 + q.abs()), "{what}: {a:?} vs {b:?}");
+    }
+}
+
+proptest! {
+    /// The O(n) prefix/suffix Wachspress coordinates equal the product form to rounding, with
+    /// derivatives, inside and on the boundary (n = 3..12), and they keep its exact zeros.
+    #[test]
+    fn wachspress_prefix_suffix_matches_product_form(
+        n in 3usize..=12,
+        side in 0usize..12,
+        a in 0.0f64..=1.0,
+        b in 0.0f64..=1.0,
+        on_boundary in proptest::bool::ANY,
+    ) {
+        let dom = Domain::regular(n).unwrap();
+        let i = side % n;
+        let x = if on_boundary { dom.side_point(i, a) } else { domain_point(&dom, i, a, b) };
+        let fast = dom.wachspress(x);
+        let slow = wachspress_product_form(&dom, x);
+        for (j, (f, s)) in fast.iter().zip(&slow).enumerate() {
+            assert_jets_near(f, s, 1e-12, &format!("n={n} λ_{j} at {x:?}"));
+            if s.val == 0.0 {
+                prop_assert_eq!(f.val, 0.0, "n={} λ_{} at {:?}", n, j, x);
+            }
+        }
+        // h_i = Σ_{j∉{i−1,i}} λ_j from prefix and suffix sums: the same sum to rounding, and
+        // exactly 0 on side i.
+        let lp = dom.local_params(x);
+        for q in 0..n {
+            let h = (1..n - 1).fold(Jet2::ZERO, |acc, m| acc + slow[(q + m) % n]);
+            assert_jets_near(&lp[q].h, &h, 1e-12, &format!("n={n} h_{q} at {x:?}"));
+        }
+        // Exactly on side i (D_i = 0 in floating point: the rounded side point need not be),
+        // h_i is exactly 0.
+        if (0..n).all(|j| j == i || (j + 1) % n == i || slow[j].val == 0.0) {
+            prop_assert_eq!(lp[i].h.val, 0.0);
+        }
+    }
+}
+
+/// Many sides: the partial products of n/2 side areas reach e^{±0.24 n}, beyond the range of
+/// f64 for n ≳ 3000, and near the boundary the numerators themselves underflow (Π_j D_j ≈ 2^−n,
+/// 0/0 in the plain product form for n = 5000); the exponent-carrying prefix and suffix products
+/// and the common exponent keep every coordinate finite, a partition of unity and Lagrange at
+/// the vertices. (The rounded side points may lie outside by rounding, where λ is slightly
+/// negative with large derivatives: hence −1e-9.)
+#[test]
+fn wachspress_many_sides_stays_finite() {
+    for n in [1024usize, 5000] {
+        let dom = Domain::regular(n).unwrap();
+        for x in [
+            DVec2::ZERO,
+            dom.side_point(7, 0.3),
+            dom.side_point(n / 2, 0.5) * 0.999,
+            dom.vertex(3) * 0.9999,
+            dom.vertex(11),
+        ] {
+            let l = dom.wachspress(x);
+            assert!(l.iter().all(|j| j.is_finite() && j.val >= -1e-9), "n={n} at {x:?}");
+            let sum: f64 = l.iter().map(|j| j.val).sum();
+            assert_near!(sum, 1.0, 1e-12);
+            let p = dom.local_params(x);
+            assert!(p.iter().all(|q| q.h.is_finite() && q.s.is_finite()), "n={n} at {x:?}");
+        }
+        // At vertex 11 (where D_11 and D_12 are exactly 0) λ is exactly δ_{11,j} and
+        // h_11 = h_12 = 0 exactly.
+        let at = dom.wachspress(dom.vertex(11));
+        for (j, l) in at.iter().enumerate() {
+            assert_eq!(l.val, if j == 11 { 1.0 } else { 0.0 }, "n={n} λ_{j} at vertex 11");
+        }
+        let p = dom.local_params(dom.vertex(11));
+        assert_eq!((p[11].h.val, p[12].h.val), (0.0, 0.0));
+    }
+}

@@ -4,7 +4,7 @@
 //! Derivatives by the quotient rule, exact.
 
 use super::derivs::{Jet2, SurfaceDerivs};
-use super::domain::{Domain, LocalParam};
+use super::domain::{Domain, DomainScratch, LocalParam};
 use super::error::GbError;
 use super::eval::{validate_ribbons, Evaluate};
 use super::patch::{CgbPatch, WeightForm};
@@ -17,7 +17,7 @@ pub struct CgbBasisEvaluator {
     domain: Domain,
     degrees: Vec<usize>,
     layers: Vec<usize>,
-    scratch: Vec<Jet2>,
+    scratch: DomainScratch,
     params: Vec<LocalParam>,
     bs: Vec<Jet2>,
     bh: Vec<Jet2>,
@@ -47,7 +47,7 @@ impl CgbBasisEvaluator {
         }
         let dmax = degrees.iter().copied().max().unwrap_or(0);
         Ok(CgbBasisEvaluator {
-            scratch: vec![Jet2::ZERO; domain.scratch_len()],
+            scratch: domain.scratch(),
             params: vec![LocalParam::default(); n],
             bs: vec![Jet2::ZERO; dmax + 1],
             bh: vec![Jet2::ZERO; dmax + 1],

@@ -137,30 +137,73 @@ impl Domain {
         Jet2::affine(self.side_area(i, uv) * self.area_scale, g.x, g.y)
     }
 
-    /// Length of scratch buffers needed by [`Self::local_params_into`]: 2n.
-    pub fn scratch_len(&self) -> usize {
-        2 * self.n
+    /// Scratch buffers for [`Self::wachspress_into`] and [`Self::local_params_into`] (3n jets
+    /// and n exponents; allocate once per evaluator).
+    pub fn scratch(&self) -> DomainScratch {
+        DomainScratch {
+            areas: vec![Jet2::ZERO; self.n],
+            lambda: vec![Jet2::ZERO; self.n],
+            suffix: vec![Jet2::ZERO; self.n + 1],
+            suffix_exp: vec![0; self.n + 1],
+        }
     }
 
     /// Wachspress coordinates λ_0 … λ_{n−1} with derivatives, in the product form
-    /// λ_i ∝ A(v_{i−1}, v_i, v_{i+1}) · Π_{j∉{i,i+1}} D_j(x), normalized (seed 000 eq. 2.12;
-    /// the product form has no division and is exact on the boundary).
-    /// `areas` (length n) receives the jets of D_j / D_c (see the field `area_scale`); `out` has
-    /// length n.
-    pub fn wachspress_into(&self, uv: DVec2, areas: &mut [Jet2], out: &mut [Jet2]) {
+    /// λ_i ∝ w_i = A(v_{i−1}, v_i, v_{i+1}) · Π_{j∉{i,i+1}} D_j(x), normalized (seed 000 eq. 2.12;
+    /// the product form has no division and is exact on the boundary), in O(n) per point
+    /// (docs/math.md#wachspress-linear): with the prefix products P_k = Π_{j<k} D_j
+    /// and the suffix products S_k = Π_{j≥k} D_j, the product over all sides but the two
+    /// consecutive ones i, i+1 is P_i · S_{i+2} for i ≤ n−2, and Π_{j=1}^{n−2} D_j (one direct
+    /// product) for i = n−1. No division, so a zero D_j at the boundary stays an exact zero; the
+    /// values differ from the sequential product only by rounding (≤ a few n ulps, tested against
+    /// it). Partial products of n/2 factors reach e^{±0.24 n} (they overflow for n ≳ 3000), so
+    /// P and S carry a binary exponent and are rescaled by exact powers of two; the w_i (which
+    /// underflow near the boundary of a large polygon) are scaled by their common largest
+    /// exponent before normalizing.
+    /// `areas` receives the jets of D_j / D_c (see the field `area_scale`), `out` (length n) the λ_i.
+    pub fn wachspress_into(&self, uv: DVec2, scratch: &mut DomainScratch, out: &mut [Jet2]) {
         let n = self.n;
+        let DomainScratch { areas, suffix, suffix_exp, .. } = scratch;
         for (j, a) in areas.iter_mut().enumerate().take(n) {
             *a = self.side_jet(j, uv);
         }
-        let mut sum = Jet2::ZERO;
-        for i in 0..n {
-            let mut w = Jet2::constant(self.corner_area[i]);
-            // sides i+2, …, i+n−1 (mod n): all but sides i and i+1, the two at vertex i
-            for m in 2..n {
-                w = w * areas[(i + m) % n];
-            }
+        // suffix[k] · 2^suffix_exp[k] = S_k = Π_{j≥k} D_j, k = 0..=n.
+        suffix[n] = Jet2::constant(1.0);
+        suffix_exp[n] = 0;
+        for k in (0..n).rev() {
+            let (j, e) = renormalize(areas[k] * suffix[k + 1]);
+            suffix[k] = j;
+            suffix_exp[k] = suffix_exp[k + 1] + e;
+        }
+        // w_i = out[i] · 2^suffix_exp[i] (step i reads suffix_exp[i+2] only, so the exponent
+        // of w_i can take slot i). The w_i themselves may underflow (at a boundary point of a
+        // large polygon Π_j D_j ≈ 2^−n), so they are normalized by their common largest
+        // exponent before summing: λ is unchanged, and never 0/0.
+        // prefix · 2^prefix_exp = P_i = Π_{j<i} D_j
+        let (mut prefix, mut prefix_exp) = (Jet2::constant(1.0), 0i32);
+        for i in 0..n - 1 {
+            let (w, e) = normalize(Jet2::constant(self.corner_area[i]) * prefix * suffix[i + 2]);
             out[i] = w;
-            sum = sum + w;
+            suffix_exp[i] = e.saturating_add(prefix_exp + suffix_exp[i + 2]);
+            let (j, e) = renormalize(prefix * areas[i]);
+            prefix = j;
+            prefix_exp += e;
+        }
+        // i = n−1: all sides but n−1 and 0.
+        let (mut w, mut e) = (Jet2::constant(self.corner_area[n - 1]), 0i32);
+        for a in &areas[1..n - 1] {
+            let (j, de) = renormalize(w * *a);
+            w = j;
+            e += de;
+        }
+        let (w, de) = normalize(w);
+        out[n - 1] = w;
+        suffix_exp[n - 1] = de.saturating_add(e);
+        let top = suffix_exp[..n].iter().copied().max().unwrap_or(0);
+        let mut sum = Jet2::ZERO;
+        for (l, &e) in out.iter_mut().zip(suffix_exp.iter()).take(n) {
+            *l = scale_pow2(*l, e.saturating_sub(top).max(-2100));
+            sum = sum + *l;
         }
         for l in out.iter_mut().take(n) {
             *l = *l / sum;
@@ -169,30 +212,45 @@ impl Domain {
 
     /// Wachspress coordinates with derivatives (allocating convenience form).
     pub fn wachspress(&self, uv: DVec2) -> Vec<Jet2> {
-        let mut areas = vec![Jet2::ZERO; self.n];
+        let mut scratch = self.scratch();
         let mut out = vec![Jet2::ZERO; self.n];
-        self.wachspress_into(uv, &mut areas, &mut out);
+        self.wachspress_into(uv, &mut scratch, &mut out);
         out
     }
 
     /// Local parameters of every side (seed 000 eq. 2.19–2.21):
-    /// h_i = 1 − λ_{i−1} − λ_i, computed as Σ_{j∉{i−1,i}} λ_j (exactly 0 on side i);
+    /// h_i = 1 − λ_{i−1} − λ_i, computed as Σ_{j∉{i−1,i}} λ_j (exactly 0 on side i), in O(1) per
+    /// side from prefix and suffix sums (Σ_{j<i−1} λ_j + Σ_{j>i} λ_j; for i = 0 one direct sum
+    /// of λ_1 … λ_{n−2}): every term is ≥ 0 and on side i every term is exactly 0, so the sum is
+    /// exactly 0 there in any order;
     /// s_i = λ_i/(λ_{i−1}+λ_i), computed in the cancelled form
     /// s_i = c_i D_{i−1} / (c_{i−1} D_{i+1} + c_i D_{i−1}) (c = corner areas), which is the same
     /// function and is also the limit form of eq. 2.21 on the far sides, finite on the whole closed
     /// domain. Only for n = 3 at the vertex opposite side i (where h_i = 1) is it 0/0: there s_i = ½
-    /// with zero derivatives. `scratch` must have length ≥ 2n, `out` length n.
-    pub fn local_params_into(&self, uv: DVec2, scratch: &mut [Jet2], out: &mut [LocalParam]) {
+    /// with zero derivatives. `scratch` from [`Self::scratch`], `out` of length n.
+    pub fn local_params_into(&self, uv: DVec2, scratch: &mut DomainScratch, out: &mut [LocalParam]) {
         let n = self.n;
-        let (areas, lambda) = scratch.split_at_mut(n);
-        self.wachspress_into(uv, areas, lambda);
+        let mut lambda = std::mem::take(&mut scratch.lambda);
+        self.wachspress_into(uv, scratch, &mut lambda);
+        let DomainScratch { areas, suffix, .. } = scratch;
+        // suffix[k] = Σ_{j≥k} λ_j, k = 0..=n
+        suffix[n] = Jet2::ZERO;
+        for k in (0..n).rev() {
+            suffix[k] = lambda[k] + suffix[k + 1];
+        }
+        // prefix = Σ_{j<i−1} λ_j
+        let mut prefix = Jet2::ZERO;
         for i in 0..n {
             let im = (i + n - 1) % n;
             let ip = (i + 1) % n;
-            let mut h = Jet2::ZERO;
-            for m in 1..n - 1 {
-                h = h + lambda[(i + m) % n];
-            }
+            let h = if i == 0 {
+                lambda[1..n - 1].iter().fold(Jet2::ZERO, |a, &l| a + l)
+            } else {
+                if i >= 2 {
+                    prefix = prefix + lambda[i - 2];
+                }
+                prefix + suffix[i + 1]
+            };
             let num = areas[im].scale(self.corner_area[i]);
             let den = num + areas[ip].scale(self.corner_area[im]);
             let s = if den.val.abs() < S_DEN_EPS {
@@ -202,13 +260,66 @@ impl Domain {
             };
             out[i] = LocalParam { s, h };
         }
+        scratch.lambda = lambda;
     }
 
     /// Local parameters of every side (allocating convenience form).
     pub fn local_params(&self, uv: DVec2) -> Vec<LocalParam> {
-        let mut scratch = vec![Jet2::ZERO; 2 * self.n];
+        let mut scratch = self.scratch();
         let mut out = vec![LocalParam::default(); self.n];
         self.local_params_into(uv, &mut scratch, &mut out);
         out
     }
+}
+
+/// Reusable buffers of [`Domain::wachspress_into`] and [`Domain::local_params_into`].
+#[derive(Clone, Debug, Default)]
+pub struct DomainScratch {
+    /// D_j / D_c with derivatives, j = 0..n (filled by `wachspress_into`).
+    pub areas: Vec<Jet2>,
+    lambda: Vec<Jet2>,
+    suffix: Vec<Jet2>,
+    suffix_exp: Vec<i32>,
+}
+
+/// Partial products are kept with every component's magnitude below 2^RESCALE_ABOVE and the
+/// largest above 2^−RESCALE_ABOVE (or all zero), far from overflow and from subnormals.
+const RESCALE_ABOVE: i32 = 256;
+
+/// `j` as (j · 2^−e, e) with the largest component of the first in [2^−256, 2^256] (unchanged,
+/// e = 0, when it already is or when j is zero). Exact: only powers of two.
+#[inline]
+fn renormalize(j: Jet2) -> (Jet2, i32) {
+    let m = j.val.abs().max(j.du.abs()).max(j.dv.abs()).max(j.duu.abs()).max(j.duv.abs()).max(j.dvv.abs());
+    if m == 0.0 || !m.is_finite() {
+        return (j, 0);
+    }
+    let e = ((m.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    if e.abs() <= RESCALE_ABOVE {
+        return (j, 0);
+    }
+    (scale_pow2(j, -e), e)
+}
+
+/// `j` as (j · 2^−e, e) with its largest component in [1, 2) (e = i32::MIN for a zero jet, so
+/// that it never sets the common exponent). Exact.
+#[inline]
+fn normalize(j: Jet2) -> (Jet2, i32) {
+    let m = j.val.abs().max(j.du.abs()).max(j.dv.abs()).max(j.duu.abs()).max(j.duv.abs()).max(j.dvv.abs());
+    if m == 0.0 || !m.is_finite() {
+        return (j, if m == 0.0 { i32::MIN } else { 0 });
+    }
+    let e = ((m.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    (scale_pow2(j, -e), e)
+}
+
+/// j · 2^e, exact (two steps when |e| exceeds one exponent's range).
+#[inline]
+fn scale_pow2(j: Jet2, e: i32) -> Jet2 {
+    if e == 0 {
+        return j;
+    }
+    let pow2 = |e: i32| f64::from_bits(((1023 + e.clamp(-1022, 1023)) as u64) << 52);
+    let half = e / 2;
+    j.scale(pow2(half)).scale(pow2(e - half))
 }

@@ -17,7 +17,7 @@ pub mod table;
 
 pub use cgb::CgbBasisEvaluator;
 pub use derivs::{angle_deg, Curvature, Jet2, SurfaceDerivs};
-pub use domain::{Domain, LocalParam};
+pub use domain::{Domain, DomainScratch, LocalParam};
 pub use error::GbError;
 pub use eval::Evaluate;
 pub use layout::{LayoutError, SampleLayout};

@@ -7,7 +7,7 @@
 //! index `1 + (i·l + k)·(d+1) + j`, with l = ⌈d/2⌉.
 
 use super::derivs::Jet2;
-use super::domain::{Domain, LocalParam};
+use super::domain::{Domain, DomainScratch, LocalParam};
 use super::error::GbError;
 use super::patch::WeightForm;
 use crate::bezier::bernstein::bernstein_all_into;
@@ -218,7 +218,7 @@ pub struct GbBasisEvaluator {
     degree: usize,
     layers: usize,
     mu: Vec<MuKind>,
-    scratch: Vec<Jet2>,
+    scratch: DomainScratch,
     params: Vec<LocalParam>,
     bs: Vec<Jet2>,
     bh: Vec<Jet2>,
@@ -238,7 +238,7 @@ impl GbBasisEvaluator {
             }
         }
         Ok(GbBasisEvaluator {
-            scratch: vec![Jet2::ZERO; domain.scratch_len()],
+            scratch: domain.scratch(),
             params: vec![LocalParam::default(); n],
             bs: vec![Jet2::ZERO; d + 1],
             bh: vec![Jet2::ZERO; d + 1],

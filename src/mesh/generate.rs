@@ -1,4 +1,5 @@
-//! Mesh generators for tests and benchmarks: quad tori and convex polyhedra (convex hulls).
+//! Mesh generators for tests and benchmarks: quad tori, convex polyhedra (convex hulls) and the
+//! large-n cases (a planar n-gon, a cone over an n-gon, a prism with n-gon caps).
 
 use super::error::MeshError;
 use super::geometry::newell_normal;
@@ -36,6 +37,53 @@ pub fn torus(n_major: usize, n_minor: usize, major_radius: f64, minor_radius: f6
         }
     }
     Ok(PolyMesh::new(positions, faces))
+}
+
+/// The regular n-gon of unit radius in the plane z = 0, vertex i at angle 2πi/n.
+fn ngon_ring(n: usize, z: f64) -> Vec<DVec3> {
+    (0..n).map(|i| {
+        let a = TAU * i as f64 / n as f64;
+        DVec3::new(a.cos(), a.sin(), z)
+    }).collect()
+}
+
+fn check_sides(what: &str, n: usize) -> Result<(), MeshError> {
+    if n < 3 {
+        return Err(MeshError::Degenerate(format!("{what} needs n >= 3 sides (got {n})")));
+    }
+    Ok(())
+}
+
+/// One planar regular n-gon (an open mesh of one face, counter-clockwise seen from +z):
+/// a face of n sides. Needs n ≥ 3.
+pub fn polygon(n: usize) -> Result<PolyMesh, MeshError> {
+    check_sides("polygon", n)?;
+    Ok(PolyMesh { positions: ngon_ring(n, 0.0), faces: vec![(0..n as u32).collect()] })
+}
+
+/// A closed cone over the regular n-gon: apex (0, 0, 1) (vertex n, valence n) over the base
+/// ring at z = 0; n triangles and the base n-gon, outward. Needs n ≥ 3.
+pub fn cone(n: usize) -> Result<PolyMesh, MeshError> {
+    check_sides("cone", n)?;
+    let mut positions = ngon_ring(n, 0.0);
+    positions.push(DVec3::Z);
+    let m = n as u32;
+    let mut faces: Vec<Vec<u32>> = (0..m).map(|i| vec![i, (i + 1) % m, m]).collect();
+    faces.push((0..m).rev().collect());
+    Ok(PolyMesh { positions, faces })
+}
+
+/// A closed prism with regular n-gon caps at z = 0 and z = 1: n quads and two n-gons, outward
+/// (vertex i of the bottom ring, n + i above it). Needs n ≥ 3.
+pub fn prism(n: usize) -> Result<PolyMesh, MeshError> {
+    check_sides("prism", n)?;
+    let mut positions = ngon_ring(n, 0.0);
+    positions.extend(ngon_ring(n, 1.0));
+    let m = n as u32;
+    let mut faces: Vec<Vec<u32>> = (0..m).map(|i| vec![i, (i + 1) % m, m + (i + 1) % m, m + i]).collect();
+    faces.push((0..m).rev().collect());
+    faces.push((m..2 * m).collect());
+    Ok(PolyMesh { positions, faces })
 }
 
 /// Convex hull of `points` as a closed triangle mesh (outward, counter-clockwise), by the
