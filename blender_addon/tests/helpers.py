@@ -33,12 +33,12 @@ def parse_obj(path):
 
 
 def add_mesh_object(name, positions, faces):
-    """A mesh object built with the add-on's numpy writer, linked to the scene, selected, active."""
-    mio = mesh_module().mesh_io
+    """A mesh object linked to the scene, selected, active. Built with Blender's own
+    `from_pydata`, not the add-on's writer: a source mesh may hold what the add-on refuses to
+    write (inf, coordinates beyond float32), exactly as a user's mesh can."""
     mesh = bpy.data.meshes.new(name)
-    sizes = np.array([len(f) for f in faces], dtype=np.int32)
-    idx = np.array([i for f in faces for i in f], dtype=np.int32)
-    mio.write_polygons(mesh, positions, sizes, idx)
+    mesh.from_pydata(np.asarray(positions, dtype=np.float64).reshape(-1, 3).tolist(), [], [list(f) for f in faces])
+    mesh.update()
     obj = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(obj)
     select_only(obj)

@@ -48,7 +48,7 @@ def _ctype(n, decl):
         t, stars = ctypes.c_void_p, stars - 1
     else:
         t = {
-            "uint32_t": ctypes.c_uint32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double,
+            "uint8_t": ctypes.c_uint8, "uint32_t": ctypes.c_uint32, "uint64_t": ctypes.c_uint64, "double": ctypes.c_double,
             "float": ctypes.c_float, "size_t": ctypes.c_size_t, "bool": ctypes.c_bool, "void": None,
             "GbsurfResult": n._Result, "GbsurfOptions": n.Options, "GbsurfReport": n.Report,
             "GbsurfProgressFn": n.ProgressFn, "GbsurfCreases": n.Creases,
