@@ -421,3 +421,17 @@ fn chunked_search_matches_brute_force_on_a_crumpled_grid() {
     assert!(brute > 0);
     assert_eq!(self_intersections(&pos, &tris), brute);
 }
+
+/// The reference normal of the fold test is undefined (zero) where the ribbon frame degenerates
+/// (T ∥ X up to rounding, as at the end of a sharp crease), so rounding noise cannot report a
+/// fold; a proper frame gives the unit normal.
+#[test]
+fn reference_normal_is_undefined_for_a_degenerate_frame() {
+    use gbsurf::tessellate::fold::reference_normal;
+    let t = DVec3::new(1.0, -1.0, 0.0);
+    assert_eq!(reference_normal(t, -t), DVec3::ZERO);
+    assert_eq!(reference_normal(t, t * 3.0 + DVec3::new(0.0, 0.0, 1e-15)), DVec3::ZERO);
+    assert_eq!(reference_normal(DVec3::ZERO, t), DVec3::ZERO);
+    let n = reference_normal(DVec3::X * 2.0, DVec3::Y * 0.5);
+    assert!((n - DVec3::Z).length() < 1e-15);
+}

@@ -131,7 +131,7 @@ fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<
                 k += 1;
                 let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
                 let (_, t, x) = ribbon_frame(ribbon, s);
-                let reference = t.cross(x).normalize_or_zero();
+                let reference = crate::tessellate::fold::reference_normal(t, x);
                 if reference == DVec3::ZERO {
                     continue;
                 }

@@ -69,7 +69,21 @@ pub fn ribbon_normal(ribbon: &Ribbon, s: f64) -> DVec3 {
         t += bern(d - 1, j, binom) * (r0[j + 1] - r0[j]);
         binom = binom * (d - 1 - j) as f64 / (j + 1) as f64;
     }
-    t.cross(x).normalize_or_zero()
+    reference_normal(t, x)
+}
+
+/// Smallest sin of the angle between T and X for which T × X counts as a normal: below it (T and
+/// X parallel up to rounding, as at a corner where the ribbon frame degenerates, e.g. at the end
+/// of a sharp crease) the direction of the computed cross product is rounding noise.
+pub const MIN_FRAME_SIN: f64 = 1e-8;
+
+/// Unit T × X, or zero (undefined) when |T × X| ≤ [`MIN_FRAME_SIN`]·|T|·|X| or not finite.
+pub fn reference_normal(t: DVec3, x: DVec3) -> DVec3 {
+    let n = t.cross(x);
+    if !(n.length() > MIN_FRAME_SIN * t.length() * x.length()) {
+        return DVec3::ZERO;
+    }
+    n.normalize_or_zero()
 }
 
 /// Folds of one patch: folded samples (indices into the layout), and the worst one.
