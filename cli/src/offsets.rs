@@ -152,9 +152,16 @@ fn with(mut v: Value, key: &str, x: Value) -> Value {
     v
 }
 
-/// `--offset D` of a curve, the error naming the flag.
-fn curve_offset(c: &PlanarPhQuintic, d: f64, context: impl FnOnce() -> String) -> Result<Value> {
-    c.offset(d).map(|o| offset_json(&o)).map_err(|source| OffsetCmdError::Ph { context: context(), source })
+/// `--offset D` of a curve, the error naming the flag (and `which` curve when the error is the
+/// curve's, not the distance's).
+fn curve_offset(c: &PlanarPhQuintic, d: f64, which: impl FnOnce() -> String) -> Result<Value> {
+    c.offset(d).map(|o| offset_json(&o)).map_err(|source| {
+        let context = match source {
+            PhError::ZeroOffsetDistance | PhError::NonFinite { .. } => format!("--offset {d}"),
+            _ => format!("--offset {d} ({})", which()),
+        };
+        OffsetCmdError::Ph { context, source }
+    })
 }
 
 fn solution_json(s: &HermiteSolution, d: Option<f64>, index: usize) -> Result<Value> {
@@ -162,7 +169,7 @@ fn solution_json(s: &HermiteSolution, d: Option<f64>, index: usize) -> Result<Va
     v = with(v, "eta0", json!(s.eta0));
     v = with(v, "eta2", json!(s.eta2));
     if let Some(d) = d {
-        let o = curve_offset(&s.curve, d, || format!("--offset {d} (solution {index})"))?;
+        let o = curve_offset(&s.curve, d, || format!("solution {index}"))?;
         v = with(v, "offset", o);
     }
     Ok(v)
@@ -255,7 +262,7 @@ pub fn ph_spline(args: &PhSplineArgs) -> Result<()> {
         .map(|(i, s)| {
             let v = quintic_json(s);
             match args.offset {
-                Some(d) => Ok(with(v, "offset", curve_offset(s, d, || format!("--offset {d} (segment {i})"))?)),
+                Some(d) => Ok(with(v, "offset", curve_offset(s, d, || format!("segment {i}"))?)),
                 None => Ok(v),
             }
         })
