@@ -21,9 +21,11 @@ use std::sync::Once;
 
 mod options;
 mod result;
+mod offsets;
 
 pub use options::*;
 pub use result::*;
+pub use offsets::*;
 
 // ---------------------------------------------------------------------------------------------
 // Status codes
@@ -65,6 +67,9 @@ pub const GBSURF_ERR_VERSION: u32 = 13;
 /// before any work; the message names the estimate, the output vertex count, the limit and how to
 /// raise it), or an output buffer could not be allocated.
 pub const GBSURF_ERR_TOO_LARGE: u32 = 14;
+/// The input geometry admits no result (exact offsets): a zero derivative or normal, coincident
+/// points, an offset distance of zero, a singular point (the message names it).
+pub const GBSURF_ERR_DEGENERATE: u32 = 15;
 
 /// ABI version: incremented on every incompatible change of this header.
 pub const GBSURF_ABI_VERSION: u32 = 2;
@@ -347,6 +352,7 @@ pub extern "C" fn gbsurf_status_name(status: u32) -> *const c_char {
         GBSURF_ERR_CONSTRUCTION => b"GBSURF_ERR_CONSTRUCTION\0",
         GBSURF_ERR_VERSION => b"GBSURF_ERR_VERSION\0",
         GBSURF_ERR_TOO_LARGE => b"GBSURF_ERR_TOO_LARGE\0",
+        GBSURF_ERR_DEGENERATE => b"GBSURF_ERR_DEGENERATE\0",
         _ => b"GBSURF_ERR_UNKNOWN\0",
     };
     s.as_ptr() as *const c_char
@@ -473,7 +479,7 @@ mod boundary_tests {
 
     #[test]
     fn status_names_are_distinct() {
-        let names: Vec<String> = (0..=15)
+        let names: Vec<String> = (0..=16)
             // SAFETY: static NUL-terminated strings.
             .map(|c| {
                 unsafe { CStr::from_ptr(gbsurf_status_name(c)) }
@@ -484,10 +490,11 @@ mod boundary_tests {
         assert_eq!(names[0], "GBSURF_OK");
         assert_eq!(names[13], "GBSURF_ERR_VERSION");
         assert_eq!(names[14], "GBSURF_ERR_TOO_LARGE");
-        assert_eq!(names[15], "GBSURF_ERR_UNKNOWN");
-        let mut uniq = names[..15].to_vec();
+        assert_eq!(names[15], "GBSURF_ERR_DEGENERATE");
+        assert_eq!(names[16], "GBSURF_ERR_UNKNOWN");
+        let mut uniq = names[..16].to_vec();
         uniq.sort();
         uniq.dedup();
-        assert_eq!(uniq.len(), 15);
+        assert_eq!(uniq.len(), 16);
     }
 }

@@ -473,7 +473,7 @@ fn handle<'a>(r: *const GbsurfResult) -> FfiResult<&'a GbsurfResult> {
     Ok(unsafe { &*r })
 }
 
-fn put<T>(out: *mut T, arg: &str, v: T) -> FfiResult {
+pub(crate) fn put<T>(out: *mut T, arg: &str, v: T) -> FfiResult {
     let out = non_null_mut(out, arg)?;
     // SAFETY: non-null, writable (contract).
     unsafe { out.write(v) };
@@ -483,7 +483,7 @@ fn put<T>(out: *mut T, arg: &str, v: T) -> FfiResult {
 /// Copies `src` into a caller buffer of `capacity` elements; `written` receives `src.len()` (also
 /// on `GBSURF_ERR_CAPACITY`, so the caller learns the size needed). `buf` may be NULL when
 /// `capacity` is 0 (a size query, which then fails with `_CAPACITY` unless `src` is empty).
-fn copy_out<T: Copy>(src: &[T], buf: *mut T, capacity: usize, written: *mut usize) -> FfiResult {
+pub(crate) fn copy_out<T: Copy>(src: &[T], buf: *mut T, capacity: usize, written: *mut usize) -> FfiResult {
     put(written, "written", src.len())?;
     if src.len() > capacity {
         return Err(FfiError::new(

@@ -26,6 +26,9 @@
 //! triangle mesh with normals (Wavefront OBJ); written to a temporary file and renamed, so
 //! nothing is written on failure.
 //!
+//! `gbsurf ph5`, `gbsurf ph-spline`, `gbsurf pn-grid`: exact offsets of PH curves and PN surfaces
+//! (module `offsets`).
+//!
 //! Errors print one line and exit with status 1 (2 for usage errors).
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
@@ -40,6 +43,8 @@ use gbsurf::DVec2;
 use std::io::{BufRead, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+mod offsets;
 
 #[derive(Parser)]
 #[command(name = "gbsurf", version, about = "Smooth G1 surfaces of n-sided Generalized Bézier patches from polygon control meshes")]
@@ -85,6 +90,17 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Planar PH quintic Hermite interpolants of two points and derivatives, as JSON on stdout
+    /// (the chosen one at the top level, all four under `solutions`), with `--offset` their exact
+    /// rational offsets and cusps.
+    Ph5(offsets::Ph5Args),
+    /// A planar PH quintic spline through the points of a text file, written as JSON (per segment
+    /// control points and arc length; with `--offset` the exact offsets).
+    #[command(after_help = offsets::POINTS_FORMAT)]
+    PhSpline(offsets::PhSplineArgs),
+    /// A PN surface interpolating a grid of points with normals (JSON in), written as the exact
+    /// rational form of every patch (JSON out).
+    PnGrid(offsets::PnGridArgs),
 }
 
 /// The values of an option enum of the core as possible values, parsed by its `FromStr`.
@@ -527,6 +543,9 @@ fn main() -> ExitCode {
             tessellate_gbp(file, output, *resolution, weights.unwrap_or_default())
         }
         Command::GbpElevate { file, to, output } => gbp_elevate(file, *to, output),
+        Command::Ph5(args) => offsets::ph5(args).map_err(|e| e.to_string()),
+        Command::PhSpline(args) => offsets::ph_spline(args).map_err(|e| e.to_string()),
+        Command::PnGrid(args) => offsets::pn_grid(args).map_err(|e| e.to_string()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

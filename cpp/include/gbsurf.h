@@ -72,6 +72,10 @@
 // raise it), or an output buffer could not be allocated.
 #define GBSURF_ERR_TOO_LARGE 14
 
+// The input geometry admits no result (exact offsets): a zero derivative or normal, coincident
+// points, an offset distance of zero, a singular point (the message names it).
+#define GBSURF_ERR_DEGENERATE 15
+
 // ABI version: incremented on every incompatible change of this header.
 #define GBSURF_ABI_VERSION 2
 
@@ -107,6 +111,19 @@
 
 // Patch kind: a ribbon-only patch (CGB), no central control point.
 #define GBSURF_PATCH_CGB 1
+
+// Most cusps a PH quintic offset can have (roots of the degree-8 polynomial σ² + 2dN).
+#define GBSURF_PH5_MAX_CUSPS 8
+
+// Control points (and weights) of the rational offset of a PH quintic (degree 9).
+#define GBSURF_PH5_OFFSET_POINTS 10
+
+// The four planar PH quintic Hermite interpolants of `gbsurf_ph5_hermite` (opaque; free with
+// `gbsurf_ph5_free`).
+typedef struct GbsurfPh5 GbsurfPh5;
+
+// A PN surface interpolating a grid of points with normals (opaque; free with `gbsurf_pn_free`).
+typedef struct GbsurfPn GbsurfPn;
 
 // The opaque result of a conversion: the output triangle mesh with its per-vertex data, the
 // patches (none for the subdivision methods), the curve network, the report and the warnings.
@@ -210,6 +227,22 @@ typedef struct {
   // Wall-clock seconds of the conversion.
   double seconds;
 } GbsurfReport;
+
+// Shape measures of one PH quintic.
+typedef struct {
+  // Exact arc length.
+  double arc_length;
+  // Elastic bending energy ∫ κ² ds (infinite when the hodograph vanishes).
+  double bending_energy;
+  // Absolute rotation index (1/2π) ∫ |κ| ds.
+  double abs_rotation_index;
+  // Minimum radius of curvature (infinite for a straight segment, 0 when the hodograph
+  // vanishes on [0, 1]).
+  double min_curvature_radius;
+  // Signs of the start and end roots of the solution (Algorithm 952's labelling), ±1.
+  int32_t eta0;
+  int32_t eta2;
+} GbsurfPh5Measures;
 
 #ifdef __cplusplus
 extern "C" {
@@ -688,6 +721,139 @@ uint32_t gbsurf_result_report(const GbsurfResult *result, GbsurfReport *report);
 // # Safety
 // `result` is a live handle or NULL; `count` writable or NULL.
 uint32_t gbsurf_report_patches_with_sides(const GbsurfResult *result, size_t sides, size_t *count);
+
+// The four planar PH quintic Hermite interpolants r(0) = p0, r'(0) = d0, r(1) = p1,
+// r'(1) = d1 (each argument 2 doubles x y). `*out` receives the handle (NULL first; set only on
+// success). Errors: `GBSURF_ERR_NULL`, `_NAN` (naming the argument), `_DEGENERATE` (a zero
+// derivative, coincident p0 and p1).
+//
+// # Safety
+// `p0`, `d0`, `p1`, `d1` point to 2 readable doubles each; `out` to a writable pointer.
+uint32_t gbsurf_ph5_hermite(const double *p0,
+                            const double *d0,
+                            const double *p1,
+                            const double *d1,
+                            GbsurfPh5 **out);
+
+// Frees a PH quintic handle. NULL is a no-op.
+//
+// # Safety
+// `ph5` is NULL or a handle from `gbsurf_ph5_hermite` not freed before.
+void gbsurf_ph5_free(GbsurfPh5 *ph5);
+
+// Number of solutions (always 4) and the index of the chosen one (least absolute rotation
+// index, ties broken by bending energy). Either output may be NULL.
+//
+// # Safety
+// `ph5` is a live handle; the outputs are NULL or writable.
+uint32_t gbsurf_ph5_solutions(const GbsurfPh5 *ph5, size_t *count, size_t *chosen);
+
+// The 6 Bézier control points of solution `index` (0..4) as 12 doubles x y into `points`.
+//
+// # Safety
+// `ph5` is a live handle; `points` has room for 12 doubles.
+uint32_t gbsurf_ph5_control_points(const GbsurfPh5 *ph5, size_t index, double *points);
+
+// Arc length, bending energy, absolute rotation index, minimum curvature radius and root signs
+// of solution `index` (0..4).
+//
+// # Safety
+// `ph5` is a live handle; `measures` is writable.
+uint32_t gbsurf_ph5_measures(const GbsurfPh5 *ph5, size_t index, GbsurfPh5Measures *measures);
+
+// The exact offset of solution `index` at signed distance `d` (positive to the right of the
+// direction of travel): a rational Bézier curve of degree 9. `points` receives 20 doubles (10
+// control points x y), `weights` 10 doubles; `cusps` (`cusps_capacity` doubles, may be NULL when
+// 0) receives the cusp parameters in [0, 1], ascending, and `*cusp_count` their number (at most
+// `GBSURF_PH5_MAX_CUSPS`; also set on `GBSURF_ERR_CAPACITY`). Errors: `_NAN` (d), `_DEGENERATE`
+// (d = 0, a hodograph vanishing on [0, 1], a zero weight), `_INDEX`, `_CAPACITY`, `_NULL`.
+//
+// # Safety
+// `ph5` is a live handle; `points` has room for 20 doubles, `weights` for 10, `cusps` for
+// `cusps_capacity`; `cusp_count` is writable.
+uint32_t gbsurf_ph5_offset(const GbsurfPh5 *ph5,
+                           size_t index,
+                           double d,
+                           double *points,
+                           double *weights,
+                           double *cusps,
+                           size_t cusps_capacity,
+                           size_t *cusp_count);
+
+// Interpolates a `rows` × `cols` grid (both ≥ 2) of points with normals by a G1 PN surface of
+// (rows − 1) × (cols − 1) patches (docs/math/pn.md). `points` and `normals` hold
+// `3 * rows * cols` doubles each, row-major (`[3 * (i * cols + j) + c]`); normals need not be
+// unit. `*out` receives the handle (NULL first). Errors: `_COUNT` (lengths, a grid smaller than
+// 2 × 2), `_NAN` (naming [i][j]), `_DEGENERATE` (a zero normal, a singular point), `_NULL`.
+//
+// # Safety
+// `points` and `normals` point to `points_len` / `normals_len` readable doubles; `out` to a
+// writable pointer.
+uint32_t gbsurf_pn_interpolate(size_t rows,
+                               size_t cols,
+                               const double *points,
+                               size_t points_len,
+                               const double *normals,
+                               size_t normals_len,
+                               GbsurfPn **out);
+
+// Frees a PN surface handle. NULL is a no-op.
+//
+// # Safety
+// `pn` is NULL or a handle from `gbsurf_pn_interpolate` not freed before.
+void gbsurf_pn_free(GbsurfPn *pn);
+
+// The number of patches: `*rows` = grid rows − 1, `*cols` = grid columns − 1.
+//
+// # Safety
+// `pn` is a live handle; `rows` and `cols` are writable.
+uint32_t gbsurf_pn_patch_count(const GbsurfPn *pn, size_t *rows, size_t *cols);
+
+// Exact point and unit normal of patch [i][j] at (u, v) ∈ [0, 1]², 3 doubles each (`normal`
+// may be NULL). Errors: `_INDEX` (patch, or u, v outside [0, 1]), `_NAN`, `_DEGENERATE` (a
+// singular point), `_NULL`.
+//
+// # Safety
+// `pn` is a live handle; `point` has room for 3 doubles, `normal` is NULL or has room for 3.
+uint32_t gbsurf_pn_eval(const GbsurfPn *pn,
+                        size_t i,
+                        size_t j,
+                        double u,
+                        double v,
+                        double *point,
+                        double *normal);
+
+// The offset point x + d·n of patch [i][j] at (u, v) (3 doubles; d = 0 gives the point).
+// Errors as `gbsurf_pn_eval`, and `_NAN` for a non-finite d.
+//
+// # Safety
+// `pn` is a live handle; `point` has room for 3 doubles.
+uint32_t gbsurf_pn_offset_point(const GbsurfPn *pn,
+                                size_t i,
+                                size_t j,
+                                double u,
+                                double v,
+                                double d,
+                                double *point);
+
+// The exact rational form of patch [i][j] (d = 0) or of its offset at distance d: a rational
+// tensor-product Bézier patch of degree (`*degree_u`, `*degree_v`) = (11, 11), given by its
+// homogeneous control points (w·x, w·y, w·z, w): `homogeneous[4 * (a * (degree_v + 1) + b) + c]`.
+// Weights may be zero or negative. `*written` receives the number of doubles (also on
+// `GBSURF_ERR_CAPACITY`: `capacity` 0 with `homogeneous` NULL queries the size).
+//
+// # Safety
+// `pn` is a live handle; `homogeneous` has room for `capacity` doubles; the other outputs are
+// writable.
+uint32_t gbsurf_pn_rational(const GbsurfPn *pn,
+                            size_t i,
+                            size_t j,
+                            double d,
+                            size_t *degree_u,
+                            size_t *degree_v,
+                            double *homogeneous,
+                            size_t capacity,
+                            size_t *written);
 
 #ifdef __cplusplus
 }  // extern "C"

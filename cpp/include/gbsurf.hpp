@@ -392,6 +392,149 @@ inline result convert_file(const std::string& path, const options& opt = options
     });
 }
 
+// ---------------------------------------------------------------------------------------------
+// Exact offsets: PH quintics and PN surfaces (docs/math/ph.md, docs/math/pn.md)
+// ---------------------------------------------------------------------------------------------
+
+/// A 2D point or vector.
+using vec2 = std::array<double, 2>;
+/// A 3D point or vector.
+using vec3 = std::array<double, 3>;
+
+/// The exact rational offset of a PH quintic: degree 9, 10 control points with weights, and the
+/// parameters in [0, 1] where the offset has a cusp (ascending, possibly none).
+struct ph5_offset {
+    std::array<vec2, GBSURF_PH5_OFFSET_POINTS> points;
+    std::array<double, GBSURF_PH5_OFFSET_POINTS> weights;
+    std::vector<double> cusps;
+};
+
+/// The four planar PH quintic Hermite interpolants of r(0) = p0, r'(0) = d0, r(1) = p1,
+/// r'(1) = d1 (owns a GbsurfPh5 handle; move-only; a moved-from object throws GBSURF_ERR_NULL).
+class ph5 {
+public:
+    ph5(const vec2& p0, const vec2& d0, const vec2& p1, const vec2& d1) {
+        check_abi();
+        GbsurfPh5* h = nullptr;
+        check(gbsurf_ph5_hermite(p0.data(), d0.data(), p1.data(), d1.data(), &h));
+        h_.reset(h);
+    }
+    const GbsurfPh5* get() const noexcept { return h_.get(); }
+
+    /// Always 4.
+    std::size_t solution_count() const {
+        std::size_t n = 0;
+        check(gbsurf_ph5_solutions(get(), &n, nullptr));
+        return n;
+    }
+    /// The solution with the least absolute rotation index (ties: least bending energy).
+    std::size_t chosen() const {
+        std::size_t k = 0;
+        check(gbsurf_ph5_solutions(get(), nullptr, &k));
+        return k;
+    }
+    /// The 6 Bezier control points of solution `index`.
+    std::array<vec2, 6> control_points(std::size_t index) const {
+        double flat[12];
+        check(gbsurf_ph5_control_points(get(), index, flat));
+        std::array<vec2, 6> p{};
+        for (std::size_t k = 0; k < 6; ++k) {
+            p[k] = {flat[2 * k], flat[2 * k + 1]};
+        }
+        return p;
+    }
+    /// Arc length, bending energy, absolute rotation index, minimum curvature radius, root signs.
+    GbsurfPh5Measures measures(std::size_t index) const {
+        GbsurfPh5Measures m{};
+        check(gbsurf_ph5_measures(get(), index, &m));
+        return m;
+    }
+    /// The exact offset of solution `index` at signed distance d (positive to the right).
+    ph5_offset offset(std::size_t index, double d) const {
+        ph5_offset o{};
+        double flat[2 * GBSURF_PH5_OFFSET_POINTS];
+        double cusps[GBSURF_PH5_MAX_CUSPS];
+        std::size_t n = 0;
+        check(gbsurf_ph5_offset(get(), index, d, flat, o.weights.data(), cusps, GBSURF_PH5_MAX_CUSPS, &n));
+        for (std::size_t k = 0; k < GBSURF_PH5_OFFSET_POINTS; ++k) {
+            o.points[k] = {flat[2 * k], flat[2 * k + 1]};
+        }
+        o.cusps.assign(cusps, cusps + n);
+        return o;
+    }
+
+private:
+    struct deleter {
+        void operator()(GbsurfPh5* h) const noexcept { gbsurf_ph5_free(h); }
+    };
+    std::unique_ptr<GbsurfPh5, deleter> h_;
+};
+
+/// The exact rational form of a PN patch or its offset: homogeneous control points
+/// (w x, w y, w z, w), `homogeneous[4 * (a * (degree_v + 1) + b) + c]`.
+struct pn_rational {
+    std::size_t degree_u = 0;
+    std::size_t degree_v = 0;
+    std::vector<double> homogeneous;
+};
+
+/// A G1 PN surface interpolating a rows x cols grid of points with normals (owns a GbsurfPn
+/// handle; move-only; a moved-from object throws GBSURF_ERR_NULL).
+class pn_surface {
+public:
+    /// `points` and `normals`: x y z per grid point, row-major (3 * rows * cols values each).
+    pn_surface(std::size_t rows, std::size_t cols, const std::vector<double>& points, const std::vector<double>& normals) {
+        check_abi();
+        GbsurfPn* h = nullptr;
+        check(gbsurf_pn_interpolate(rows, cols, points.data(), points.size(), normals.data(), normals.size(), &h));
+        h_.reset(h);
+    }
+    const GbsurfPn* get() const noexcept { return h_.get(); }
+
+    /// Patches along u (rows - 1) and along v (cols - 1).
+    std::pair<std::size_t, std::size_t> patch_count() const {
+        std::size_t m = 0, n = 0;
+        check(gbsurf_pn_patch_count(get(), &m, &n));
+        return {m, n};
+    }
+    /// Exact point of patch [i][j] at (u, v) in [0, 1]^2.
+    vec3 point(std::size_t i, std::size_t j, double u, double v) const {
+        vec3 p{};
+        check(gbsurf_pn_eval(get(), i, j, u, v, p.data(), nullptr));
+        return p;
+    }
+    /// Exact unit normal of patch [i][j] at (u, v).
+    vec3 normal(std::size_t i, std::size_t j, double u, double v) const {
+        vec3 p{}, n{};
+        check(gbsurf_pn_eval(get(), i, j, u, v, p.data(), n.data()));
+        return n;
+    }
+    /// The offset point x + d n.
+    vec3 offset_point(std::size_t i, std::size_t j, double u, double v, double d) const {
+        vec3 p{};
+        check(gbsurf_pn_offset_point(get(), i, j, u, v, d, p.data()));
+        return p;
+    }
+    /// The rational form of patch [i][j] (d = 0) or of its offset at distance d.
+    pn_rational rational(std::size_t i, std::size_t j, double d = 0.0) const {
+        pn_rational r;
+        std::size_t n = 0;
+        uint32_t status = gbsurf_pn_rational(get(), i, j, d, &r.degree_u, &r.degree_v, nullptr, 0, &n);
+        if (status != GBSURF_ERR_CAPACITY) {
+            check(status);
+        }
+        r.homogeneous.resize(n);
+        check(gbsurf_pn_rational(get(), i, j, d, &r.degree_u, &r.degree_v, r.homogeneous.data(), n, &n));
+        return r;
+    }
+
+private:
+    struct deleter {
+        void operator()(GbsurfPn* h) const noexcept { gbsurf_pn_free(h); }
+    };
+    std::unique_ptr<GbsurfPn, deleter> h_;
+};
+
 }  // namespace gbsurf
 
 #endif  // GBSURF_HPP

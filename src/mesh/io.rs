@@ -404,6 +404,15 @@ pub fn read_polymesh(path: impl AsRef<Path>) -> Result<(PolyMesh, SourceMap), Me
     if !matches!(ext.as_str(), "obj" | "off" | "ply" | "stl") {
         return Err(parse_err(None, format!("unknown mesh file extension {ext:?} of {}", path.display())));
     }
+    let bytes = read_input_bytes(path)?;
+    parse_mesh_bytes(&bytes, &ext)
+}
+
+/// The bytes of an input file: it must be a regular file (not a device or FIFO), and at most
+/// [`MAX_INPUT_BYTES`] are read ([`MeshError::InputTooLarge`] beyond). Every reader of a user's
+/// input file goes through this (meshes here, point lists and grids of the command line).
+pub fn read_input_bytes(path: impl AsRef<Path>) -> Result<Vec<u8>, MeshError> {
+    let path = path.as_ref();
     let meta = fs::metadata(path).map_err(|e| io_err(path, e))?;
     if !meta.is_file() {
         return Err(MeshError::NotAFile { path: path.display().to_string() });
@@ -418,7 +427,7 @@ pub fn read_polymesh(path: impl AsRef<Path>) -> Result<(PolyMesh, SourceMap), Me
     if bytes.len() as u64 > MAX_INPUT_BYTES {
         return Err(too_large()); // the file grew while being read
     }
-    parse_mesh_bytes(&bytes, &ext)
+    Ok(bytes)
 }
 
 /// Reads and validates a mesh file into a half-edge mesh; errors and warnings carry the source

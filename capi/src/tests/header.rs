@@ -71,6 +71,13 @@ fn header_declares_every_status_code_and_entry_point() {
         "gbsurf_curve_points(",
         "gbsurf_result_report(",
         "typedef struct GbsurfResult GbsurfResult",
+        "GBSURF_ERR_DEGENERATE",
+        "gbsurf_ph5_hermite(",
+        "gbsurf_ph5_offset(",
+        "gbsurf_pn_interpolate(",
+        "gbsurf_pn_rational(",
+        "typedef struct GbsurfPh5 GbsurfPh5",
+        "typedef struct GbsurfPn GbsurfPn",
     ] {
         assert!(h.contains(name), "generated header lacks {name}");
     }
