@@ -58,7 +58,7 @@ fn check_sides(what: &str, n: usize) -> Result<(), MeshError> {
 /// a face of n sides. Needs n ≥ 3.
 pub fn polygon(n: usize) -> Result<PolyMesh, MeshError> {
     check_sides("polygon", n)?;
-    Ok(PolyMesh { positions: ngon_ring(n, 0.0), faces: vec![(0..n as u32).collect()] })
+    Ok(PolyMesh { positions: ngon_ring(n, 0.0), faces: vec![(0..n as u32).collect()], creases: Default::default() })
 }
 
 /// A closed cone over the regular n-gon: apex (0, 0, 1) (vertex n, valence n) over the base
@@ -70,7 +70,7 @@ pub fn cone(n: usize) -> Result<PolyMesh, MeshError> {
     let m = n as u32;
     let mut faces: Vec<Vec<u32>> = (0..m).map(|i| vec![i, (i + 1) % m, m]).collect();
     faces.push((0..m).rev().collect());
-    Ok(PolyMesh { positions, faces })
+    Ok(PolyMesh { positions, faces, creases: Default::default() })
 }
 
 /// A closed prism with regular n-gon caps at z = 0 and z = 1: n quads and two n-gons, outward
@@ -83,7 +83,7 @@ pub fn prism(n: usize) -> Result<PolyMesh, MeshError> {
     let mut faces: Vec<Vec<u32>> = (0..m).map(|i| vec![i, (i + 1) % m, m + (i + 1) % m, m + i]).collect();
     faces.push((0..m).rev().collect());
     faces.push((m..2 * m).collect());
-    Ok(PolyMesh { positions, faces })
+    Ok(PolyMesh { positions, faces, creases: Default::default() })
 }
 
 /// Convex hull of `points` as a closed triangle mesh (outward, counter-clockwise), by the
