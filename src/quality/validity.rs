@@ -19,8 +19,12 @@
 //!   with Shewchuk's adaptive orientation predicates (crate `robust`): two triangles meet iff an
 //!   edge of one meets the other (closed sets; a segment that crosses the other triangle's plane
 //!   meets it iff the three orientations of the segment against the triangle's edges agree, a
-//!   segment in that plane is tested in 2D).
+//!   segment in that plane is tested in 2D). Pairs inside regions certified free of
+//!   self-intersections (stars of the patches' nodes, [`super::certify`], with the proof) are
+//!   skipped by [`self_intersections_certified`]; every conversion uses it
+//!   ([`mesh_self_intersections`]).
 
+use super::certify::{share, Certified};
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
@@ -403,7 +407,10 @@ fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 /// triangles meet. `group[i]` ties triangles together (pairs within a group are skipped: a group
 /// is one input face cut into triangles; pass `None` for the output mesh). Triangles naming a
 /// missing vertex and degenerate ones are skipped.
-fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>) -> Vec<(u32, u32)> {
+///
+/// Chunk pairs whose triangles all lie in one region of `certified` are skipped: such a region
+/// is proven free of self-intersections ([`super::certify`]), so the count stays exact.
+fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>, certified: &Certified) -> Vec<(u32, u32)> {
     let nv = positions.len();
     let good: Vec<bool> = triangles
         .iter()
@@ -437,6 +444,20 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
     };
     chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
     let range = |c: u32| (c as usize * CHUNK)..((c as usize + 1) * CHUNK).min(kept_tris.len());
+    if certified.patches() > 0 {
+        // Per chunk: the certified stars containing all its triangles.
+        let stars: Vec<Vec<u32>> = (0..chunk_boxes.len() as u32)
+            .into_par_iter()
+            .map(|c| {
+                let r = range(c);
+                certified.stars_of_range(kept[r.start] as usize, kept[r.end - 1] as usize)
+            })
+            .collect();
+        chunk_pairs.retain(|&(a, b)| {
+            let (sa, sb) = (&stars[a as usize], &stars[b as usize]);
+            !if a == b { !sa.is_empty() } else { share(sa, sb) }
+        });
+    }
     let candidate = |i: usize, j: usize| -> bool {
         if !boxes[i].intersects(&boxes[j]) {
             return false;
@@ -491,7 +512,19 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None).len()
+    intersecting_pairs(positions, triangles, None, &Certified::none()).len()
+}
+
+/// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
+/// self-intersections, see [`super::certify`]): the same count, faster on smooth surfaces.
+pub fn self_intersections_certified(positions: &[DVec3], triangles: &[[u32; 3]], certified: &Certified) -> usize {
+    intersecting_pairs(positions, triangles, None, certified).len()
+}
+
+/// [`self_intersections_certified`] of a tessellation with the certified stars of its nodes
+/// ([`Certified::of_mesh`]).
+pub fn mesh_self_intersections(mesh: &SurfaceMesh) -> usize {
+    self_intersections_certified(&mesh.positions, &mesh.triangles, &Certified::of_mesh(mesh))
 }
 
 /// Number of pairs of faces of the input cage, in one shell and sharing no vertex, that meet:
@@ -508,7 +541,7 @@ pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
         }
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
-    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face))
+    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none())
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);
