@@ -56,7 +56,7 @@ proptest! {
     #[test]
     fn ascii_ply_round_trips_every_f64(coords in proptest::collection::vec(finite_f64(), 9..60)) {
         let positions: Vec<DVec3> = coords.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])).collect();
-        let m = PolyMesh { faces: vec![(0..positions.len() as u32).collect()], positions };
+        let m = PolyMesh { faces: vec![(0..positions.len() as u32).collect()], positions, creases: Default::default() };
         let mut buf = Vec::new();
         m.write_ply(&mut buf, PlyFormat::Ascii, &[]).unwrap();
         let text = String::from_utf8(buf).unwrap();
