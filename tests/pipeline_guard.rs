@@ -29,7 +29,7 @@ fn catmull_clark_levels_8_is_refused_before_any_work() {
     assert!(t.elapsed().as_secs_f64() < 1.0, "refused after {:?}", t.elapsed());
     match &err {
         ConvertError::OutputTooLarge { method, vertices, bytes, limit_mb } => {
-            assert_eq!((*method, *vertices, *bytes, *limit_mb), ("catmull-clark", e.vertices, e.bytes, 1024));
+            assert_eq!((*method, *vertices, *bytes, *limit_mb), ("catmull-clark", e.vertices, e.bytes, 2048));
         }
         other => panic!("{other}"),
     }
