@@ -1,14 +1,16 @@
 //! Validity checks of the report: folds (a patch made to fold on purpose is found, with its
 //! index), self-intersections (within one shell only, exact triangle–triangle tests checked
 //! against brute force), the input cage's own intersections, and every shared model converting to
-//! a valid surface with both structures.
+//! a valid surface with both structures; certified intersection-free regions skipped without
+//! changing the count, crafted regions violating each condition of the certificate refused.
 
 use gbsurf::api::{convert, convert_file, ConvertOptions, Method};
 use gbsurf::construct::{build_dual, Patch};
 use gbsurf::gb::{Domain, Evaluate, WeightForm};
 use gbsurf::mesh::{HalfEdgeMesh, PolyMesh};
 use gbsurf::quality::validity::{fold_level, max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
-use gbsurf::quality::{cage_self_intersections, find_folds, self_intersections};
+use gbsurf::quality::certify::certify_region;
+use gbsurf::quality::{cage_self_intersections, find_folds, mesh_self_intersections, self_intersections, self_intersections_certified, Certified};
 use gbsurf::DVec3;
 use proptest::prelude::*;
 
@@ -434,4 +436,171 @@ fn reference_normal_is_undefined_for_a_degenerate_frame() {
     assert_eq!(reference_normal(DVec3::ZERO, t), DVec3::ZERO);
     let n = reference_normal(DVec3::X * 2.0, DVec3::Y * 0.5);
     assert!((n - DVec3::Z).length() < 1e-15);
+}
+
+/// Pairs of triangles sharing no vertex that meet, by trying every pair (one shell assumed).
+fn brute_force(pos: &[DVec3], tris: &[[u32; 3]]) -> usize {
+    let mut n = 0;
+    for a in 0..tris.len() {
+        for b in a + 1..tris.len() {
+            let (x, y) = (tris[a], tris[b]);
+            if !x.iter().any(|v| y.contains(v)) && triangles_intersect(x.map(|v| pos[v as usize]), y.map(|v| pos[v as usize])) {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// The count with the certificates of a tessellation equals the count without them.
+fn same_with_certificates(m: &gbsurf::tessellate::SurfaceMesh) -> (usize, Certified) {
+    let cert = Certified::of_mesh(m);
+    let with = self_intersections_certified(&m.positions, &m.triangles, &cert);
+    assert_eq!(with, self_intersections(&m.positions, &m.triangles));
+    assert_eq!(with, mesh_self_intersections(m));
+    (with, cert)
+}
+
+#[test]
+fn certificates_keep_the_count_on_folded_surfaces() {
+    let form = WeightForm::Squared;
+    // Every patch of the cube pulled sideways (folded, crossing), and one patch only.
+    let pull = |g: &mut gbsurf::gb::GbPatch| {
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        let t = g.eval_derivs(d.center(), form).su.normalize();
+        g.center += 40.0 * t;
+    };
+    let all = edited_dual(&cube(None), pull);
+    let (m, _) = gbsurf::tessellate::tessellate_surface(&all, 4, form, None).unwrap();
+    let (n, _) = same_with_certificates(&m);
+    assert!(n > 0, "the pulled cube crosses itself");
+    assert_eq!(n, brute_force(&m.positions, &m.triangles));
+    // A torus with the inner rows of one ribbon per patch pulled sideways (folds everywhere).
+    let torus = gbsurf::mesh::generate::torus(8, 6, 10.0, 3.0).unwrap();
+    let crumpled = edited_dual(&torus, |g| {
+        let d = Domain::regular(g.ribbons.len()).unwrap();
+        let su = g.eval_derivs(d.center(), form).su;
+        let row = &mut g.ribbons[0].rows[1];
+        let last = row.len() - 1;
+        for p in &mut row[1..last] {
+            *p += 6.0 * su;
+        }
+    });
+    let (m, _) = gbsurf::tessellate::tessellate_surface(&crumpled, 4, form, None).unwrap();
+    let (n, _) = same_with_certificates(&m);
+    assert!(n > 0, "the crumpled torus crosses itself");
+}
+
+#[test]
+fn certificates_keep_the_count_on_a_jittered_torus_against_brute_force() {
+    // One cage vertex pushed through the tube: intersections near it, certified stars elsewhere.
+    let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
+    let c = torus.positions[0];
+    torus.positions[0] = c - 10.0 * DVec3::new(c.x, c.y, 0.0).normalize();
+    let c = convert(&torus, &ConvertOptions { method: Method::Dual, resolution: 3, ..Default::default() }, None).unwrap();
+    let m = &c.mesh;
+    let (n, cert) = same_with_certificates(m);
+    assert_eq!(c.report.self_intersections, n);
+    assert_eq!(n, brute_force(&m.positions, &m.triangles));
+    assert!(n > 0, "the pushed vertex makes the surface cross itself");
+    assert!(cert.certified_patches() > 0 && cert.certified_patches() < cert.patches(), "{} of {}", cert.certified_patches(), cert.patches());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Jittered cages, both structures: the report's count (with certificates) is the count of
+    /// every pair.
+    #[test]
+    fn certificates_keep_the_count_on_jittered_cages(
+        jitter in proptest::collection::vec(-1.0f64..1.0, 72),
+        amp in prop_oneof![Just(0.3), Just(2.5)],
+        topology in any::<bool>(),
+    ) {
+        let mut torus = gbsurf::mesh::generate::torus(6, 4, 4.0, 1.5).unwrap();
+        for (k, p) in torus.positions.iter_mut().enumerate() {
+            *p += amp * DVec3::new(jitter[3 * k], jitter[3 * k + 1], jitter[3 * k + 2]);
+        }
+        let method = if topology { Method::Topology } else { Method::Dual };
+        if let Ok(c) = convert(&torus, &ConvertOptions { method, resolution: 3, ..Default::default() }, None) {
+            prop_assert_eq!(c.report.self_intersections, self_intersections(&c.mesh.positions, &c.mesh.triangles));
+        }
+    }
+}
+
+#[test]
+fn most_patches_of_smooth_surfaces_lie_in_a_certified_star() {
+    for method in [Method::Dual, Method::Topology] {
+        let torus = gbsurf::mesh::generate::torus(16, 8, 10.0, 3.0).unwrap();
+        let c = convert(&torus, &ConvertOptions { method, resolution: 8, ..Default::default() }, None).unwrap();
+        let (n, cert) = same_with_certificates(&c.mesh);
+        assert_eq!(n, 0);
+        assert_eq!(cert.patches(), c.report.patches);
+        assert!(cert.certified_patches() * 10 >= cert.patches() * 9, "{method}: {} of {}", cert.certified_patches(), cert.patches());
+    }
+    // The smooth shared models: every patch. (Cube-like cages have stars whose normals spread
+    // beyond a half space: the star of a cube corner is not certified.)
+    for name in ["torus.obj", "dodecahedron.obj"] {
+        let c = convert_file(format!("{MODELS}/{name}"), &ConvertOptions::default(), None).unwrap();
+        let cert = Certified::of_mesh(&c.mesh);
+        assert_eq!(cert.certified_patches(), cert.patches(), "{name}");
+    }
+}
+
+/// A fan of triangles (q = vertex 0, rim vertices 1..=k at `rim`), triangle i = (0, i, i + 1),
+/// closed when `closed`.
+fn fan(rim: &[DVec3], closed: bool) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut pos = vec![DVec3::ZERO];
+    pos.extend_from_slice(rim);
+    let k = rim.len() as u32;
+    let tris = (1..=k).filter(|&i| closed || i < k).map(|i| [0, i, if i == k { 1 } else { i + 1 }]).collect();
+    (pos, tris)
+}
+
+fn circle(k: usize, turns: f64, radius: impl Fn(usize) -> f64, z: impl Fn(usize) -> f64) -> Vec<DVec3> {
+    (0..k)
+        .map(|i| {
+            let t = std::f64::consts::TAU * turns * i as f64 / k as f64;
+            DVec3::new(radius(i) * t.cos(), radius(i) * t.sin(), z(i))
+        })
+        .collect()
+}
+
+#[test]
+fn crafted_regions_violating_a_condition_are_not_certified() {
+    // A bumpy closed fan around q: certified.
+    let (pos, tris) = fan(&circle(7, 1.0, |i| 1.0 + 0.1 * i as f64, |i| 0.2 * (i % 2) as f64), true);
+    assert!(certify_region(&pos, &tris, 0));
+    // The same with q not a vertex inside: not certified around a rim vertex.
+    assert!(!certify_region(&pos, &tris, 1));
+    // Normal flip: one triangle turned over.
+    let mut flipped = tris.clone();
+    flipped[2].swap(1, 2);
+    assert!(!certify_region(&pos, &flipped, 0));
+    // A rim vertex pulled across its neighbour's spoke: that triangle's normal points down.
+    let mut folded = pos.clone();
+    folded[3] = DVec3::new(folded[2].x * 1.5, folded[2].y * 1.5 - 0.3, 0.0);
+    if (folded[3] - folded[0]).cross(folded[4] - folded[0]).z < 0.0 || (folded[2] - folded[0]).cross(folded[3] - folded[0]).z < 0.0 {
+        assert!(!certify_region(&folded, &tris, 0));
+    }
+    // Double winding: the rim goes twice around q (distinct vertices, every triangle
+    // counter-clockwise and facing up), so the region overlaps itself (its triangles all share
+    // q, but a region built the same way from larger pieces would cross).
+    let (pos, tris) = fan(&circle(14, 2.0, |i| if i < 7 { 1.0 } else { 2.0 }, |_| 0.0), true);
+    assert!(tris.iter().all(|t| (pos[t[1] as usize] - pos[t[0] as usize]).cross(pos[t[2] as usize] - pos[t[0] as usize]).z > 0.0));
+    assert!(!certify_region(&pos, &tris, 0));
+    // A loop through q: an open fan (a half disc) whose boundary passes through q.
+    let (pos, tris) = fan(&circle(5, 0.5, |_| 1.0, |_| 0.0), false);
+    assert!(!certify_region(&pos, &tris, 0));
+    // A degenerate triangle (a rim vertex on q's spoke line at q): not certified.
+    let (mut pos, tris) = fan(&circle(6, 1.0, |_| 1.0, |_| 0.0), true);
+    pos[1] = DVec3::ZERO;
+    assert!(!certify_region(&pos, &tris, 0));
+    // Two loops: two disjoint fans around two centres.
+    let (p1, t1) = fan(&circle(6, 1.0, |_| 1.0, |_| 0.0), true);
+    let (p2, t2) = fan(&circle(6, 1.0, |_| 1.0, |_| 1.0), true);
+    let mut pos = p1;
+    pos.extend(p2.iter().map(|p| *p + DVec3::new(5.0, 0.0, 0.0)));
+    let mut tris = t1;
+    tris.extend(t2.iter().map(|t| t.map(|v| v + 7)));
+    assert!(!certify_region(&pos, &tris, 0));
 }

@@ -254,7 +254,7 @@ fn convert_valid(
     report.zero_area_triangles = check.zero_area_triangles;
     report.input_closed = he.is_closed();
     if checks {
-        report.self_intersections = crate::quality::self_intersections(&out.positions, &out.triangles);
+        report.self_intersections = crate::quality::mesh_self_intersections(&out);
         tick(0.98)?;
         report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
     }

@@ -6,8 +6,10 @@
 //! - [`curvature`]: discrete mean and Gaussian curvature (subdivision methods).
 //! - [`display`]: isophotes (a per-vertex scalar for a light direction) and planar slices.
 //! - [`report`]: the conversion report (serde JSON).
+//! - [`certify`]: certificates of regions free of self-intersections (skipped by the search).
 //! - [`validity`]: folds, self-intersections (output and input cage), |H| × diagonal.
 
+pub mod certify;
 pub mod check;
 pub mod curvature;
 pub mod display;
@@ -18,4 +20,5 @@ pub use check::{check_mesh, MeshCheck};
 pub use curvature::discrete_curvature;
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;
-pub use validity::{cage_self_intersections, find_folds, self_intersections, FoldSite, Folds};
+pub use certify::Certified;
+pub use validity::{cage_self_intersections, find_folds, mesh_self_intersections, self_intersections, self_intersections_certified, FoldSite, Folds};

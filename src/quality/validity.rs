@@ -19,8 +19,12 @@
 //!   with Shewchuk's adaptive orientation predicates (crate `robust`): two triangles meet iff an
 //!   edge of one meets the other (closed sets; a segment that crosses the other triangle's plane
 //!   meets it iff the three orientations of the segment against the triangle's edges agree, a
-//!   segment in that plane is tested in 2D).
+//!   segment in that plane is tested in 2D). Pairs inside regions certified free of
+//!   self-intersections (stars of the patches' nodes, [`super::certify`], with the proof) are
+//!   skipped by [`self_intersections_certified`]; every conversion uses it
+//!   ([`mesh_self_intersections`]).
 
+use super::certify::{share, Certified};
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
@@ -403,33 +407,50 @@ fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 /// triangles meet. `group[i]` ties triangles together (pairs within a group are skipped: a group
 /// is one input face cut into triangles; pass `None` for the output mesh). Triangles naming a
 /// missing vertex and degenerate ones are skipped.
-fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>) -> Vec<(u32, u32)> {
+///
+/// Chunk pairs whose triangles all lie in one region of `certified` are skipped: such a region
+/// is proven free of self-intersections ([`super::certify`]), so the count stays exact.
+fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>, certified: &Certified) -> Vec<(u32, u32)> {
     let nv = positions.len();
-    let good: Vec<bool> = triangles
-        .iter()
-        .map(|t| t.iter().all(|&i| (i as usize) < nv) && !degenerate(t.map(|i| positions[i as usize])))
+    let kept: Vec<u32> = (0..triangles.len() as u32)
+        .into_par_iter()
+        .with_min_len(1 << 12)
+        .filter(|&i| {
+            let t = &triangles[i as usize];
+            t.iter().all(|&v| (v as usize) < nv) && !degenerate(t.map(|v| positions[v as usize]))
+        })
         .collect();
-    let kept: Vec<u32> = (0..triangles.len() as u32).filter(|&i| good[i as usize]).collect();
     if kept.len() < 2 {
         return Vec::new();
     }
-    let kept_tris: Vec<[u32; 3]> = kept.iter().map(|&i| triangles[i as usize]).collect();
-    let shell = shells(nv, &kept_tris);
-    let boxes: Vec<Aabb> = kept_tris
-        .par_iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| positions[i as usize]);
-            let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-            Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z))
-        })
-        .collect();
+    let kept_tris: Vec<[u32; 3]> = kept.par_iter().with_min_len(1 << 12).map(|&i| triangles[i as usize]).collect();
+    let to_aabb = |lo: DVec3, hi: DVec3| Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z));
+    // The box of a triangle, computed where needed when certified regions are skipped (most
+    // pairs never need one, so no array of boxes is built).
+    let compute = |i: usize| {
+        let [a, b, c] = kept_tris[i].map(|v| positions[v as usize]);
+        to_aabb(a.min(b).min(c), a.max(b).max(c))
+    };
+    // Without certificates most chunk pairs are searched: then the boxes are kept in an array.
+    let boxes: Option<Vec<Aabb>> = (certified.patches() == 0).then(|| (0..kept_tris.len()).into_par_iter().map(compute).collect());
+    let bbox = |i: usize| boxes.as_ref().map_or_else(|| compute(i), |b| b[i]);
     // Coarse to fine: chunks of CHUNK consecutive triangles (the tessellation emits a patch's
     // triangles together, so a chunk is a compact piece of surface) get the union of their
     // triangles' boxes; a BVH over the chunk boxes gives the overlapping chunk pairs (in
     // parallel). Two triangles whose boxes overlap lie in one chunk or in two chunks whose boxes
     // overlap, so every candidate pair of the triangle-level search is still visited, once.
     const CHUNK: usize = 64;
-    let chunk_boxes: Vec<Aabb> = boxes.par_chunks(CHUNK).map(|c| c.iter().skip(1).fold(c[0], |a, b| a.merged(b))).collect();
+    let chunk_boxes: Vec<Aabb> = kept_tris
+        .par_chunks(CHUNK)
+        .map(|c| {
+            let p0 = positions[c[0][0] as usize];
+            let (lo, hi) = c.iter().flatten().fold((p0, p0), |(lo, hi), &v| {
+                let p = positions[v as usize];
+                (lo.min(p), hi.max(p))
+            });
+            to_aabb(lo, hi)
+        })
+        .collect();
     let mut chunk_pairs: Vec<(u32, u32)> = if chunk_boxes.len() > 1 {
         Bvh::from_leaves(BvhBuildStrategy::Binned, &chunk_boxes).traverse_bvtt_single_tree_parallel::<false>()
     } else {
@@ -437,12 +458,28 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
     };
     chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
     let range = |c: u32| (c as usize * CHUNK)..((c as usize + 1) * CHUNK).min(kept_tris.len());
+    if certified.patches() > 0 {
+        // Per chunk: the certified stars containing all its triangles.
+        let stars: Vec<Vec<u32>> = (0..chunk_boxes.len() as u32)
+            .into_par_iter()
+            .map(|c| {
+                let r = range(c);
+                certified.stars_of_range(kept[r.start] as usize, kept[r.end - 1] as usize)
+            })
+            .collect();
+        chunk_pairs.retain(|&(a, b)| {
+            let (sa, sb) = (&stars[a as usize], &stars[b as usize]);
+            !if a == b { !sa.is_empty() } else { share(sa, sb) }
+        });
+    }
+    // (The shell test is applied to the few hits afterwards: no union-find over all triangles
+    // when nothing meets.)
     let candidate = |i: usize, j: usize| -> bool {
-        if !boxes[i].intersects(&boxes[j]) {
+        if !bbox(i).intersects(&bbox(j)) {
             return false;
         }
         let (ti, tj) = (&kept_tris[i], &kept_tris[j]);
-        if shell[i] != shell[j] || ti.iter().any(|v| tj.contains(v)) {
+        if ti.iter().any(|v| tj.contains(v)) {
             return false;
         }
         if let Some(g) = group {
@@ -452,7 +489,7 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         }
         triangles_intersect(ti.map(|v| positions[v as usize]), tj.map(|v| positions[v as usize]))
     };
-    let mut hits: Vec<(u32, u32)> = chunk_pairs
+    let hits: Vec<(u32, u32)> = chunk_pairs
         .into_par_iter()
         .fold(Vec::new, |mut acc, (ca, cb)| {
             if ca == cb {
@@ -460,19 +497,18 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
                 for i in r.clone() {
                     for j in i + 1..r.end {
                         if candidate(i, j) {
-                            acc.push((kept[i], kept[j]));
+                            acc.push((i as u32, j as u32));
                         }
                     }
                 }
             } else {
                 let (ra, rb) = (range(ca), range(cb));
                 let (ba, bb) = (chunk_boxes[ca as usize], chunk_boxes[cb as usize]);
-                let near_b: Vec<usize> = rb.filter(|&j| boxes[j].intersects(&ba)).collect();
-                for i in ra.filter(|&i| boxes[i].intersects(&bb)) {
+                let near_b: Vec<usize> = rb.filter(|&j| bbox(j).intersects(&ba)).collect();
+                for i in ra.filter(|&i| bbox(i).intersects(&bb)) {
                     for &j in &near_b {
                         if candidate(i, j) {
-                            let (x, y) = (kept[i].min(kept[j]), kept[i].max(kept[j]));
-                            acc.push((x, y));
+                            acc.push((i as u32, j as u32));
                         }
                     }
                 }
@@ -483,6 +519,18 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
             x.append(&mut y);
             x
         });
+    if hits.is_empty() {
+        return hits;
+    }
+    let shell = shells(nv, &kept_tris);
+    let mut hits: Vec<(u32, u32)> = hits
+        .into_iter()
+        .filter(|&(i, j)| shell[i as usize] == shell[j as usize])
+        .map(|(i, j)| {
+            let (x, y) = (kept[i as usize], kept[j as usize]);
+            (x.min(y), x.max(y))
+        })
+        .collect();
     hits.par_sort_unstable();
     hits.dedup();
     hits
@@ -491,7 +539,19 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None).len()
+    intersecting_pairs(positions, triangles, None, &Certified::none()).len()
+}
+
+/// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
+/// self-intersections, see [`super::certify`]): the same count, faster on smooth surfaces.
+pub fn self_intersections_certified(positions: &[DVec3], triangles: &[[u32; 3]], certified: &Certified) -> usize {
+    intersecting_pairs(positions, triangles, None, certified).len()
+}
+
+/// [`self_intersections_certified`] of a tessellation with the certified stars of its nodes
+/// ([`Certified::of_mesh`]).
+pub fn mesh_self_intersections(mesh: &SurfaceMesh) -> usize {
+    self_intersections_certified(&mesh.positions, &mesh.triangles, &Certified::of_mesh(mesh))
 }
 
 /// Number of pairs of faces of the input cage, in one shell and sharing no vertex, that meet:
@@ -508,7 +568,7 @@ pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
         }
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
-    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face))
+    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none())
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);

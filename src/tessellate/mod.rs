@@ -17,4 +17,4 @@ pub mod weld;
 
 pub use error::TessellateError;
 pub use evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint, TableCache};
-pub use surface::{tessellate_surface, tessellate_surface_with, SurfaceMesh, TessellationFolds, WeldStats};
+pub use surface::{tessellate_surface, tessellate_surface_with, PatchLoops, SurfaceMesh, TessellationFolds, WeldStats};

@@ -61,6 +61,66 @@ pub struct SurfaceMesh {
     pub patch_folds: Vec<TessellationFolds>,
     /// Indices of the flipped triangles ([`super::fold::flipped_triangles`]).
     pub flipped_triangles: Vec<u32>,
+    /// Per patch: its boundary loop and triangle range (empty for subdivision methods), the
+    /// input of the self-intersection certificates ([`crate::quality::certify`]).
+    pub patch_loops: PatchLoops,
+}
+
+/// The boundary loop of every patch of a tessellation as output vertex ids, and its triangles.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PatchLoops {
+    /// The loop of patch p is `ids[start[p]..start[p + 1]]`: its boundary samples in the
+    /// layout's order (side 0 steps 0..r−1, side 1, …), counter-clockwise like its triangles, so
+    /// every step is a directed edge of one of them. Its corners (nodes of the curve network)
+    /// are the entries at multiples of `per_side`.
+    pub start: Vec<usize>,
+    pub ids: Vec<u32>,
+    /// Samples per side (the resolution r).
+    pub per_side: usize,
+    /// The triangles of patch p are `triangles[p]..triangles[p + 1]` (consecutive).
+    pub triangles: Vec<usize>,
+}
+
+impl PatchLoops {
+    /// Number of patches.
+    pub fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// True when there is no patch.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The boundary loop of patch p.
+    pub fn of(&self, p: usize) -> &[u32] {
+        &self.ids[self.start[p]..self.start[p + 1]]
+    }
+
+    /// The corner vertices of patch p, in order.
+    pub fn corners(&self, p: usize) -> impl Iterator<Item = u32> + '_ {
+        self.of(p).iter().step_by(self.per_side.max(1)).copied()
+    }
+
+    /// The loops of all patches from the welding map: O(boundary samples), no hashing.
+    fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, map: &WeldMap, r: usize) -> PatchLoops {
+        let np = surface.patches.len();
+        let mut out = PatchLoops { per_side: r, ..PatchLoops::default() };
+        out.start.reserve(np + 1);
+        out.triangles.reserve(np + 1);
+        let mut nt = 0usize;
+        for (p, patch) in surface.patches.iter().enumerate() {
+            out.start.push(out.ids.len());
+            out.triangles.push(nt);
+            nt += SampleLayout::triangle_count(patch.sides(), r);
+            let layout = &layouts[&patch.sides()];
+            let first = layout.ring_index(r, 0, 0);
+            out.ids.extend_from_slice(&map.ids[map.offsets[p] + first..map.offsets[p + 1]]);
+        }
+        out.start.push(out.ids.len());
+        out.triangles.push(nt);
+        out
+    }
 }
 
 /// The fold test's result for one patch on the samples of the tessellation.
@@ -304,6 +364,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         fold: try_filled(nv, 0, "output fold flags")?,
         patch_folds: Vec::new(),
         flipped_triangles: Vec::new(),
+        patch_loops: PatchLoops::new(surface, &layouts, &map, r),
     };
     let mut boundary = BoundarySamples::new(surface, &layouts, r);
     // Per vertex: how many patches contributed a valid normal.
