@@ -281,11 +281,47 @@ pub unsafe extern "C" fn gbsurf_convert(
     user_data: *mut c_void,
     out: *mut *mut GbsurfResult,
 ) -> u32 {
-    boundary("gbsurf_convert", || {
+    // SAFETY: the same contract, with no creases.
+    unsafe {
+        convert_arrays(
+            "gbsurf_convert",
+            (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len),
+            std::ptr::null(),
+            options,
+            progress,
+            user_data,
+            out,
+        )
+    }
+}
+
+/// The one body of `gbsurf_convert` and `gbsurf_convert_creased` (`creases` may be NULL), behind
+/// the panic boundary named `name`.
+///
+/// # Safety
+/// As `gbsurf_convert_creased`.
+#[allow(clippy::type_complexity)]
+unsafe fn convert_arrays(
+    name: &str,
+    (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len): (
+        *const f64,
+        usize,
+        *const u32,
+        usize,
+        *const u32,
+        usize,
+    ),
+    creases: *const GbsurfCreases,
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    boundary(name, || {
         let out = non_null_mut(out, "out")?;
         // SAFETY: non-null, writable (contract).
         unsafe { *out = std::ptr::null_mut() };
-        // SAFETY: pointer/length pairs per the contract above.
+        // SAFETY: pointer/length pairs per the contract of the callers.
         let (p, s, i) = unsafe {
             (
                 slice_arg(positions, positions_len, "positions")?,
@@ -293,7 +329,9 @@ pub unsafe extern "C" fn gbsurf_convert(
                 slice_arg(face_indices, face_indices_len, "face_indices")?,
             )
         };
-        let mesh = build_mesh(p, s, i)?;
+        let mut mesh = build_mesh(p, s, i)?;
+        // SAFETY: NULL or a readable struct (contract of the callers).
+        unsafe { read_creases(creases, &mut mesh)? };
         let r = run(options, progress, user_data, |o, cb| {
             gbsurf::api::convert(&mesh, o, cb)
         })?;
@@ -390,27 +428,18 @@ pub unsafe extern "C" fn gbsurf_convert_creased(
     user_data: *mut c_void,
     out: *mut *mut GbsurfResult,
 ) -> u32 {
-    boundary("gbsurf_convert_creased", || {
-        let out = non_null_mut(out, "out")?;
-        // SAFETY: non-null, writable (contract).
-        unsafe { *out = std::ptr::null_mut() };
-        // SAFETY: pointer/length pairs per the contract above.
-        let (p, s, i) = unsafe {
-            (
-                slice_arg(positions, positions_len, "positions")?,
-                slice_arg(face_sizes, face_count, "face_sizes")?,
-                slice_arg(face_indices, face_indices_len, "face_indices")?,
-            )
-        };
-        let mut mesh = build_mesh(p, s, i)?;
-        // SAFETY: per the contract above.
-        unsafe { read_creases(creases, &mut mesh)? };
-        let r = run(options, progress, user_data, |o, cb| {
-            gbsurf::api::convert(&mesh, o, cb)
-        })?;
-        write_out(out, r);
-        Ok(())
-    })
+    // SAFETY: per the contract above.
+    unsafe {
+        convert_arrays(
+            "gbsurf_convert_creased",
+            (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len),
+            creases,
+            options,
+            progress,
+            user_data,
+            out,
+        )
+    }
 }
 
 /// Reads a mesh file (OBJ, OFF, PLY, STL; strict readers, errors name the line) and converts it

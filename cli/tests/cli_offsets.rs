@@ -2,19 +2,16 @@
 //! numbers, and every bad input class exits with status 1 and a one-line message naming the
 //! argument or the input line.
 
+mod common;
+use common::{fails_in, run_in};
+
 use gbsurf::offset::ph::{OpenEnds, PlanarPhQuintic, PlanarPhSpline};
 use gbsurf::offset::pn::{PnGrid, PnOptions, PnSurface};
 use gbsurf::{DVec2, DVec3};
 use proptest::prelude::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_gbsurf");
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN).current_dir(dir).args(args).output().unwrap()
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("gbsurf-offsets-{}-{name}", std::process::id()));
@@ -23,18 +20,6 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Expects exit 1 and exactly one stderr line containing every needle.
-fn fails_in(dir: &Path, args: &[&str], needles: &[&str]) {
-    let out = run_in(dir, args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: {err}");
-    assert!(lines[0].starts_with("gbsurf: error: "), "{err}");
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: {err} lacks {n:?}");
-    }
-}
 
 fn ok_json(dir: &Path, args: &[&str]) -> Value {
     let out = run_in(dir, args);

@@ -2,8 +2,11 @@
 //! another output, nothing written when any output path is bad, no temporary left behind, long
 //! names and file modes kept, every count option bounded with a one-line error.
 
+mod common;
+use common::{fails_in, run_in};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models");
 const CUBIC5: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/cubic5.gbp");
@@ -17,22 +20,6 @@ fn setup(name: &str) -> PathBuf {
     d
 }
 
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gbsurf")).current_dir(dir).args(args).output().unwrap()
-}
-
-/// Runs `gbsurf args` in `dir`; expects exit 1 and one error line containing every needle.
-fn fails_in(dir: &Path, args: &[&str], needles: &[&str]) {
-    let out = run_in(dir, args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: {err}");
-    assert!(lines[0].starts_with("gbsurf: error: "), "{err}");
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: {err} lacks {n:?}");
-    }
-}
 
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();

@@ -11,14 +11,7 @@
 #include <set>
 #include <string>
 
-static int failures = 0;
-#define CHECK(cond)                                                                      \
-    do {                                                                                 \
-        if (!(cond)) {                                                                   \
-            std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";   \
-            ++failures;                                                                  \
-        }                                                                                \
-    } while (0)
+#include "check.hpp"
 
 // The code of a thrown gbsurf::error, GBSURF_OK when nothing was thrown.
 template <class F>

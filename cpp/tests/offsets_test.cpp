@@ -7,14 +7,7 @@
 #include <string>
 #include <type_traits>
 
-static int failures = 0;
-#define CHECK(cond)                                                                      \
-    do {                                                                                 \
-        if (!(cond)) {                                                                   \
-            std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";   \
-            ++failures;                                                                  \
-        }                                                                                \
-    } while (0)
+#include "check.hpp"
 
 static_assert(!std::is_copy_constructible<gbsurf::ph5>::value, "ph5 must not be copyable");
 static_assert(std::is_nothrow_move_constructible<gbsurf::ph5>::value, "noexcept move");

@@ -9,14 +9,7 @@
 #include <type_traits>
 #include <utility>
 
-static int failures = 0;
-#define CHECK(cond)                                                                      \
-    do {                                                                                 \
-        if (!(cond)) {                                                                   \
-            std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";   \
-            ++failures;                                                                  \
-        }                                                                                \
-    } while (0)
+#include "check.hpp"
 
 // Rule of five of the handle: move-only, moves never throw.
 static_assert(!std::is_copy_constructible<gbsurf::result>::value, "result must not be copyable");
