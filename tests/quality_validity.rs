@@ -604,3 +604,17 @@ fn crafted_regions_violating_a_condition_are_not_certified() {
     tris.extend(t2.iter().map(|t| t.map(|v| v + 7)));
     assert!(!certify_region(&pos, &tris, 0));
 }
+
+/// Every folded patch of a report has a site, also a patch folded only through flipped triangles
+/// (the thin three-sided vertex patches of a cone over a 200-gon, dual structure).
+#[test]
+fn every_folded_patch_gets_a_site() {
+    let cone = gbsurf::mesh::generate::cone(200).unwrap();
+    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Dual, resolution: 4, ..Default::default() };
+    let c = gbsurf::api::convert(&cone, &opts, None).unwrap();
+    assert!(c.report.folds > 0 && !c.report.valid, "{} folds", c.report.folds);
+    assert_eq!(c.report.fold_sites.len(), c.report.folds.min(gbsurf::quality::validity::MAX_FOLD_SITES));
+    for s in &c.report.fold_sites {
+        assert!(s.u.is_finite() && s.v.is_finite() && s.u.hypot(s.v) <= 1.0 + 1e-12, "{s:?}");
+    }
+}

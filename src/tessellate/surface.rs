@@ -404,6 +404,20 @@ pub fn tessellate_checked<E: PatchEvaluator>(
                 *f = 1;
             }
         }
+        // A patch folded only through flipped triangles still gets a site: the domain centroid
+        // of its first flipped triangle.
+        let Some(&p) = mesh.triangle_patch.get(t as usize) else { continue };
+        let p = p as usize;
+        if mesh.patch_folds.get(p).is_some_and(|f| f.worst.is_none()) {
+            let local = (t as usize).checked_sub(mesh.patch_loops.triangles.get(p).copied().unwrap_or(usize::MAX));
+            let layout = layouts.get(&surface.patches[p].sides());
+            if let (Some(local), Some(layout)) = (local, layout) {
+                if let Some(tri) = layout.triangles.get(local) {
+                    let uv = tri.iter().filter_map(|&i| layout.uv.get(i as usize)).copied().sum::<glam::DVec2>() / 3.0;
+                    mesh.patch_folds[p].worst = Some(uv);
+                }
+            }
+        }
     }
     Ok((mesh, stats))
 }
