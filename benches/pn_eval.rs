@@ -7,7 +7,10 @@
 use criterion::{black_box, BenchmarkId, Criterion, Throughput};
 use gbsurf::offset::pn::{PnGrid, PnOptions, PnRational, PnSurface};
 use gbsurf::DVec3;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+mod common;
+use common::ns_per_point;
 
 /// A convex 6 × 5 grid (patches 5 × 4) on the graph z = 0.5x² + y² + 0.1x³, normals downward.
 fn surface() -> PnSurface {
@@ -52,44 +55,6 @@ fn eval_rational(rs: &[PnRational], r: usize, out: &mut Vec<DVec3>) {
             }
         }
     }
-}
-
-/// CPU time of this thread in ns (Linux `/proc/thread-self/schedstat`), if available: the
-/// machine may be shared, so per-core cost is measured in CPU time as well as wall time.
-fn thread_cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
-}
-
-/// Median (wall, CPU) ns per point of 5 runs of ≥ 50 ms.
-fn ns_per_point(points: usize, mut f: impl FnMut()) -> (f64, f64) {
-    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
-    for _ in 0..5 {
-        let t = Instant::now();
-        let c0 = thread_cpu_ns();
-        let mut reps = 0;
-        while t.elapsed() < Duration::from_millis(50) {
-            f();
-            reps += 1;
-        }
-        let pts = (reps * points) as f64;
-        wall.push(t.elapsed().as_nanos() as f64 / pts);
-        if let (Some(a), Some(b)) = (c0, thread_cpu_ns()) {
-            cpu.push((b - a) as f64 / pts);
-        }
-    }
-    let median = |mut v: Vec<f64>| {
-        if v.is_empty() {
-            return f64::NAN;
-        }
-        v.sort_by(|a, b| a.total_cmp(b));
-        v[v.len() / 2]
-    };
-    (median(wall), median(cpu))
 }
 
 fn main() {
