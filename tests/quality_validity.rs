@@ -506,6 +506,31 @@ fn certificates_keep_the_count_on_a_jittered_torus_against_brute_force() {
     assert!(cert.certified_patches() > 0 && cert.certified_patches() < cert.patches(), "{} of {}", cert.certified_patches(), cert.patches());
 }
 
+#[test]
+fn the_count_does_not_depend_on_the_order_of_the_cage_faces() {
+    // The search groups triangles into chunks by patch (with certificates) or by Morton order
+    // (without): faces listed in no spatial order (as in many cage files) give the same counts.
+    let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
+    let c = torus.positions[0];
+    torus.positions[0] = c - 10.0 * DVec3::new(c.x, c.y, 0.0).normalize();
+    let mut shuffled = torus.clone();
+    let nf = torus.faces.len();
+    // A fixed permutation that scatters neighbours: k -> 37 k mod nf (37 is prime to nf = 60).
+    shuffled.faces = (0..nf).map(|k| torus.faces[37 * k % nf].clone()).collect();
+    assert_eq!(cage_self_intersections(&shuffled), cage_self_intersections(&torus));
+    for method in [Method::Dual, Method::Topology] {
+        let options = ConvertOptions { method, resolution: 3, ..Default::default() };
+        let (a, b) = (convert(&torus, &options, None).unwrap(), convert(&shuffled, &options, None).unwrap());
+        if method == Method::Dual {
+            assert!(a.report.self_intersections > 0, "the pushed vertex makes the dual surface cross itself");
+        }
+        assert_eq!(a.report.self_intersections, b.report.self_intersections, "{method}");
+        assert_eq!(b.report.self_intersections, brute_force(&b.mesh.positions, &b.mesh.triangles), "{method}");
+        let (n, _) = same_with_certificates(&b.mesh);
+        assert_eq!(n, b.report.self_intersections, "{method}");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(12))]
     /// Jittered cages, both structures: the report's count (with certificates) is the count of

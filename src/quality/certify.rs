@@ -294,7 +294,7 @@ impl Certified {
     }
 
     /// The patch of triangle t, if the certificate covers it.
-    fn patch_of(&self, t: usize) -> Option<usize> {
+    pub(crate) fn patch_of(&self, t: usize) -> Option<usize> {
         if t >= *self.tri_start.last()? {
             return None;
         }

@@ -434,17 +434,19 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
     // Without certificates most chunk pairs are searched: then the boxes are kept in an array.
     let boxes: Option<Vec<Aabb>> = (certified.patches() == 0).then(|| (0..kept_tris.len()).into_par_iter().map(compute).collect());
     let bbox = |i: usize| boxes.as_ref().map_or_else(|| compute(i), |b| b[i]);
-    // Coarse to fine: chunks of CHUNK consecutive triangles (the tessellation emits a patch's
-    // triangles together, so a chunk is a compact piece of surface) get the union of their
-    // triangles' boxes; a BVH over the chunk boxes gives the overlapping chunk pairs (in
-    // parallel). Two triangles whose boxes overlap lie in one chunk or in two chunks whose boxes
-    // overlap, so every candidate pair of the triangle-level search is still visited, once.
-    const CHUNK: usize = 64;
-    let chunk_boxes: Vec<Aabb> = kept_tris
-        .par_chunks(CHUNK)
+    // Coarse to fine: chunks of at most CHUNK spatially close triangles ([`chunk_layout`]) get
+    // the union of their triangles' boxes; a BVH over the chunk boxes gives the overlapping chunk
+    // pairs (in parallel). Two triangles whose boxes overlap lie in one chunk or in two chunks
+    // whose boxes overlap, so every candidate pair of the triangle-level search is still
+    // visited, once.
+    let (order, chunk_start) = chunk_layout(positions, &kept, &kept_tris, certified);
+    let chunk = |c: u32| &order[chunk_start[c as usize]..chunk_start[c as usize + 1]];
+    let chunk_boxes: Vec<Aabb> = (0..chunk_start.len() as u32 - 1)
+        .into_par_iter()
         .map(|c| {
-            let p0 = positions[c[0][0] as usize];
-            let (lo, hi) = c.iter().flatten().fold((p0, p0), |(lo, hi), &v| {
+            let slots = chunk(c);
+            let p0 = positions[kept_tris[slots[0] as usize][0] as usize];
+            let (lo, hi) = slots.iter().flat_map(|&i| kept_tris[i as usize]).fold((p0, p0), |(lo, hi), v| {
                 let p = positions[v as usize];
                 (lo.min(p), hi.max(p))
             });
@@ -457,14 +459,14 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         Vec::new()
     };
     chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
-    let range = |c: u32| (c as usize * CHUNK)..((c as usize + 1) * CHUNK).min(kept_tris.len());
     if certified.patches() > 0 {
-        // Per chunk: the certified stars containing all its triangles.
+        // Per chunk (its triangles are consecutive, within one patch): the certified stars
+        // containing it.
         let stars: Vec<Vec<u32>> = (0..chunk_boxes.len() as u32)
             .into_par_iter()
             .map(|c| {
-                let r = range(c);
-                certified.stars_of_range(kept[r.start] as usize, kept[r.end - 1] as usize)
+                let slots = chunk(c);
+                certified.stars_of_range(kept[slots[0] as usize] as usize, kept[slots[slots.len() - 1] as usize] as usize)
             })
             .collect();
         chunk_pairs.retain(|&(a, b)| {
@@ -493,22 +495,21 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         .into_par_iter()
         .fold(Vec::new, |mut acc, (ca, cb)| {
             if ca == cb {
-                let r = range(ca);
-                for i in r.clone() {
-                    for j in i + 1..r.end {
-                        if candidate(i, j) {
-                            acc.push((i as u32, j as u32));
+                let slots = chunk(ca);
+                for (k, &i) in slots.iter().enumerate() {
+                    for &j in &slots[k + 1..] {
+                        if candidate(i as usize, j as usize) {
+                            acc.push((i, j));
                         }
                     }
                 }
             } else {
-                let (ra, rb) = (range(ca), range(cb));
                 let (ba, bb) = (chunk_boxes[ca as usize], chunk_boxes[cb as usize]);
-                let near_b: Vec<usize> = rb.filter(|&j| bbox(j).intersects(&ba)).collect();
-                for i in ra.filter(|&i| bbox(i).intersects(&bb)) {
+                let near_b: Vec<u32> = chunk(cb).iter().copied().filter(|&j| bbox(j as usize).intersects(&ba)).collect();
+                for &i in chunk(ca).iter().filter(|&&i| bbox(i as usize).intersects(&bb)) {
                     for &j in &near_b {
-                        if candidate(i, j) {
-                            acc.push((i as u32, j as u32));
+                        if candidate(i as usize, j as usize) {
+                            acc.push((i, j));
                         }
                     }
                 }
@@ -534,6 +535,67 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
     hits.par_sort_unstable();
     hits.dedup();
     hits
+}
+
+/// Triangles per chunk of the coarse search in [`intersecting_pairs`].
+const CHUNK: usize = 64;
+
+/// The chunks of the coarse self-intersection search over the kept triangles (`kept[slot]` is a
+/// triangle index, `kept_tris[slot]` its vertices): `order` lists slots and chunk c is
+/// `order[start[c]..start[c + 1]]`, at most [`CHUNK`] slots, never empty.
+/// - With a certificate (the triangles of each patch consecutive): the slots in order, a new
+///   chunk at every patch change, so a chunk is a compact piece of one patch whatever order
+///   the patches come in (the faces of a cage file are often in no spatial order) and its
+///   certified stars are its patch's.
+/// - Without: the slots sorted by the Morton code (Z-order: the bits of the three coordinates,
+///   quantised to 21 bits in the centroids' bounding box, interleaved) of their centroids, so
+///   consecutive slots are close in space. (Interleaving bits is a few lines: no crate.)
+fn chunk_layout(positions: &[DVec3], kept: &[u32], kept_tris: &[[u32; 3]], certified: &Certified) -> (Vec<u32>, Vec<usize>) {
+    let n = kept.len();
+    if certified.patches() > 0 {
+        let mut start = vec![0];
+        let mut patch = certified.patch_of(kept[0] as usize);
+        for (slot, &t) in kept.iter().enumerate().skip(1) {
+            let p = certified.patch_of(t as usize);
+            if p != patch || slot - start[start.len() - 1] == CHUNK {
+                start.push(slot);
+                patch = p;
+            }
+        }
+        start.push(n);
+        return ((0..n as u32).collect(), start);
+    }
+    let centroid = |tri: &[u32; 3]| tri.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / 3.0;
+    let (lo, hi) = kept_tris
+        .par_iter()
+        .map(|t| {
+            let c = centroid(t);
+            (c, c)
+        })
+        .reduce(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+    let scale = DVec3::splat((1u64 << 21) as f64 - 1.0) / (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
+    // Spreads the low 21 bits of x to every third bit.
+    fn spread(x: u64) -> u64 {
+        let mut x = x & 0x1f_ffff;
+        x = (x | x << 32) & 0x1f_0000_0000_ffff;
+        x = (x | x << 16) & 0x1f_0000_ff00_00ff;
+        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+        x = (x | x << 2) & 0x1249_2492_4924_9249;
+        x
+    }
+    let mut keyed: Vec<(u64, u32)> = kept_tris
+        .par_iter()
+        .enumerate()
+        .map(|(slot, t)| {
+            let q = ((centroid(t) - lo) * scale).max(DVec3::ZERO);
+            let code = spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2;
+            (code, slot as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    let start = (0..n).step_by(CHUNK).chain(std::iter::once(n)).collect();
+    (keyed.into_iter().map(|k| k.1).collect(), start)
 }
 
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
