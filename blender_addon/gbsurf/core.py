@@ -225,6 +225,13 @@ def _report_text(conv):
     text = f"{r['patches']} patches, {r['vertices']} vertices, {r['triangles']} triangles"
     if r["max_g1_deg"] > 0:
         text += f", max G1 {r['max_g1_deg']:.3g} deg"
+    if not r["valid"]:
+        # The same figures as the report's validity problems; `gb_fold` marks the folds.
+        text += (f"; NOT VALID: {r['folds']} folded patches, {r['flipped_triangles']} flipped "
+                 f"triangles, {r['self_intersections']} self-intersecting triangle pairs "
+                 f"(input cage: {r['input_self_intersections']})")
+        if not r["closed"] and r["input_closed"]:
+            text += ", open output"
     return text
 
 

@@ -96,6 +96,16 @@ class Report(Structure):
         ("mean_g1_deg", c_double),
         ("max_boundary_gap", c_double),
         ("seconds", c_double),
+        # Second layout: validity.
+        ("valid", c_uint32),
+        ("input_closed", c_uint32),
+        ("folds", c_uint64),
+        ("fold_sites", c_uint64),
+        ("flipped_triangles", c_uint64),
+        ("self_intersections", c_uint64),
+        ("input_self_intersections", c_uint64),
+        ("sharp_edges", c_uint64),
+        ("max_abs_mean_curvature_times_diagonal", c_double),
     ]
 
 

@@ -224,3 +224,27 @@ def test_cube_with_crease_edge_one_keeps_its_corners():
     assert mod.mesh_io.read_mesh(src.data).creases is None
     smooth = mod.core.convert_object(src, method='TOPOLOGY', resolution=4)
     assert np.abs(helpers.mesh_arrays(smooth.data)[0]).max() < 0.99
+
+
+def test_a_folded_result_says_so_and_marks_the_fold():
+    """A unit cube with its corner (1, 1, 1) pulled inside to (-0.5, -0.5, -0.5): the dual
+    surface folds. The result's info says NOT VALID with the report's figures, and `gb_fold`
+    marks vertices; the plain cube has no mark."""
+    verts = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    for pulled in (False, True):
+        v = list(verts)
+        if pulled:
+            v[6] = (-0.5, -0.5, -0.5)
+        src = helpers.add_mesh_object("pulled" if pulled else "plain", v, faces)
+        helpers.select_only(src)
+        assert bpy.ops.object.gbsurf_convert(method='DUAL', resolution=3) == {'FINISHED'}
+        out = bpy.context.active_object
+        fold = np.empty(len(out.data.vertices), np.float32)
+        out.data.attributes["gb_fold"].data.foreach_get("value", fold)
+        if pulled:
+            assert "NOT VALID" in out.gbsurf.info and "folded patches" in out.gbsurf.info, out.gbsurf.info
+            assert fold.max() == 1.0 and fold.sum() < len(fold)
+        else:
+            assert "NOT VALID" not in out.gbsurf.info, out.gbsurf.info
+            assert fold.max() == 0.0

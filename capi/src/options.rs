@@ -292,9 +292,32 @@ pub struct GbsurfReport {
     pub max_boundary_gap: f64,
     /// Wall-clock seconds of the conversion.
     pub seconds: f64,
+    // ---- Validity: the second layout of this struct. Callers compiled against the first
+    // layout (ending at `seconds`) pass its size and get the fields above only. ----
+    /// 1 if the output is valid: a closed two-manifold for closed input, no folds, no flipped
+    /// triangles, no self-intersections beyond the input cage's own.
+    pub valid: u32,
+    /// 1 if the input cage is closed.
+    pub input_closed: u32,
+    /// Patches with a fold (the surface normal turned against its ribbon's normal).
+    pub folds: u64,
+    /// Fold sites listed (at most 10; see `gbsurf_report_fold_site`).
+    pub fold_sites: u64,
+    /// Output triangles whose geometric normal opposes all three vertex normals.
+    pub flipped_triangles: u64,
+    /// Pairs of output triangles of one shell, sharing no vertex, that meet.
+    pub self_intersections: u64,
+    /// Pairs of faces of the input cage, sharing no vertex, that meet.
+    pub input_self_intersections: u64,
+    /// Sharp (crease) patch sides built G0.
+    pub sharp_edges: u64,
+    /// Largest |mean curvature| times the output's bounding-box diagonal.
+    pub max_abs_mean_curvature_times_diagonal: f64,
 }
 
 pub(crate) const REPORT_SIZE: u32 = std::mem::size_of::<GbsurfReport>() as u32;
+/// Size of the first layout of `GbsurfReport` (up to `seconds`), still accepted.
+pub(crate) const REPORT_SIZE_V1: u32 = std::mem::offset_of!(GbsurfReport, valid) as u32;
 
 impl GbsurfReport {
     pub(crate) fn from_report(r: &gbsurf::quality::Report, method: u32) -> Self {
@@ -317,6 +340,15 @@ impl GbsurfReport {
             mean_g1_deg: r.mean_g1_deg,
             max_boundary_gap: r.max_boundary_gap,
             seconds: r.seconds,
+            valid: r.valid as u32,
+            input_closed: r.input_closed as u32,
+            folds: r.folds as u64,
+            fold_sites: r.fold_sites.len() as u64,
+            flipped_triangles: r.flipped_triangles as u64,
+            self_intersections: r.self_intersections as u64,
+            input_self_intersections: r.input_self_intersections as u64,
+            sharp_edges: r.sharp_edges as u64,
+            max_abs_mean_curvature_times_diagonal: r.max_abs_mean_curvature_times_diagonal,
         }
     }
 }

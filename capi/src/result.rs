@@ -47,6 +47,7 @@ pub struct GbsurfResult {
     cubic_curves: OnceLock<Vec<Vec<DVec3>>>,
     report: GbsurfReport,
     sides_histogram: Vec<(u64, u64)>,
+    fold_sites: Vec<gbsurf::quality::FoldSite>,
     warnings: Vec<CString>,
 }
 
@@ -233,6 +234,7 @@ fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
             .iter()
             .filter_map(|(k, &v)| Some((k.parse::<u64>().ok()?, v as u64)))
             .collect(),
+        fold_sites: conv.report.fold_sites.clone(),
         warnings: conv
             .warnings
             .iter()
@@ -1256,15 +1258,50 @@ pub unsafe extern "C" fn gbsurf_result_report(
         let out = non_null_mut(report, "report")?;
         // SAFETY: non-null; at least the size field is readable (contract).
         let size = unsafe { std::ptr::read_unaligned(out as *const u32) };
-        if size != REPORT_SIZE {
+        if size != REPORT_SIZE && size != REPORT_SIZE_V1 {
             return Err(FfiError::new(
                 GBSURF_ERR_INVALID_OPTION,
-                format!("report struct_size = {size}: unknown size (this library expects {REPORT_SIZE})"),
+                format!("report struct_size = {size}: unknown size (this library expects {REPORT_SIZE}, or {REPORT_SIZE_V1} for the first layout)"),
             ));
         }
-        // SAFETY: the caller's struct has our full size (checked above).
-        unsafe { out.write(r.report) };
+        let mut report = r.report;
+        report.struct_size = size;
+        // SAFETY: the caller's struct is `size` bytes long (one of the two layouts, checked
+        // above); the first `size` bytes of ours are the same fields at the same offsets.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                (&report as *const GbsurfReport).cast::<u8>(),
+                out.cast::<u8>(),
+                size as usize,
+            )
+        };
         Ok(())
+    })
+}
+
+/// Fold site `index` (0-based, below the report's `fold_sites`): the patch and the domain point
+/// (regular n-gon domain) where it folds most.
+///
+/// Errors: `GBSURF_ERR_NULL`, `GBSURF_ERR_INDEX` (index out of range).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `patch`, `u`, `v` writable (NULL gives `GBSURF_ERR_NULL`).
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_report_fold_site(
+    result: *const GbsurfResult,
+    index: usize,
+    patch: *mut usize,
+    u: *mut f64,
+    v: *mut f64,
+) -> u32 {
+    boundary("gbsurf_report_fold_site", || {
+        let r = handle(result)?;
+        let site = r.fold_sites.get(index).ok_or_else(|| {
+            FfiError::new(GBSURF_ERR_INDEX, format!("fold site {index} out of range (the report lists {})", r.fold_sites.len()))
+        })?;
+        put(patch, "patch", site.patch)?;
+        put(u, "u", site.u)?;
+        put(v, "v", site.v)
     })
 }
 

@@ -226,6 +226,25 @@ typedef struct {
   double max_boundary_gap;
   // Wall-clock seconds of the conversion.
   double seconds;
+  // 1 if the output is valid: a closed two-manifold for closed input, no folds, no flipped
+  // triangles, no self-intersections beyond the input cage's own.
+  uint32_t valid;
+  // 1 if the input cage is closed.
+  uint32_t input_closed;
+  // Patches with a fold (the surface normal turned against its ribbon's normal).
+  uint64_t folds;
+  // Fold sites listed (at most 10; see `gbsurf_report_fold_site`).
+  uint64_t fold_sites;
+  // Output triangles whose geometric normal opposes all three vertex normals.
+  uint64_t flipped_triangles;
+  // Pairs of output triangles of one shell, sharing no vertex, that meet.
+  uint64_t self_intersections;
+  // Pairs of faces of the input cage, sharing no vertex, that meet.
+  uint64_t input_self_intersections;
+  // Sharp (crease) patch sides built G0.
+  uint64_t sharp_edges;
+  // Largest |mean curvature| times the output's bounding-box diagonal.
+  double max_abs_mean_curvature_times_diagonal;
 } GbsurfReport;
 
 // Shape measures of one PH quintic.
@@ -715,6 +734,19 @@ uint32_t gbsurf_warning_message(const GbsurfResult *result, size_t index, const 
 // # Safety
 // `result` is a live handle or NULL; `report` NULL or a writable `GbsurfReport`.
 uint32_t gbsurf_result_report(const GbsurfResult *result, GbsurfReport *report);
+
+// Fold site `index` (0-based, below the report's `fold_sites`): the patch and the domain point
+// (regular n-gon domain) where it folds most.
+//
+// Errors: `GBSURF_ERR_NULL`, `GBSURF_ERR_INDEX` (index out of range).
+//
+// # Safety
+// `result` is a live handle or NULL; `patch`, `u`, `v` writable (NULL gives `GBSURF_ERR_NULL`).
+uint32_t gbsurf_report_fold_site(const GbsurfResult *result,
+                                 size_t index,
+                                 size_t *patch,
+                                 double *u,
+                                 double *v);
 
 // Number of patches (subdivision methods: faces) with `sides` sides (0 when there are none).
 //

@@ -255,6 +255,19 @@ public:
         check(gbsurf_result_report(get(), &r));
         return r;
     }
+    /// Where the surface folds: the first few folded patches (report().fold_sites of them) and the
+    /// domain point of each (regular n-gon domain).
+    struct FoldSite {
+        std::size_t patch;
+        double u, v;
+    };
+    std::vector<FoldSite> fold_sites() const {
+        std::vector<FoldSite> sites(static_cast<std::size_t>(report().fold_sites));
+        for (std::size_t i = 0; i < sites.size(); ++i) {
+            check(gbsurf_report_fold_site(get(), i, &sites[i].patch, &sites[i].u, &sites[i].v));
+        }
+        return sites;
+    }
     std::size_t patches_with_sides(std::size_t sides) const {
         std::size_t n = 0;
         check(gbsurf_report_patches_with_sides(get(), sides, &n));

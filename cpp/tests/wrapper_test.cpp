@@ -109,6 +109,20 @@ int main() {
         CHECK(code_of([&] { (void)a.curve_cubic_points(a.curve_count()); }) == GBSURF_ERR_INDEX);
     }
 
+    // Validity in the report: the unit cube is valid; with its corner (1, 1, 1) pulled inside to
+    // (-0.5, -0.5, -0.5) the dual surface folds, and the fold sites name folded patches.
+    {
+        CHECK(a.report().valid == 1 && a.report().folds == 0 && a.fold_sites().empty());
+        std::vector<double> pulled = P;
+        for (int k = 18; k < 21; ++k) pulled[k] = -0.5;  // vertex 6 = (1, 1, 1)
+        gbsurf::result f = gbsurf::convert(pulled, S, F, gbsurf::options().method(gbsurf::method::dual).resolution(3));
+        const GbsurfReport rep = f.report();
+        CHECK(rep.valid == 0 && rep.folds > 0 && rep.input_closed == 1);
+        const auto sites = f.fold_sites();
+        CHECK(sites.size() == rep.fold_sites && !sites.empty());
+        for (const auto& s : sites) CHECK(s.patch < f.patch_count() && std::isfinite(s.u) && std::isfinite(s.v));
+    }
+
     // The progress callback runs on the calling thread only (the library's workers never call
     // it), so a std::function with unsynchronized state is safe.
     const auto caller = std::this_thread::get_id();

@@ -765,3 +765,86 @@ fn output_too_large_is_refused_with_its_code_and_message() {
     // SAFETY: a result of gbsurf_convert.
     unsafe { gbsurf_result_free(out) };
 }
+
+/// Converts `mesh` (dual, resolution 3) through the C ABI and through Rust.
+fn dual_report(mesh: &gbsurf::mesh::PolyMesh) -> (*mut GbsurfResult, gbsurf::quality::Report) {
+    let options = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Dual, resolution: 3, ..Default::default() };
+    let rust = gbsurf::api::convert(mesh, &options, None).unwrap().report;
+    let p: Vec<f64> = mesh.positions.iter().flat_map(|q| q.to_array()).collect();
+    let s: Vec<u32> = mesh.faces.iter().map(|f| f.len() as u32).collect();
+    let f: Vec<u32> = mesh.faces.iter().flatten().copied().collect();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized; valid arrays and out pointer.
+    unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        let mut o = o.assume_init();
+        o.resolution = 3;
+        o.method = GBSURF_METHOD_DUAL;
+        let mut r = null_mut();
+        assert_eq!(convert(&p, &s, &f, &o, &mut r), GBSURF_OK, "{}", last());
+        (r, rust)
+    }
+}
+
+/// The report's validity fields (second layout) equal the Rust report's, the first layout's size
+/// is still accepted and gets only its own fields, and the fold sites are listed.
+#[test]
+fn report_carries_validity_and_accepts_the_first_layout() {
+    // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
+    // themselves (valid: no intersections beyond the cage's own). A cube with a corner pulled
+    // inside to (-0.5, -0.5, -0.5): the dual surface folds (not valid).
+    let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
+    let c = torus.positions[0];
+    torus.positions[0] = c - 10.0 * glam::DVec3::new(c.x, c.y, 0.0).normalize();
+    let (p, s, f) = cube();
+    let mut cube = gbsurf::mesh::PolyMesh::new(
+        p.chunks(3).map(|c| glam::DVec3::new(c[0], c[1], c[2])).collect(),
+        s.iter().scan(0usize, |at, &n| {
+            *at += n as usize;
+            Some(f[*at - n as usize..*at].to_vec())
+        }).collect(),
+    );
+    let corner = cube.positions.iter().position(|p| *p == glam::DVec3::ONE).expect("a corner at (1, 1, 1)");
+    cube.positions[corner] = glam::DVec3::splat(-0.5);
+    for (mesh, folded) in [(torus, false), (cube, true)] {
+        let (r, rust) = dual_report(&mesh);
+        if folded {
+            assert!(rust.folds > 0 && !rust.fold_sites.is_empty() && !rust.valid, "{rust:?}");
+        } else {
+            assert!(rust.self_intersections > 0 && rust.input_self_intersections > 0 && rust.valid, "{rust:?}");
+        }
+        // SAFETY: `r` is a live handle; the out pointers are writable locals.
+        unsafe {
+            let mut rep = GbsurfReport { struct_size: REPORT_SIZE, ..Default::default() };
+            assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_OK);
+            assert_eq!(rep.struct_size, REPORT_SIZE);
+            assert_eq!(rep.valid, rust.valid as u32);
+            assert_eq!(rep.input_closed, 1);
+            assert_eq!(rep.self_intersections as usize, rust.self_intersections);
+            assert_eq!(rep.input_self_intersections as usize, rust.input_self_intersections);
+            assert_eq!(rep.folds as usize, rust.folds);
+            assert_eq!(rep.flipped_triangles as usize, rust.flipped_triangles);
+            assert_eq!(rep.fold_sites as usize, rust.fold_sites.len());
+            assert_eq!(rep.max_abs_mean_curvature_times_diagonal, rust.max_abs_mean_curvature_times_diagonal);
+            for (k, site) in rust.fold_sites.iter().enumerate() {
+                let (mut patch, mut u, mut v) = (0usize, 0.0, 0.0);
+                assert_eq!(gbsurf_report_fold_site(r, k, &mut patch, &mut u, &mut v), GBSURF_OK);
+                assert_eq!((patch, u, v), (site.patch, site.u, site.v));
+            }
+            let (mut patch, mut u, mut v) = (0usize, 0.0, 0.0);
+            let n = rust.fold_sites.len();
+            assert_eq!(gbsurf_report_fold_site(r, n, &mut patch, &mut u, &mut v), GBSURF_ERR_INDEX);
+            assert!(last().contains(&format!("fold site {n} out of range")), "{}", last());
+            if n > 0 {
+                assert_eq!(gbsurf_report_fold_site(r, 0, null_mut(), &mut u, &mut v), GBSURF_ERR_NULL);
+            }
+            // The first layout: its size is accepted, and nothing past it is written.
+            let mut old = GbsurfReport { struct_size: REPORT_SIZE_V1, valid: 7, folds: 7, ..Default::default() };
+            assert_eq!(gbsurf_result_report(r, &mut old), GBSURF_OK);
+            assert_eq!(old.struct_size, REPORT_SIZE_V1);
+            assert_eq!((old.vertices, old.triangles), (rep.vertices, rep.triangles));
+            assert_eq!((old.valid, old.folds), (7, 7));
+            gbsurf_result_free(r);
+        }
+    }
+}
