@@ -158,10 +158,11 @@ fn tiny_cube_ply_has_no_inf_and_exact_curvatures() {
     m.write_ply(&mut buf).unwrap();
     let (props, rows) = ply_vertex_values(&buf);
     let names: Vec<&str> = props.iter().map(|(_, n)| n.as_str()).collect();
-    assert_eq!(names, ["x", "y", "z", "nx", "ny", "nz", "patch", "mean_curvature", "gaussian_curvature", "g1_deviation"]);
-    for (ty, name) in &props[6..] {
+    assert_eq!(names, ["x", "y", "z", "nx", "ny", "nz", "patch", "mean_curvature", "gaussian_curvature", "g1_deviation", "fold"]);
+    for (ty, name) in &props[6..10] {
         assert_eq!(ty, "double", "{name}");
     }
+    assert_eq!(props[10].0, "float");
     assert_eq!(rows.len(), m.positions.len());
     for (i, row) in rows.iter().enumerate() {
         assert!(row.iter().all(|x| x.is_finite()), "vertex {i}: {row:?}");
@@ -171,6 +172,7 @@ fn tiny_cube_ply_has_no_inf_and_exact_curvatures() {
         assert_eq!(row[7].to_bits(), m.mean_curvature[i].to_bits());
         assert_eq!(row[8].to_bits(), m.gaussian_curvature[i].to_bits());
         assert_eq!(row[9].to_bits(), m.g1_deviation_deg[i].to_bits());
+        assert_eq!(row[10], m.fold[i] as f64);
     }
 }
 
