@@ -224,3 +224,29 @@ def test_cube_with_crease_edge_one_keeps_its_corners():
     assert mod.mesh_io.read_mesh(src.data).creases is None
     smooth = mod.core.convert_object(src, method='TOPOLOGY', resolution=4)
     assert np.abs(helpers.mesh_arrays(smooth.data)[0]).max() < 0.99
+
+
+def test_convex_regions_are_coloured_warm():
+    # The stored mean curvature keeps the library's sign (H < 0 on convex regions); the colour
+    # map shows convex red-dominant and concave blue-dominant (as MeshLab's curvature maps).
+    src = helpers.add_primitive("ico_sphere")
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    mesh = bpy.context.active_object.data
+    n = len(mesh.vertices)
+    h = np.empty(n, dtype=np.float32)
+    mesh.attributes["gb_mean_curvature"].data.foreach_get("value", h)
+    assert (h < 0).all()  # the sign stays
+    rgba = np.empty(n * 4, dtype=np.float32)
+    mesh.attributes["gb_curvature_color"].data.foreach_get("color", rgba)
+    rgba = rgba.reshape(-1, 4)
+    assert (rgba[:, 0] >= rgba[:, 2]).all() and (rgba[:, 0] - rgba[:, 2]).mean() > 0.3
+    # A torus's inner (saddle / concave along the ring) side is blue-dominant somewhere.
+    helpers.add_primitive("torus")
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    mesh = bpy.context.active_object.data
+    rgba = np.empty(len(mesh.vertices) * 4, dtype=np.float32)
+    mesh.attributes["gb_curvature_color"].data.foreach_get("color", rgba)
+    rgba = rgba.reshape(-1, 4)
+    h = np.empty(len(mesh.vertices), dtype=np.float32)
+    mesh.attributes["gb_mean_curvature"].data.foreach_get("value", h)
+    assert (rgba[h > 0, 2] >= rgba[h > 0, 0]).all() and (h > 0).any()
