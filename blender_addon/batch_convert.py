@@ -208,9 +208,8 @@ def _depsgraph(scene):
     """The evaluated depsgraph of a scene's first view layer (the context's for its scene)."""
     if scene == bpy.context.scene:
         return bpy.context.evaluated_depsgraph_get()
-    dg = scene.view_layers[0].depsgraph
-    dg.update()
-    return dg
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        return bpy.context.evaluated_depsgraph_get()
 
 
 def _safe(name):
