@@ -90,12 +90,14 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
     except native.Cancelled:
         raise ConvertError(f"{name}: cancelled") from None
     except native.GbsurfError as e:
-        raise ConvertError(f"{name}: {e}{_note(obj)}") from None
+        raise ConvertError(f"{name}: {e}{evaluated_note(obj)}") from None
     except mesh_io.SourceError as e:
-        raise ConvertError(f"{e}{_note(obj)}") from None
+        raise ConvertError(f"{e}{evaluated_note(obj)}") from None
 
 
-def _note(obj):
+def evaluated_note(obj):
+    """What to add to an error naming elements of `obj`'s mesh: that they are those of the
+    evaluated mesh when modifiers are enabled; else nothing."""
     return EVALUATED_NOTE if has_enabled_modifiers(obj) else ""
 
 

@@ -155,7 +155,7 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
                 data.append(mesh_io.read_object(s, depsgraph))
                 readable.append(s)
             except mesh_io.SourceError as e:
-                failures.append((s.name, str(e)))
+                failures.append((s.name, f"{e}{core.evaluated_note(s)}"))
         # The worker touches no Blender data and not the operator (RNA is not thread-safe): it
         # shares only these plain Python objects with the main thread.
         progress = _Progress(context.window_manager, len(readable))
