@@ -407,6 +407,23 @@ def test_live_mode_follows_an_animated_source_transform():
     assert core.conversions == before  # moved, not converted
 
 
+def test_frame_change_error_is_stored_and_not_retried_every_frame():
+    src, out = _displaced_cube()
+    core = helpers.mesh_module().core
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    mesh = out.data.name
+    # The Displace pushes along vertex normals: a NaN strength makes every position NaN.
+    src.animation_data_clear()
+    src.modifiers["displace"].strength = float("nan")
+    bpy.context.scene.frame_set(3)
+    assert out.data.name == mesh and out.gbsurf.info.startswith("Live update failed"), out.gbsurf.info
+    before = core.conversions
+    for f in (4, 5, 6):
+        bpy.context.scene.frame_set(f)
+    assert core.conversions == before and out.data.name == mesh
+
+
 # --- a source deleted in the UI -------------------------------------------------------------------
 
 def test_deleted_source_is_released_on_save(tmp_path):
