@@ -4,10 +4,12 @@
     blender -b --python batch_convert.py -- IN... -o OUTDIR [options]  (Blender binary)
 
 Each input (.blend, .obj, .ply) is opened on its own; every mesh object in it is converted
-(`<name>.GB`), each result is written as OUTDIR/<input stem>/<object>.GB.<format> (OBJ and/or
+(`<name>.GB`; in a .blend with several scenes, the objects of every scene, each result beside its
+source in that scene), each result is written as OUTDIR/<input stem>/<object>.GB.<format> (OBJ and/or
 PLY, coordinates in the object's local frame, Z up), and the converted scene as
 OUTDIR/<input stem>.blend. The exit status is 0 when every object converted, 1 when any failed
-(the failures are listed on stderr), 2 for bad arguments.
+(the failures are listed on stderr), 2 for bad arguments (an option outside the range the add-on
+allows, e.g. `--resolution 0`, is refused before any file is opened).
 
 For scripts: `convert_object(obj, **options)` converts one mesh object and returns the new object
 (options as in `--help`, e.g. method='TOPOLOGY', resolution=6).
@@ -92,8 +94,26 @@ def _arguments(argv):
     return _parser().parse_args(argv)
 
 
+def check_ranges(options):
+    """Messages for the options outside the range of the add-on's own properties (the one
+    definition: props.ConvertOptionsMixin), e.g. resolution 0."""
+    props = addon().props
+    bad = []
+    for name, value in options.items():
+        prop = props.ConvertOptionsMixin.__annotations__.get(name)
+        kw = getattr(prop, "keywords", {})
+        lo, hi = kw.get("min"), kw.get("max")
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and (
+                (lo is not None and value < lo) or (hi is not None and value > hi)):
+            flag = "--" + name.replace("_", "-")
+            bounds = f"{lo if lo is not None else '-inf'}..{hi if hi is not None else 'inf'}"
+            bad.append(f"{flag} {value} is outside the allowed range {bounds}")
+    return bad
+
+
 def _open(path):
-    """Loads one input into a fresh scene; returns its mesh objects."""
+    """Loads one input into a fresh scene; returns [(scene, its mesh objects)] for every scene
+    (an object linked into several scenes is listed once, with the first)."""
     ext = os.path.splitext(path)[1].lower()
     if not os.path.isfile(path):
         raise RuntimeError(f"{path}: no such file")
@@ -111,7 +131,15 @@ def _open(path):
             raise RuntimeError(f"{path}: unknown file type {ext!r} (expected .blend, .obj, .ply)")
     # Earlier GB results and their control-net meshes are outputs, not sources.
     core = addon().core
-    return [o for o in bpy.context.scene.objects if o.type == 'MESH' and not core.is_result_part(o)]
+    seen, out = set(), []
+    scenes = [bpy.context.scene] + [s for s in bpy.data.scenes if s != bpy.context.scene]
+    for scene in scenes:
+        objs = [o for o in scene.objects if o.type == 'MESH' and not core.is_result_part(o)
+                and o.name not in seen]
+        seen.update(o.name for o in objs)
+        if objs:
+            out.append((scene, objs))
+    return out
 
 
 def _check_obj_import(path):
@@ -147,12 +175,20 @@ def _check_obj_import(path):
             f"{corners} corners): invalid vertex indices or repeated corners")
 
 
-def _export(obj, path, fmt):
-    """Writes one object's mesh in its local frame with Blender's exporters."""
-    for o in bpy.context.view_layer.objects:
+def _export(obj, path, fmt, scene=None):
+    """Writes one object's mesh in its local frame with Blender's exporters (from `scene`, by
+    default the context's)."""
+    scene = scene or bpy.context.scene
+    view_layer = scene.view_layers[0] if scene != bpy.context.scene else bpy.context.view_layer
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+        _export_selected(obj, path, fmt, view_layer)
+
+
+def _export_selected(obj, path, fmt, view_layer):
+    for o in view_layer.objects:
         o.select_set(False)
     obj.select_set(True)
-    bpy.context.view_layer.objects.active = obj
+    view_layer.objects.active = obj
     saved = obj.matrix_world.copy()
     obj.matrix_world.identity()
     try:
@@ -166,6 +202,14 @@ def _export(obj, path, fmt):
                 export_uv=False, export_attributes=True, apply_modifiers=False, ascii_format=False)
     finally:
         obj.matrix_world = saved
+
+
+def _depsgraph(scene):
+    """The evaluated depsgraph of a scene's first view layer (the context's for its scene)."""
+    if scene == bpy.context.scene:
+        return bpy.context.evaluated_depsgraph_get()
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        return bpy.context.evaluated_depsgraph_get()
 
 
 def _safe(name):
@@ -183,6 +227,11 @@ def main(argv=None):
         best_plane=not args.no_best_plane, weights=args.weights, levels=args.levels,
         want_curves=args.curves, want_control_net=args.control_net,
     )
+    bad = check_ranges(options)
+    if bad:
+        for b in bad:
+            print(f"error: {b}", file=sys.stderr)
+        return 2
     formats = ["obj", "ply"] if args.format == "both" else [args.format]
     os.makedirs(args.output, exist_ok=True)
     core = addon().core
@@ -190,28 +239,34 @@ def main(argv=None):
     for path in args.inputs:
         stem = os.path.splitext(os.path.basename(path))[0]
         try:
-            sources = _open(path)
+            scenes = _open(path)
         except Exception as e:  # unreadable input: report, go on with the others
             failures.append(f"{path}: {e}")
             continue
-        if not sources:
+        if not scenes:
             failures.append(f"{path}: no mesh object")
             continue
         out_dir = os.path.join(args.output, _safe(stem))
         os.makedirs(out_dir, exist_ok=True)
-        for src in sources:
-            t0 = time.perf_counter()
-            try:
-                result = core.convert_object(src, **options)
-            except core.ConvertError as e:
-                failures.append(f"{path}: {e}")
-                continue
-            for fmt in formats:
-                target = os.path.join(out_dir, _safe(result.name) + "." + fmt)
-                _export(result, target, fmt)
-                written.append(target)
-            print(f"{path}: {src.name} -> {result.name}: {result.gbsurf.info} "
-                  f"({time.perf_counter() - t0:.2f} s)")
+        for scene, sources in scenes:
+            depsgraph = _depsgraph(scene)
+            for src in sources:
+                t0 = time.perf_counter()
+                try:
+                    result = core.convert_object(src, depsgraph=depsgraph, **options)
+                except core.ConvertError as e:
+                    failures.append(f"{path}: {e}")
+                    continue
+                for fmt in formats:
+                    target = os.path.join(out_dir, _safe(result.name) + "." + fmt)
+                    try:
+                        _export(result, target, fmt, scene)
+                    except Exception as e:
+                        failures.append(f"{path}: scene {scene.name}: {result.name} not written: {e}")
+                        continue
+                    written.append(target)
+                print(f"{path}: {scene.name}: {src.name} -> {result.name}: {result.gbsurf.info} "
+                      f"({time.perf_counter() - t0:.2f} s)")
         if not args.no_blend:
             target = os.path.join(args.output, _safe(stem) + ".blend")
             bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(target), check_existing=False)

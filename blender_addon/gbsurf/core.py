@@ -4,8 +4,11 @@ Every function here computes first and creates Blender data last; if creating fa
 created is removed again, so a failure leaves the file as it was.
 """
 
+import hashlib
+
 import bpy
 import numpy as np
+from mathutils import Matrix
 
 from . import mesh_io, native
 from .props import DISPLAY_ATTRIBUTE, OPTION_NAMES, OUTPUT_DEFAULTS
@@ -15,6 +18,34 @@ MATERIAL_NAME = "GB Surface Color"
 
 class ConvertError(Exception):
     """A conversion failed; the message is ready for `Operator.report`."""
+
+
+# Library runs started by `compute` in this session (live mode's tests count them).
+conversions = 0
+
+NO_FACES = "the mesh has no faces: fill it or add faces (F in Edit Mode)"
+EVALUATED_NOTE = (" (element numbers are those of the mesh after its modifiers; disable them in "
+                  "the viewport to see the edited mesh's)")
+
+
+def has_enabled_modifiers(obj):
+    """True if the object's evaluated mesh (what is converted) goes through a modifier shown in
+    the viewport, so element numbers in errors are not those of the edited mesh."""
+    mods = getattr(obj, "modifiers", None)
+    if mods is None:
+        return bool(getattr(obj, "modified", False))  # a worker thread's stand-in
+    return any(m.show_viewport for m in mods)
+
+
+def source_digest(data):
+    """A digest of the mesh a conversion reads (positions, faces, creases): equal digests mean
+    the same conversion input, so live mode can skip a frame whose source did not change."""
+    h = hashlib.blake2b(digest_size=16)
+    for a in data:
+        h.update(np.ascontiguousarray(a).tobytes())
+    for a in getattr(data, "creases", None) or ():  # (edges, sharpness, vertices, sharpness)
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
 
 
 def split_options(options):
@@ -37,27 +68,37 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
 
     `data` = (positions, face_sizes, face_indices) skips reading (already read, e.g. by a
     thread-based caller). Raises ConvertError with a message naming the object."""
+    global conversions
     name = getattr(obj, "name", "?")
     try:
         if data is None:
             data = mesh_io.read_object(obj, depsgraph)
         positions, sizes, indices = data
         if len(sizes) == 0:
-            raise ConvertError(f"{name}: the mesh has no faces")
+            raise ConvertError(f"{name}: {NO_FACES}")
         opts = native.make_options(**lib_options)
         patch_method = lib_options["method"] in {'DUAL', 'TOPOLOGY'}
-        return native.convert(
+        conversions += 1
+        conv = native.convert(
             positions, sizes, indices, opts, progress,
             creases=getattr(data, "creases", None),
             want_curves=patch_method and outputs.get("want_curves", False),
             want_control_net=patch_method and outputs.get("want_control_net", False),
         )
+        conv.source_digest = source_digest(data)
+        return conv
     except native.Cancelled:
         raise ConvertError(f"{name}: cancelled") from None
     except native.GbsurfError as e:
-        raise ConvertError(f"{name}: {e}") from None
+        raise ConvertError(f"{name}: {e}{evaluated_note(obj)}") from None
     except mesh_io.SourceError as e:
-        raise ConvertError(str(e)) from None
+        raise ConvertError(f"{e}{evaluated_note(obj)}") from None
+
+
+def evaluated_note(obj):
+    """What to add to an error naming elements of `obj`'s mesh: that they are those of the
+    evaluated mesh when modifiers are enabled; else nothing."""
+    return EVALUATED_NOTE if has_enabled_modifiers(obj) else ""
 
 
 # --- building Blender data ---------------------------------------------------------------------
@@ -108,8 +149,10 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     mesh_io.set_point_attribute(mesh, "gb_g1_deviation", 'FLOAT', conv.g1_deviation)
     # 1.0 where the surface folds (see the report's folds), else 0.0.
     mesh_io.set_point_attribute(mesh, "gb_fold", 'FLOAT', conv.fold)
+    # The stored sign is the library's (H < 0 on convex regions, docs/math.md); the colour map
+    # shows convex warm and concave cool, as MeshLab's curvature maps: red for -H > 0.
     mesh_io.set_point_attribute(
-        mesh, "gb_curvature_color", 'FLOAT_COLOR', mesh_io.diverging_colors(conv.mean_curvature))
+        mesh, "gb_curvature_color", 'FLOAT_COLOR', mesh_io.diverging_colors(-conv.mean_curvature))
     mesh_io.set_point_attribute(
         mesh, "gb_g1_color", 'FLOAT_COLOR', mesh_io.sequential_colors(conv.g1_deviation, 1.0))
     mesh_io.set_point_attribute(
@@ -185,6 +228,43 @@ def _place_like(new, src):
         new.matrix_basis = src.matrix_basis.copy()
     else:
         new.matrix_world = src.matrix_world.copy()
+
+
+def _frame(result, src):
+    """The parent of both objects (their transforms are compared below it, so moving the parent
+    moves both), else None (world space)."""
+    p = src.parent
+    return p if p is not None and result.parent == p else None
+
+
+def _in_frame(obj, frame):
+    m = obj.matrix_world
+    return frame.matrix_world.inverted_safe() @ m if frame is not None else m.copy()
+
+
+def remember_source_matrix(result, src):
+    """Stores the source's transform the result is in sync with (see `follow_source`)."""
+    m = _in_frame(src, _frame(result, src))
+    result.gbsurf.source_matrix = [x for row in m for x in row]
+
+
+def follow_source(result, src):
+    """Places `result` on `src` keeping the transform relative to the source that the user gave
+    it: result' = S_new · S_old⁻¹ · result, with S_old the source transform stored at the last
+    sync (below a parent both share, else in world space). Without a stored (or with a singular)
+    S_old the result snaps onto the source. Stores S_new."""
+    frame = _frame(result, src)
+    s_new = _in_frame(src, frame)
+    flat = list(result.gbsurf.source_matrix)
+    target = s_new
+    if any(flat):
+        s_old = Matrix([flat[0:4], flat[4:8], flat[8:12], flat[12:16]])
+        if abs(s_old.determinant()) > 1e-12:
+            target = s_new @ s_old.inverted() @ _in_frame(result, frame)
+    world = frame.matrix_world @ target if frame is not None else target
+    if any(abs(a - b) > 1e-6 for ra, rb in zip(result.matrix_world, world) for a, b in zip(ra, rb)):
+        result.matrix_world = world
+    result.gbsurf.source_matrix = [x for row in s_new for x in row]
 
 
 def live_source(result):
@@ -308,11 +388,20 @@ def build_result(src, conv, lib_options, outputs, collection=None):
         for k, v in {**lib_options, **outputs}.items():
             setattr(s, k, v)
         s.info = _report_text(conv)
+        s.render_resolution = render_resolution_for(s.resolution)
+        s.source_digest = getattr(conv, "source_digest", "")
+        remember_source_matrix(obj, src)
         _make_extras(obj, conv, outputs, created)
         return obj
     except Exception:
         _remove_ids(created)
         raise
+
+
+def render_resolution_for(resolution):
+    """The default render resolution of a new result: one step finer than the viewport's (twice
+    the samples per side, within the property's range)."""
+    return min(2 * resolution, 1024)
 
 
 def convert_object(obj, progress=None, depsgraph=None, collection=None, **options):
@@ -353,9 +442,10 @@ def apply(result, conv):
         created.clear()  # the new mesh (and a new colour material) are in use now
         _remove_orphan(old)
         mesh.name = result.name
-        if s.source is not None and result.matrix_world != s.source.matrix_world:
-            result.matrix_world = s.source.matrix_world
+        if s.source is not None:
+            follow_source(result, s.source)
         s.info = _report_text(conv)
+        s.source_digest = getattr(conv, "source_digest", "")
         _make_extras(result, conv, s.output_options(), created)
     except Exception:
         _remove_ids(created)

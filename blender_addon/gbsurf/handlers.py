@@ -1,5 +1,14 @@
 """Live mode: a result with `gbsurf.live` regenerates when its source's geometry or transform
-changes (and when its own settings change).
+changes (and when its own settings change), and on frame changes when the evaluated source
+(animated modifiers, shape keys, armatures, drivers, ...) differs from the one last converted:
+the frame handler reads the evaluated mesh and compares its digest (`core.source_digest`) with
+the one stored on the result, so an unanimated scene costs one mesh read per live result and no
+conversion. A moved source carries the result along, keeping the offset the user gave it
+(`core.follow_source`).
+
+Before saving, a source that was deleted in the UI (unlinked from every scene, used only by our
+pointers) is let go (`on_save_pre`): the pointer is cleared, the result's info says so, and the
+object is removed, so the file keeps no invisible data.
 
 The depsgraph handler keeps no reference to Blender data between calls (after undo every
 Python reference to an ID is stale): pending work is kept as object *names* and looked up again.
@@ -11,7 +20,7 @@ are stored in the result's `info` and printed.
 import bpy
 from bpy.app.handlers import persistent
 
-from . import core
+from . import core, mesh_io
 
 _busy = False
 _in_undo = False
@@ -74,12 +83,170 @@ def on_depsgraph_update(scene, depsgraph):
     _busy = True
     try:
         for obj in follow:
-            obj.matrix_world = obj.gbsurf.source.matrix_world.copy()
+            core.follow_source(obj, obj.gbsurf.source)
         for obj in todo:
             _pending.discard(obj.name)
             _regenerate(obj, depsgraph)
     finally:
         _busy = False
+
+
+@persistent
+def on_frame_change(scene, depsgraph=None):
+    """Regenerates the live results whose evaluated source changed with the frame; follows moved
+    sources. Never raises."""
+    global _busy
+    if _busy or _in_undo:
+        return
+    _busy = True
+    try:
+        if depsgraph is None:
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+        for obj in _live_results():
+            src = core.live_source(obj)
+            if src is None or core.is_result_part(src):
+                continue
+            try:
+                data = mesh_io.read_object(src, depsgraph)
+            except mesh_io.SourceError as e:
+                obj.gbsurf.info = f"Live update failed: {e}"
+                continue
+            core.follow_source(obj, src)
+            if core.source_digest(data) == obj.gbsurf.source_digest:
+                continue
+            try:
+                core.apply(obj, core.compute(
+                    src, obj.gbsurf.library_options(), obj.gbsurf.output_options(), data=data))
+            except core.ConvertError as e:
+                obj.gbsurf.info = f"Live update failed: {e}"
+                obj.gbsurf.source_digest = core.source_digest(data)  # do not retry every frame
+                print(f"gbsurf live: {e}")
+    except Exception as e:  # a handler must never raise
+        print(f"gbsurf live (frame change): {e}")
+    finally:
+        _busy = False
+
+
+def release_deleted_sources():
+    """Clears the source pointers to objects deleted in the UI (in no collection, no fake user,
+    no user but our pointers), notes it in the results' info and removes the object (and its
+    mesh if nothing else uses it). Returns the names released."""
+    pointers = {}
+    for o in bpy.data.objects:
+        s = o.gbsurf
+        if s.is_result and s.source is not None:
+            pointers.setdefault(s.source.name, []).append(o)
+    released = []
+    for name, results in pointers.items():
+        src = bpy.data.objects.get(name)
+        if (src is None or src.library is not None or src.users_collection or src.use_fake_user
+                or src.users > len(results) or src.children):
+            continue
+        for r in results:
+            r.gbsurf.live = False
+            r.gbsurf.source = None
+            r.gbsurf.info = f"Source {name} removed (deleted from the scene); the surface stays as it is"
+        data = src.data
+        if src.users == 0:
+            bpy.data.objects.remove(src)
+            if isinstance(data, bpy.types.Mesh) and data.users == 0:
+                bpy.data.meshes.remove(data)
+        released.append(name)
+    return released
+
+
+# --- render resolution ---------------------------------------------------------------------------
+# Final renders use `render_resolution`: render_pre swaps each such result's mesh for one made at
+# that resolution (the viewport mesh is kept with a fake user), render_post / render_cancel swap
+# it back and remove the render mesh. Results are kept by name (no ID references across calls).
+_render_swaps = {}  # result name -> viewport mesh name
+
+
+def _wants_render_mesh(obj):
+    s = obj.gbsurf
+    return (s.is_result and s.method in {'DUAL', 'TOPOLOGY'} and s.render_resolution > 0
+            and s.render_resolution != s.resolution and not obj.hide_render
+            and obj.type == 'MESH' and core.live_source(obj) is not None)
+
+
+def render_begin(scene):
+    """Swaps in render-resolution meshes for the results of `scene`; returns their names."""
+    done = []
+    for obj in scene.objects:
+        if obj.name in _render_swaps or not _wants_render_mesh(obj):
+            continue
+        s = obj.gbsurf
+        try:
+            conv = core.compute(s.source, {**s.library_options(), "resolution": s.render_resolution},
+                                {"want_curves": False, "want_control_net": False})
+            viewport = obj.data
+            mesh = bpy.data.meshes.new(viewport.name + ".render")
+            try:
+                core.fill_surface(mesh, conv, s.display,
+                                  materials=[m for m in viewport.materials if m is not None])
+            except Exception:
+                bpy.data.meshes.remove(mesh)
+                raise
+            viewport.use_fake_user = True
+            obj.data = mesh
+            _render_swaps[obj.name] = viewport.name
+            done.append(obj.name)
+        except Exception as e:  # the viewport mesh renders instead
+            print(f"gbsurf render resolution: {obj.name}: {e}")
+    return done
+
+
+def render_end(*_args):
+    """Restores the viewport meshes swapped by `render_begin` (also after a cancelled render)."""
+    for name, mesh_name in list(_render_swaps.items()):
+        _render_swaps.pop(name, None)
+        try:
+            obj, viewport = bpy.data.objects.get(name), bpy.data.meshes.get(mesh_name)
+            if viewport is None:
+                continue
+            viewport.use_fake_user = False
+            if obj is None:
+                continue
+            render_mesh = obj.data
+            obj.data = viewport
+            if render_mesh is not None and render_mesh != viewport and render_mesh.users == 0:
+                bpy.data.meshes.remove(render_mesh)
+        except Exception as e:
+            print(f"gbsurf render resolution: {name}: {e}")
+
+
+@persistent
+def on_render_pre(scene, *_args):
+    global _busy
+    if _busy:
+        return
+    _busy = True
+    try:
+        render_begin(scene)
+    except Exception as e:  # a handler must never raise
+        print(f"gbsurf (render): {e}")
+    finally:
+        _busy = False
+
+
+@persistent
+def on_render_post(*_args):
+    global _busy
+    _busy = True
+    try:
+        render_end()
+    except Exception as e:
+        print(f"gbsurf (render): {e}")
+    finally:
+        _busy = False
+
+
+@persistent
+def on_save_pre(*_args):
+    try:
+        release_deleted_sources()
+    except Exception as e:  # a handler must never raise
+        print(f"gbsurf (save): {e}")
 
 
 @persistent
@@ -98,6 +265,7 @@ def on_undo_post(*_args):
 @persistent
 def on_load_post(*_args):
     _pending.clear()
+    _render_swaps.clear()
 
 
 _HANDLERS = (
@@ -107,6 +275,11 @@ _HANDLERS = (
     ("redo_pre", on_undo_pre),
     ("redo_post", on_undo_post),
     ("load_post", on_load_post),
+    ("frame_change_post", on_frame_change),
+    ("save_pre", on_save_pre),
+    ("render_pre", on_render_pre),
+    ("render_post", on_render_post),
+    ("render_cancel", on_render_post),
 )
 
 

@@ -4,8 +4,10 @@ Convert run from a script or through Adjust Last Operation (`execute`) works syn
 shows progress in the window manager's progress indicator. Started from the UI (`invoke` with a
 window) it reads the source meshes, runs the library in a worker thread (the library releases the
 GIL and calls back with its progress) and polls with a timer: Esc or right-click cancels through the
-progress callback. Blender data is created only on the main thread, after every source converted:
-any error creates nothing.
+progress callback. Blender data is created only on the main thread, after every source was tried:
+the objects that converted get their results (one undo step), each one that failed is reported
+as a warning naming it, with a summary; when none converted the operator is cancelled with the
+error. Cancelling creates nothing.
 """
 
 import threading
@@ -64,7 +66,16 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.mode == 'OBJECT' and bool(_selected_sources(context))
+        if context.mode != 'OBJECT':
+            cls.poll_message_set("Switch to Object Mode to convert")
+            return False
+        if not _selected_sources(context):
+            if context.selected_objects and not any(o.type == 'MESH' for o in context.selected_objects):
+                cls.poll_message_set("Only non-mesh objects are selected: select a mesh object")
+            else:
+                cls.poll_message_set("Select a mesh object (GB Surface results are not converted again)")
+            return False
+        return True
 
     def draw(self, context):
         self.draw_options(self.layout)
@@ -80,7 +91,7 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
         wm.progress_begin(0.0, 1.0)
         try:
             depsgraph = context.evaluated_depsgraph_get()
-            convs = []
+            done, failures = [], []
             for i, src in enumerate(sources):
                 progress.index = i
 
@@ -89,18 +100,24 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
                     wm.progress_update(progress.fraction)
                     return ok
 
-                convs.append(core.compute(src, self.library_options(), self.output_options(), cb, depsgraph))
-            return self._build(context, sources, convs)
-        except core.ConvertError as e:
-            self.report({'ERROR'}, str(e))
-            return {'CANCELLED'}
+                try:
+                    done.append((src, core.compute(
+                        src, self.library_options(), self.output_options(), cb, depsgraph)))
+                except core.ConvertError as e:
+                    failures.append((src.name, str(e)))
+            return self._build(context, done, failures, len(sources))
         finally:
             wm.progress_end()
 
-    def _build(self, context, sources, convs):
+    def _build(self, context, done, failures, total):
+        """Creates the results of `done` [(source, conversion)], all or none; reports each of
+        `failures` [(name, message)] and a summary."""
+        if not done:
+            self.report({'ERROR'}, "; ".join(m for _, m in failures) or "GB Surface: nothing converted")
+            return {'CANCELLED'}
         made = []
         try:
-            for src, conv in zip(sources, convs):
+            for src, conv in done:
                 made.append(core.build_result(src, conv, self.library_options(), self.output_options()))
         except Exception as e:  # creating data failed: remove what this run made
             for obj in made:
@@ -111,10 +128,16 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
             self.report({'ERROR'}, f"GB Surface: {e}")
             return {'CANCELLED'}
         _select_only(context, made)
-        for obj, conv in zip(made, convs):
+        for obj, (_, conv) in zip(made, done):
             for w in conv.warnings:
                 self.report({'WARNING'}, f"{obj.name}: {w}")
-        self.report({'INFO'}, "; ".join(f"{o.name}: {o.gbsurf.info}" for o in made))
+        for _, message in failures:
+            self.report({'WARNING'}, f"Not converted: {message}")
+        if failures:
+            self.report({'WARNING'}, f"GB Surface: converted {len(made)} of {total} objects; failed: "
+                        + ", ".join(name for name, _ in failures))
+        else:
+            self.report({'INFO'}, "; ".join(f"{o.name}: {o.gbsurf.info}" for o in made))
         return {'FINISHED'}
 
     # -- interactive path: worker thread + modal timer -----------------------------------------
@@ -126,29 +149,34 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
             self.report({'ERROR'}, "No mesh object selected")
             return {'CANCELLED'}
         depsgraph = context.evaluated_depsgraph_get()
-        try:
-            data = [mesh_io.read_object(s, depsgraph) for s in sources]
-        except mesh_io.SourceError as e:
-            self.report({'ERROR'}, str(e))
-            return {'CANCELLED'}
+        readable, data, failures = [], [], []
+        for s in sources:
+            try:
+                data.append(mesh_io.read_object(s, depsgraph))
+                readable.append(s)
+            except mesh_io.SourceError as e:
+                failures.append((s.name, f"{e}{core.evaluated_note(s)}"))
         # The worker touches no Blender data and not the operator (RNA is not thread-safe): it
         # shares only these plain Python objects with the main thread.
-        progress = _Progress(context.window_manager, len(sources))
+        progress = _Progress(context.window_manager, len(readable))
         convs, errors = [], []
-        names = [s.name for s in sources]
+        named = [_Named(s.name, core.has_enabled_modifiers(s)) for s in readable]
         options, outputs = self.library_options(), self.output_options()
 
         def work():
-            try:
-                for i, (name, d) in enumerate(zip(names, data)):
-                    progress.index = i
-                    convs.append(core.compute(_Named(name), options, outputs, progress, data=d))
-            except core.ConvertError as e:
-                errors.append(str(e))
-            except Exception as e:  # reported on the main thread
-                errors.append(f"GB Surface: {e}")
+            for i, (n, d) in enumerate(zip(named, data)):
+                progress.index = i
+                try:
+                    convs.append((i, core.compute(n, options, outputs, progress, data=d)))
+                except core.ConvertError as e:
+                    errors.append((n.name, str(e)))
+                except Exception as e:  # reported on the main thread
+                    errors.append((n.name, f"GB Surface: {n.name}: {e}"))
+                if progress.cancel:
+                    return
 
-        self._sources, self._progress, self._convs, self._errors = sources, progress, convs, errors
+        self._failures = failures
+        self._sources, self._progress, self._convs, self._errors = readable, progress, convs, errors
         self._thread = threading.Thread(target=work, daemon=True)
         wm = context.window_manager
         wm.progress_begin(0.0, 1.0)
@@ -168,17 +196,20 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
             return {'RUNNING_MODAL'}
         wm.event_timer_remove(self._timer)
         wm.progress_end()
-        if self._errors:
-            self.report({'ERROR'} if not self._progress.cancel else {'WARNING'}, self._errors[0])
+        if self._progress.cancel:
+            self.report({'WARNING'}, "GB Surface: cancelled, nothing created")
             return {'CANCELLED'}
-        return self._build(context, self._sources, self._convs)
+        done = [(self._sources[i], conv) for i, conv in self._convs]
+        failures = self._failures + self._errors
+        return self._build(context, done, failures, len(done) + len(failures))
 
 
 class _Named:
-    """A stand-in carrying only a name (the worker thread must not touch bpy objects)."""
+    """A stand-in carrying only a name and whether the source has modifiers (the worker thread
+    must not touch bpy objects)."""
 
-    def __init__(self, name):
-        self.name = name
+    def __init__(self, name, modified=False):
+        self.name, self.modified = name, modified
 
 
 def _results(context):

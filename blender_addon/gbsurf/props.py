@@ -11,6 +11,7 @@ from bpy.props import (
     BoolProperty,
     EnumProperty,
     FloatProperty,
+    FloatVectorProperty,
     IntProperty,
     PointerProperty,
     StringProperty,
@@ -34,7 +35,8 @@ WEIGHT_ITEMS = [
     ('LINEAR', "Linear", "Linear correction weights (comparison only)"),
 ]
 DISPLAY_ITEMS = [
-    ('MEAN_CURVATURE', "Mean Curvature", "Colour by mean curvature (blue negative, red positive)"),
+    ('MEAN_CURVATURE', "Mean Curvature",
+     "Colour by mean curvature: convex warm (red), concave cool (blue), as MeshLab's curvature maps"),
     ('G1', "G1 Deviation", "Colour by the normal angle across patch boundaries"),
     ('PATCH', "Patches", "A colour per patch"),
 ]
@@ -160,6 +162,16 @@ class GbsurfSettings(ConvertOptionsMixin, bpy.types.PropertyGroup):
         name="Color", items=DISPLAY_ITEMS, default='MEAN_CURVATURE', update=_display_changed,
         description="Which colour attribute is shown (viewport: Solid > Attribute, and renders)")
     info: StringProperty(name="Info", default="")
+    render_resolution: IntProperty(
+        name="Render Resolution", min=0, max=1024, soft_max=64, default=0,
+        description="Samples per patch side in final renders (like Subdivision Surface's Render "
+                    "levels); a new result gets twice its Resolution, 0 renders at Resolution")
+    # The source's transform at the last sync (row-major 4x4; zeros: none stored), so Update and
+    # live mode keep the result where the user moved it relative to its source (core.follow_source).
+    source_matrix: FloatVectorProperty(size=16, default=(0.0,) * 16, options={'HIDDEN'})
+    # Digest of the evaluated source mesh of the last conversion (core.source_digest): live mode
+    # regenerates on a frame change only when it differs.
+    source_digest: StringProperty(default="", options={'HIDDEN'})
 
 
 classes = (GbsurfSettings,)

@@ -34,6 +34,8 @@ class OBJECT_PT_gbsurf(bpy.types.Panel):
         if live_source(context.object) is None:
             layout.label(text="The source object is gone", icon='ERROR')
         s.draw_options(layout.column())
+        if s.method in {'DUAL', 'TOPOLOGY'}:
+            layout.prop(s, "render_resolution")
         col = layout.column()
         col.prop(s, "display")
         if s.info:

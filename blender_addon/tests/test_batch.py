@@ -109,3 +109,33 @@ def test_batch_skips_earlier_results_in_a_blend(addon, tmp_path):
     r = run_batch([blend, "-o", out, "--resolution", "2", "--no-blend"], addon)
     assert r.returncode == 0, r.stdout + r.stderr
     assert sorted(p.name for p in (out / "done").iterdir()) == ["cube.GB.001.obj"]
+
+
+@pytest.mark.parametrize("flag,value", [("--resolution", "0"), ("--resolution", "100000"),
+                                        ("--levels", "-1"), ("--fullness", "1.5")])
+def test_batch_refuses_an_option_out_of_range_before_opening_files(addon, tmp_path, flag, value):
+    out = tmp_path / "out"
+    r = run_batch([tmp_path / "missing.obj", "-o", out, flag, value], addon)
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert f"{flag} {value}" in r.stderr and "outside the allowed range" in r.stderr, r.stderr
+    assert "no such file" not in r.stderr and not out.exists()
+
+
+def test_batch_converts_every_scene_of_a_blend(addon, tmp_path):
+    helpers.add_primitive("cube")
+    other = bpy.data.scenes.new("Other")
+    mesh = bpy.data.meshes.new("tet")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], [],
+                     [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])
+    other.collection.objects.link(bpy.data.objects.new("tet", mesh))
+    blend = tmp_path / "two.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    out = tmp_path / "out"
+    r = run_batch([blend, "-o", out, "--resolution", "2"], addon)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert sorted(p.name for p in (out / "two").iterdir()) == ["cube.GB.obj", "tet.GB.obj"]
+    assert not meshcheck.check_mesh(out / "two" / "tet.GB.obj").problems(expect_closed=True)
+    with bpy.data.libraries.load(str(out / "two.blend")) as (src, _dst):
+        assert {"cube.GB", "tet.GB"} <= set(src.objects)
+    bpy.ops.wm.open_mainfile(filepath=str(out / "two.blend"))
+    assert bpy.data.objects["tet.GB"].users_scene[0].name == "Other"

@@ -248,3 +248,31 @@ def test_a_folded_result_says_so_and_marks_the_fold():
         else:
             assert "NOT VALID" not in out.gbsurf.info, out.gbsurf.info
             assert fold.max() == 0.0
+
+
+def test_convex_regions_are_coloured_warm():
+    # The stored mean curvature keeps the library's sign (H < 0 on convex regions); the colour
+    # map shows convex red-dominant and concave blue-dominant (as MeshLab's curvature maps).
+    src = helpers.add_primitive("ico_sphere")
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    mesh = bpy.context.active_object.data
+    n = len(mesh.vertices)
+    h = np.empty(n, dtype=np.float32)
+    mesh.attributes["gb_mean_curvature"].data.foreach_get("value", h)
+    assert (h < 0).all()  # the sign stays
+    rgba = np.empty(n * 4, dtype=np.float32)
+    mesh.attributes["gb_curvature_color"].data.foreach_get("color", rgba)
+    rgba = rgba.reshape(-1, 4)
+    assert (rgba[:, 0] >= rgba[:, 2]).all() and (rgba[:, 0] - rgba[:, 2]).mean() > 0.3
+    # A fat torus (minor radius > major / 2) has H > 0 around its inner equator: blue-dominant.
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.75, major_segments=24,
+                                     minor_segments=12)
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    mesh = bpy.context.active_object.data
+    rgba = np.empty(len(mesh.vertices) * 4, dtype=np.float32)
+    mesh.attributes["gb_curvature_color"].data.foreach_get("color", rgba)
+    rgba = rgba.reshape(-1, 4)
+    h = np.empty(len(mesh.vertices), dtype=np.float32)
+    mesh.attributes["gb_mean_curvature"].data.foreach_get("value", h)
+    assert (h > 0).any() and (rgba[h > 0, 2] >= rgba[h > 0, 0]).all()
+    assert (rgba[h > 0, 2] - rgba[h > 0, 0]).max() > 0.3

@@ -59,12 +59,65 @@ def test_no_mesh_selected():
         bpy.ops.object.gbsurf_convert()
 
 
-def test_one_bad_object_among_good_ones_creates_nothing():
+def test_one_bad_object_among_good_ones_converts_the_good_ones(capfd):
+    # Multi-object convert: the good objects convert (one operator run: one undo step), each
+    # failure is reported as a warning naming the object and the error, plus a summary.
     good = helpers.add_primitive("cube")
     bad = helpers.load_model(helpers.BAD / "nonmanifold_edge.obj")
     helpers.select_only(good, bad)
-    assert_fails_unchanged(match="nonmanifold_edge")
-    assert "cube.GB" not in bpy.data.objects
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    assert "cube.GB" in bpy.data.objects and "nonmanifold_edge.GB" not in bpy.data.objects
+    assert [o.name for o in bpy.context.selected_objects] == ["cube.GB"]
+    out = capfd.readouterr()
+    text = out.out + out.err
+    assert "Not converted: nonmanifold_edge: gbsurf_convert" in text, text
+    assert "converted 1 of 2 objects; failed: nonmanifold_edge" in text, text
+
+
+def test_only_bad_objects_create_nothing_and_name_each():
+    a = helpers.load_model(helpers.BAD / "nonmanifold_edge.obj")
+    b = helpers.load_model(helpers.BAD / "nan.obj")
+    helpers.select_only(a, b)
+    message = assert_fails_unchanged()
+    assert "nonmanifold_edge" in message and "nan" in message
+
+
+def test_undo_after_a_partial_convert_removes_it_in_one_step():
+    good = helpers.add_primitive("cube")
+    other = helpers.add_primitive("torus")
+    bad = helpers.load_model(helpers.BAD / "nonmanifold_edge.obj")
+    helpers.select_only(good, other, bad)
+    bpy.ops.ed.undo_push(message="before")
+    before = helpers.snapshot()
+    assert bpy.ops.object.gbsurf_convert(resolution=2) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="GB Surface")
+    assert {"cube.GB", "torus.GB"} <= set(bpy.data.objects.keys())
+    bpy.ops.ed.undo()
+    assert helpers.snapshot() == before
+
+
+def test_only_non_mesh_objects_selected_says_so():
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    bpy.context.scene.collection.objects.link(cam)
+    helpers.select_only(cam)
+    with pytest.raises(RuntimeError, match="Only non-mesh objects are selected"):
+        bpy.ops.object.gbsurf_convert()
+
+
+def test_error_through_modifiers_says_the_elements_are_of_the_evaluated_mesh():
+    bad = helpers.load_model(helpers.BAD / "nonmanifold_edge.obj")
+    plain = assert_fails_unchanged()
+    assert "after its modifiers" not in plain
+    bad.modifiers.new("weld", 'WELD')  # keeps the non-manifold edge
+    message = assert_fails_unchanged()
+    assert "element numbers are those of the mesh after its modifiers" in message
+    bad.modifiers["weld"].show_viewport = False  # a disabled modifier: the edited mesh's numbers
+    assert "after its modifiers" not in assert_fails_unchanged()
+
+
+def test_circle_without_fill_says_what_to_do():
+    bpy.ops.mesh.primitive_circle_add(vertices=8, fill_type='NOTHING')
+    assert_fails_unchanged(match=r"no faces: fill it or add faces \(F in Edit Mode\)")
 
 
 def test_invalid_option_value():

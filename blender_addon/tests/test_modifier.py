@@ -3,6 +3,7 @@
 import bpy
 import numpy as np
 import pytest
+from mathutils import Matrix
 
 import helpers
 
@@ -266,7 +267,8 @@ def test_mirror_modifier_of_the_source_is_applied():
 def test_no_handler_left_after_disabling():
     import addon_utils
 
-    names = ("depsgraph_update_post", "undo_pre", "undo_post", "redo_pre", "redo_post", "load_post")
+    names = ("depsgraph_update_post", "undo_pre", "undo_post", "redo_pre", "redo_post", "load_post",
+             "frame_change_post", "save_pre", "render_pre", "render_post", "render_cancel")
 
     def ours():
         return sum(1 for n in names for f in getattr(bpy.app.handlers, n)
@@ -306,3 +308,207 @@ def test_redo_replaces_the_previous_result():
     gb = sorted(o.name for o in bpy.data.objects if o.name.startswith("cube.GB"))
     assert gb == ["cube.GB"] and bpy.data.objects["cube.GB"].gbsurf.resolution == 3
     assert "cube.GB.curves" not in bpy.data.curves
+
+
+# --- transform kept relative to the source --------------------------------------------------------
+
+def test_update_keeps_the_result_where_the_user_moved_it():
+    src, out = converted_cube()
+    out.location = (3.0, 0.0, 0.0)  # moved aside by the user
+    src.location = (0.0, 4.0, 0.0)
+    src.rotation_euler = (0.0, 0.0, 0.5)
+    bpy.context.view_layer.update()
+    helpers.select_only(out)
+    assert bpy.ops.object.gbsurf_update() == {'FINISHED'}
+    bpy.context.view_layer.update()
+    expected = src.matrix_world @ Matrix.Translation((3.0, 0.0, 0.0))
+    assert np.allclose(np.array(out.matrix_world), np.array(expected), atol=1e-5)
+    # A second Update with nothing moved changes nothing.
+    assert bpy.ops.object.gbsurf_update() == {'FINISHED'}
+    bpy.context.view_layer.update()
+    assert np.allclose(np.array(out.matrix_world), np.array(expected), atol=1e-5)
+
+
+def test_live_mode_keeps_the_offset_when_the_source_moves():
+    src, out = converted_cube()
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    out.location = (0.0, 0.0, 2.5)
+    bpy.context.view_layer.update()
+    src.location = (1.0, 0.0, 0.0)
+    bpy.context.view_layer.update()
+    assert tuple(out.matrix_world.translation) == pytest.approx((1.0, 0.0, 2.5), abs=1e-5)
+    scale_source(src, 2.0)  # a regeneration keeps it too
+    bpy.context.view_layer.update()
+    assert tuple(out.matrix_world.translation) == pytest.approx((1.0, 0.0, 2.5), abs=1e-5)
+
+
+# --- live mode and animation ----------------------------------------------------------------------
+
+def _displaced_cube():
+    src = helpers.add_primitive("cube")
+    mod = src.modifiers.new("displace", 'DISPLACE')  # no texture: a push along the normals
+    mod.mid_level = 0.0  # by `strength`
+    mod.strength = 0.0
+    mod.keyframe_insert("strength", frame=1)
+    mod.strength = 1.0
+    mod.keyframe_insert("strength", frame=10)
+    bpy.context.scene.frame_set(1)
+    helpers.select_only(src)
+    assert bpy.ops.object.gbsurf_convert(resolution=3) == {'FINISHED'}
+    return src, bpy.context.active_object
+
+
+def test_live_mode_follows_an_animated_modifier():
+    src, out = _displaced_cube()
+    core = helpers.mesh_module().core
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    e1 = np.ptp(coords(out.data), axis=0)
+    before = core.conversions
+    bpy.context.scene.frame_set(10)
+    assert core.conversions == before + 1
+    e10 = np.ptp(coords(out.data), axis=0)
+    assert np.all(e10 > e1 + 1.0), (e1, e10)  # pushed out by 1 on every side
+    bpy.context.scene.frame_set(1)
+    assert np.allclose(np.ptp(coords(out.data), axis=0), e1, rtol=1e-5)
+    # Without live mode the frame changes nothing.
+    out.gbsurf.live = False
+    mesh = out.data.name
+    bpy.context.scene.frame_set(10)
+    assert out.data.name == mesh and np.allclose(np.ptp(coords(out.data), axis=0), e1, rtol=1e-5)
+
+
+def test_frame_change_without_animation_converts_nothing():
+    src, out = converted_cube()
+    core = helpers.mesh_module().core
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    before = core.conversions
+    mesh = out.data
+    for f in (2, 3, 7, 1):
+        bpy.context.scene.frame_set(f)
+    assert core.conversions == before and out.data == mesh
+
+
+def test_live_mode_follows_an_animated_source_transform():
+    src, out = converted_cube()
+    src.location = (0.0, 0.0, 0.0)
+    src.keyframe_insert("location", frame=1)
+    src.location = (0.0, 6.0, 0.0)
+    src.keyframe_insert("location", frame=5)
+    bpy.context.scene.frame_set(1)
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    core = helpers.mesh_module().core
+    before = core.conversions
+    bpy.context.scene.frame_set(5)
+    assert tuple(out.matrix_world.translation) == pytest.approx((0.0, 6.0, 0.0), abs=1e-5)
+    assert core.conversions == before  # moved, not converted
+
+
+def test_frame_change_error_is_stored_and_not_retried_every_frame():
+    src, out = _displaced_cube()
+    core = helpers.mesh_module().core
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    mesh = out.data.name
+    # The Displace pushes along vertex normals: a NaN strength makes every position NaN.
+    src.animation_data_clear()
+    src.modifiers["displace"].strength = float("nan")
+    bpy.context.scene.frame_set(3)
+    assert out.data.name == mesh and out.gbsurf.info.startswith("Live update failed"), out.gbsurf.info
+    before = core.conversions
+    for f in (4, 5, 6):
+        bpy.context.scene.frame_set(f)
+    assert core.conversions == before and out.data.name == mesh
+
+
+# --- a source deleted in the UI -------------------------------------------------------------------
+
+def test_deleted_source_is_released_on_save(tmp_path):
+    src, out = converted_cube()
+    n_vertices = len(out.data.vertices)
+    helpers.select_only(src)
+    assert bpy.ops.object.delete() == {'FINISHED'}
+    path = tmp_path / "deleted.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    assert "cube" not in bpy.data.objects and "cube" not in bpy.data.meshes
+    out = bpy.data.objects["cube.GB"]
+    assert out.gbsurf.source is None and len(out.data.vertices) == n_vertices
+    assert "Source cube removed" in out.gbsurf.info
+
+
+def test_a_source_still_in_a_scene_is_kept_on_save(tmp_path):
+    src, out = converted_cube()
+    path = tmp_path / "kept.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    assert bpy.data.objects["cube.GB"].gbsurf.source == bpy.data.objects["cube"]
+
+
+# --- render resolution ----------------------------------------------------------------------------
+
+def _no_orphan_meshes():
+    return [m.name for m in bpy.data.meshes if m.users == 0 or m.use_fake_user]
+
+
+def test_render_resolution_is_used_for_renders_and_restored():
+    src, out = converted_cube()  # resolution 3
+    handlers = helpers.mesh_module().handlers
+    assert out.gbsurf.render_resolution == 6  # one step finer by default
+    n, name = len(out.data.polygons), out.data.name
+    for end in (handlers.on_render_post, handlers.on_render_post):  # render_post, render_cancel
+        handlers.on_render_pre(bpy.context.scene)
+        assert len(out.data.polygons) == 4 * n
+        handlers.on_render_pre(bpy.context.scene)  # a second call (next frame) swaps nothing more
+        assert len(out.data.polygons) == 4 * n
+        end(bpy.context.scene)
+        assert out.data.name == name and len(out.data.polygons) == n
+        assert _no_orphan_meshes() == []
+    assert handlers.on_render_post in bpy.app.handlers.render_cancel
+    # Equal resolutions, or a failing source: the viewport mesh renders, nothing raises.
+    out.gbsurf.render_resolution = 3
+    handlers.on_render_pre(bpy.context.scene)
+    assert out.data.name == name
+    out.gbsurf.render_resolution = 6
+    co = coords(src.data)
+    co[0, 0] = np.nan
+    src.data.vertices.foreach_set("co", co.reshape(-1))
+    src.data.update()
+    handlers.on_render_pre(bpy.context.scene)
+    assert out.data.name == name
+    handlers.on_render_post(bpy.context.scene)
+    assert out.data.name == name and _no_orphan_meshes() == []
+
+
+def test_a_tiny_render_uses_the_render_resolution(tmp_path):
+    src, out = converted_cube()
+    n, name = len(out.data.polygons), out.data.name
+    scene = bpy.context.scene
+    seen = []
+
+    def count(scene, *_):
+        seen.append(len(bpy.data.objects["cube.GB"].data.polygons))
+
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    scene.collection.objects.link(cam)
+    cam.location = (0.0, -6.0, 0.0)
+    cam.rotation_euler = (1.5708, 0.0, 0.0)
+    scene.camera = cam
+    scene.render.engine = 'CYCLES'  # CPU, one sample: ~8 s headless (Workbench needs EGL: ~20 s)
+    scene.cycles.device = 'CPU'
+    scene.cycles.samples = 1
+    scene.render.resolution_x = scene.render.resolution_y = 8
+    scene.render.filepath = str(tmp_path / "r.png")
+    bpy.app.handlers.render_post.insert(0, count)  # before ours restores
+    try:
+        try:
+            bpy.ops.render.render(write_still=True)
+        except RuntimeError as e:  # no GPU context headless
+            pytest.skip(f"headless render unavailable: {e}")
+    finally:
+        bpy.app.handlers.render_post.remove(count)
+    assert seen == [4 * n]
+    assert out.data.name == name and len(out.data.polygons) == n and _no_orphan_meshes() == []
