@@ -263,8 +263,8 @@ pub struct ConvertOptions {
     /// Memory bound of one conversion in MiB (1..=[`MAX_MEMORY_MB`]). A conversion whose estimated
     /// peak memory ([`crate::api::estimate_output`], an upper bound of measured peaks) exceeds it
     /// is refused before any work with [`crate::api::ConvertError::OutputTooLarge`]. Default
-    /// [`DEFAULT_MAX_MEMORY_MB`] (2048 MiB: about 2 M output vertices, a 10k-face cage at the
-    /// default resolution, safe beside Blender and the OS on a 4 GB machine).
+    /// [`DEFAULT_MAX_MEMORY_MB`] (2048 MiB: about 2 M output vertices, a 10k-face cage in the
+    /// triangle layout at r = 8 (about an 80k-face one in the default quad layout, 25 samples per quad patch), safe beside Blender and the OS on a 4 GB machine).
     #[serde(default = "default_max_memory_mb")]
     pub max_memory_mb: u64,
 }

@@ -1,5 +1,8 @@
-//! Watertight tessellation of a whole [`Surface`]: every patch is sampled with the concentric
-//! [`SampleLayout`] of its n-sided domain at one common resolution r, then the samples are welded.
+//! Watertight tessellation of a whole [`Surface`]: every patch is sampled with the
+//! [`SampleLayout`] of its n-sided domain (concentric triangles, or the quad layout's bilinear
+//! sectors) at one common resolution, then the samples are welded. Below, r is the number of
+//! boundary steps per side ([`SampleLayout::per_side`]: the resolution for triangles, twice it for
+//! quads); welding and measuring are the same code for both layouts.
 //!
 //! Welding (no position comparison anywhere, only the adjacency of [`Surface::neighbors`]):
 //! - interior samples belong to their patch;
