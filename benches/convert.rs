@@ -53,7 +53,7 @@ fn main() {
         for &(a, b) in &sizes {
             let mesh = torus(a, b, 10.0, 3.0).expect("torus");
             // The largest torus (1.6 million output vertices) is above the default memory bound.
-            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..Default::default() };
+            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..ConvertOptions::triangles_r8() };
             // Warm-up (also checks the result), then the best of a few runs.
             let c = convert(&mesh, &opts, None).expect("conversion");
             assert!(c.report.closed, "{method}: not closed");
@@ -121,7 +121,7 @@ fn large_n_cases(resolution: usize) {
     ];
     for method in [Method::Dual, Method::Topology] {
         for (name, mesh) in &cases {
-            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..Default::default() };
+            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..ConvertOptions::triangles_r8() };
             let t = Instant::now();
             let c = convert(mesh, &opts, None).expect("conversion");
             let wall = t.elapsed().as_secs_f64();

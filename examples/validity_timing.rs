@@ -13,7 +13,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let num = |i: usize, d: usize| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let (a, b) = (num(1, 100), num(2, 100));
-    let mut opts = ConvertOptions::default();
+    let mut opts = ConvertOptions::triangles_r8();
     opts.resolution = num(3, opts.resolution);
     if args.get(4).map(String::as_str) == Some("topology") {
         opts.method = Method::Topology;

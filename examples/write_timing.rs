@@ -23,7 +23,7 @@ fn main() {
     let (a, b) = (num(1, 200), num(2, 200));
     let dir = args.get(3).map(std::path::PathBuf::from).unwrap_or_else(std::env::temp_dir);
     let mesh = torus(a, b, 10.0, 3.0).expect("torus");
-    let conv = convert(&mesh, &ConvertOptions::default(), None).expect("conversion");
+    let conv = convert(&mesh, &ConvertOptions::triangles_r8(), None).expect("conversion");
     drop(mesh);
     let out = conv.mesh;
     drop(conv.surface);

@@ -34,7 +34,7 @@ pub const MAX_LEVELS: u32 = 8;
 
 /// Default memory bound of one conversion, in MiB (`ConvertOptions::max_memory_mb`): 2 GiB,
 /// about 2 M output vertices by the measured figures of `api::estimate_output` (a 10k-face cage
-/// at the default resolution passes, a 40k-face one is refused with the figures). Chosen so that
+/// in the triangle layout at r = 8 passes, a 40k-face one is refused with the figures). Chosen so that
 /// a conversion inside Blender (itself some 300–500 MB) stays safe on a 4 GB machine.
 pub const DEFAULT_MAX_MEMORY_MB: u64 = 2048;
 

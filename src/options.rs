@@ -1,5 +1,5 @@
-//! The options of a conversion: [`ConvertOptions`] with its enums [`Method`], [`Twist`] and
-//! [`WeightForm`]. This is their one definition: the construction reads them directly, the
+//! The options of a conversion: [`ConvertOptions`] with its enums [`Method`], [`Twist`],
+//! [`WeightForm`] and [`Layout`]. This is their one definition: the construction reads them directly, the
 //! command line derives its flags from them (names from [`OptionValue::ALL`], parsing with the
 //! `FromStr` impls here, defaults from [`ConvertOptions::default`]) and the C ABI fills its struct
 //! from [`ConvertOptions::default`].
@@ -7,7 +7,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-pub use crate::gb::WeightForm;
+pub use crate::gb::{Layout, WeightForm};
 
 /// How the control mesh becomes a surface.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -99,6 +99,30 @@ impl OptionValue for WeightForm {
             WeightForm::Squared => "squared",
             WeightForm::Linear => "linear",
         }
+    }
+}
+
+impl OptionValue for Layout {
+    const OPTION: &'static str = "layout";
+    const ALL: &'static [Self] = &[Layout::Triangles, Layout::Quads];
+    fn name(self) -> &'static str {
+        match self {
+            Layout::Triangles => "triangles",
+            Layout::Quads => "quads",
+        }
+    }
+}
+
+impl FromStr for Layout {
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_value(s)
+    }
+}
+
+impl fmt::Display for Layout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(OptionValue::name(*self))
     }
 }
 
@@ -205,7 +229,18 @@ impl OptionError {
 pub struct ConvertOptions {
     /// Construction method. Default: dual.
     pub method: Method,
-    /// Samples per patch side (an n-sided patch gets n·r² triangles). 1..=1024, default 8.
+    /// Output faces of the GB methods: `quads` (default; n·r² quads per n-sided patch, like
+    /// Blender's Subdivision Surface) or `triangles` (n·r² triangles). STL output is always
+    /// triangles (quads split on write).
+    #[serde(default)]
+    pub layout: Layout,
+    /// Resolution r: samples per patch side (triangle layout: an n-sided patch gets n·r²
+    /// triangles) or per half side (quad layout: n·r² quads; at r = 2^(L−1) a quad cage gets the
+    /// vertex and face counts of Catmull–Clark level L). 1..=1024. Default [`DEFAULT_RESOLUTION`]
+    /// = 2 (quads): Subdivision Surface level 2, Blender's render default; level 1 (r = 1, one
+    /// quad per patch corner) is too coarse to show a GB surface's shape. The old default, the
+    /// triangle layout at r = 8, gave twice the triangles of level 3 (a 50k-face cage became
+    /// 12.8 M triangles).
     pub resolution: usize,
     /// Fullness κ ∈ [0, 1) of the dual curves: C1 = κ C0 + (1−κ) F (seed 000 eq. 2.2). Default ⅓,
     /// the value of the seed's figures; it gives uniform curves (linear precision) on regular grids.
@@ -228,8 +263,8 @@ pub struct ConvertOptions {
     /// Memory bound of one conversion in MiB (1..=[`MAX_MEMORY_MB`]). A conversion whose estimated
     /// peak memory ([`crate::api::estimate_output`], an upper bound of measured peaks) exceeds it
     /// is refused before any work with [`crate::api::ConvertError::OutputTooLarge`]. Default
-    /// [`DEFAULT_MAX_MEMORY_MB`] (2048 MiB: about 2 M output vertices, a 10k-face cage at the
-    /// default resolution, safe beside Blender and the OS on a 4 GB machine).
+    /// [`DEFAULT_MAX_MEMORY_MB`] (2048 MiB: about 2 M output vertices, a 10k-face cage in the
+    /// triangle layout at r = 8 (about an 80k-face one in the default quad layout, 25 samples per quad patch), safe beside Blender and the OS on a 4 GB machine).
     #[serde(default = "default_max_memory_mb")]
     pub max_memory_mb: u64,
 }
@@ -238,11 +273,16 @@ fn default_max_memory_mb() -> u64 {
     DEFAULT_MAX_MEMORY_MB
 }
 
+/// The default resolution (quad layout: Subdivision Surface level 2; see
+/// [`ConvertOptions::resolution`]).
+pub const DEFAULT_RESOLUTION: usize = 2;
+
 impl Default for ConvertOptions {
     fn default() -> Self {
         Self {
             method: Method::Dual,
-            resolution: 8,
+            layout: Layout::Quads,
+            resolution: DEFAULT_RESOLUTION,
             fullness: 1.0 / 3.0,
             tile_depth: 3.0,
             twist: Twist::Interp,
@@ -256,6 +296,17 @@ impl Default for ConvertOptions {
 }
 
 impl ConvertOptions {
+    /// The layout and resolution of the tessellation.
+    pub fn sampling(&self) -> crate::gb::Sampling {
+        crate::gb::Sampling::new(self.layout, self.resolution)
+    }
+
+    /// The defaults before the quad layout: triangles at r = 8 (bit-identical output), for
+    /// callers and tests that compare with it.
+    pub fn triangles_r8() -> Self {
+        ConvertOptions { layout: Layout::Triangles, resolution: 8, ..Default::default() }
+    }
+
     /// Checks every value; the error names the option.
     pub fn validate(&self) -> Result<(), OptionError> {
         check_resolution(self.resolution)?;
@@ -294,6 +345,7 @@ mod tests {
         round_trip::<Method>();
         round_trip::<Twist>();
         round_trip::<WeightForm>();
+        round_trip::<Layout>();
         assert_eq!(
             "x".parse::<Method>().unwrap_err().to_string(),
             "invalid --method x: expected dual, topology, doo-sabin or catmull-clark"
@@ -316,6 +368,7 @@ mod tests {
     fn defaults_are_valid_and_the_enums_defaults() {
         let d = ConvertOptions::default();
         assert_eq!(d.validate(), Ok(()));
-        assert_eq!((d.method, d.twist, d.weights), Default::default());
+        assert_eq!((d.method, d.twist, d.weights, d.layout), Default::default());
+        assert_eq!((d.layout, d.resolution), (Layout::Quads, 2));
     }
 }

@@ -17,7 +17,7 @@ fn load(name: &str) -> HalfEdgeMesh {
 }
 
 fn opts(t: TwistMode) -> ConvertOptions {
-    ConvertOptions { twist: t, ..Default::default() }
+    ConvertOptions { twist: t, ..ConvertOptions::triangles_r8() }
 }
 
 #[test]

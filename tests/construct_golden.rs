@@ -35,14 +35,14 @@ fn halfedge_numbering_golden() {
 
 #[test]
 fn dual_surface_golden() {
-    let s = build_dual(&mesh(), &ConvertOptions::default()).unwrap();
+    let s = build_dual(&mesh(), &ConvertOptions::triangles_r8()).unwrap();
     let h = fnv(serde_json::to_string(&s).unwrap().as_bytes());
     assert_eq!(h, GOLDEN_DUAL, "hash {h:#x}");
 }
 
 #[test]
 fn topology_surface_golden() {
-    let s = build_topology(&mesh(), &ConvertOptions::default()).unwrap();
+    let s = build_topology(&mesh(), &ConvertOptions::triangles_r8()).unwrap();
     let h = fnv(serde_json::to_string(&s).unwrap().as_bytes());
     assert_eq!(h, GOLDEN_TOPO, "hash {h:#x}");
 }

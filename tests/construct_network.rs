@@ -67,7 +67,7 @@ fn two_triangles(n0: DVec3, n3: DVec3, q: [f64; 6], th: [f64; 4], mid: DVec3) ->
 }
 
 fn opts(t: TwistMode) -> ConvertOptions {
-    ConvertOptions { twist: t, ..Default::default() }
+    ConvertOptions { twist: t, ..ConvertOptions::triangles_r8() }
 }
 
 proptest! {
@@ -140,9 +140,9 @@ fn open_sides_adopt_shared_twists() {
 #[test]
 fn orientation_and_option_errors() {
     let mut net = two_triangles(DVec3::Z, DVec3::Z, [1.0; 6], [1.2; 4], DVec3::Y);
-    let bad = ConvertOptions { fullness: 1.0, ..Default::default() };
+    let bad = ConvertOptions { fullness: 1.0, ..ConvertOptions::triangles_r8() };
     assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
-    let bad = ConvertOptions { tile_depth: 2.0, ..Default::default() };
+    let bad = ConvertOptions { tile_depth: 2.0, ..ConvertOptions::triangles_r8() };
     assert!(matches!(assemble(&net, &bad), Err(ConstructError::InvalidOption(_))));
     net.patches[1].sides[0].reversed = false;
     assert!(assemble(&net, &opts(TwistMode::Interp)).is_err());

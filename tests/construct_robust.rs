@@ -49,7 +49,7 @@ fn split_some(mut pm: PolyMesh, seed: u64) -> PolyMesh {
 }
 
 fn build(structure: &str, m: &HalfEdgeMesh, mode: TwistMode) -> Surface {
-    let o = ConvertOptions { twist: mode, ..Default::default() };
+    let o = ConvertOptions { twist: mode, ..ConvertOptions::triangles_r8() };
     match structure {
         "dual" => build_dual(m, &o).unwrap(),
         _ => build_topology(m, &o).unwrap(),
@@ -118,7 +118,7 @@ fn jittered_tori_do_not_fold() {
 fn folded_network_is_a_typed_error() {
     use gbsurf::construct::{assemble, dual_network, ConstructError};
     let m = HalfEdgeMesh::from_polymesh(&gbsurf::mesh::generate::torus(4, 4, 3.0, 1.0).unwrap()).unwrap();
-    let o = ConvertOptions { twist: TwistMode::Interp, ..Default::default() };
+    let o = ConvertOptions { twist: TwistMode::Interp, ..ConvertOptions::triangles_r8() };
     let mut net = dual_network(&m, &o).unwrap();
     assert!(assemble(&net, &o).is_ok());
     // Turn the start tangent of curve 0 past a neighbouring curve's tangent at the same node.

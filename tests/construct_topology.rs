@@ -20,7 +20,7 @@ fn load(name: &str) -> HalfEdgeMesh {
 }
 
 fn opts(t: TwistMode) -> ConvertOptions {
-    ConvertOptions { twist: t, ..Default::default() }
+    ConvertOptions { twist: t, ..ConvertOptions::triangles_r8() }
 }
 
 #[test]
@@ -29,7 +29,7 @@ fn cube_tiles_are_doo_sabin_points() {
     // neighbours of p); centre of the triangular tile = p + (Σ neighbours − 3p)·2/(3w).
     let m = load("cube");
     for w in [2.5, 3.0, 7.0] {
-        let t = tiles(&m, &ConvertOptions { tile_depth: w, ..Default::default() }).unwrap();
+        let t = tiles(&m, &ConvertOptions { tile_depth: w, ..ConvertOptions::triangles_r8() }).unwrap();
         for h in m.halfedges() {
             let p = m.position(m.origin(h));
             let q = m.position(m.target(h));
@@ -61,7 +61,7 @@ fn flat_grid_gives_uniform_straight_curves() {
         }
     }
     let m = HalfEdgeMesh::from_polymesh(&PolyMesh::new(pos, faces)).unwrap();
-    let net = topology_network(&m, &ConvertOptions::default()).unwrap();
+    let net = topology_network(&m, &ConvertOptions::triangles_r8()).unwrap();
     let interior = |p: DVec3| p.x > 0.5 && p.x < 2.5 && p.y > 0.5 && p.y < 2.5;
     let mut n = 0;
     for c in &net.curves {
@@ -226,7 +226,7 @@ fn cone_apex_tile_depth() {
     faces.push((1..=n as u32).rev().collect());
     let m = HalfEdgeMesh::from_polymesh(&PolyMesh::new(positions, faces)).unwrap();
     for w in [2.5, 3.0, 4.0, 7.0] {
-        let o = ConvertOptions { tile_depth: w, ..Default::default() };
+        let o = ConvertOptions { tile_depth: w, ..ConvertOptions::triangles_r8() };
         let t = tiles(&m, &o).unwrap();
         for h in m.halfedges().filter(|&h| m.face(h).is_some_and(|f| m.face_size(f) == 3)) {
             let (p0, p1, p2) =

@@ -49,7 +49,7 @@ fn he(pm: &PolyMesh) -> HalfEdgeMesh {
 }
 
 fn build(structure: &str, m: &HalfEdgeMesh, mode: TwistMode) -> Result<Surface, ConstructError> {
-    let o = ConvertOptions { twist: mode, ..Default::default() };
+    let o = ConvertOptions { twist: mode, ..ConvertOptions::triangles_r8() };
     match structure {
         "dual" => build_dual(m, &o),
         _ => build_topology(m, &o),
@@ -245,7 +245,7 @@ fn convert_warns_about_dissolved_vertices() {
     let mut pm = cube.to_polymesh();
     insert_on_edge(&mut pm, 1, 0, &[DVec3::new(0.0, -1.0, -1.0)]);
     for method in [gbsurf::api::Method::Dual, gbsurf::api::Method::Topology] {
-        let o = gbsurf::api::ConvertOptions { method, resolution: 3, ..Default::default() };
+        let o = gbsurf::api::ConvertOptions { method, resolution: 3, ..ConvertOptions::triangles_r8() };
         let c = gbsurf::api::convert(&pm, &o, None).unwrap();
         assert!(c.report.closed, "{method:?}");
         assert!(c.warnings.iter().any(|w| w.contains("vertex 8 ") && w.contains("valence 2")), "{:?}", c.warnings);

@@ -39,11 +39,11 @@ fn top_loop(m: &PolyMesh) -> impl Fn([u32; 2]) -> bool + '_ {
 }
 
 fn topology() -> ConvertOptions {
-    ConvertOptions { method: Method::Topology, ..Default::default() }
+    ConvertOptions { method: Method::Topology, ..ConvertOptions::triangles_r8() }
 }
 
 fn topo(m: &PolyMesh) -> Surface {
-    build_topology(&HalfEdgeMesh::from_polymesh(m).unwrap(), &ConvertOptions::default()).unwrap()
+    build_topology(&HalfEdgeMesh::from_polymesh(m).unwrap(), &ConvertOptions::triangles_r8()).unwrap()
 }
 
 /// Max normal angle and max gap along the shared sides, separately for smooth and creased sides:
@@ -103,7 +103,7 @@ fn cube_with_every_edge_sharp_keeps_its_corners() {
     assert_eq!(c.report.sharp_edges, 12);
     assert_eq!(c.report.folds, 0);
     // the dual structure ignores creases, with a warning
-    let d = convert(&m, &ConvertOptions { method: Method::Dual, ..Default::default() }, None).unwrap();
+    let d = convert(&m, &ConvertOptions { method: Method::Dual, ..ConvertOptions::triangles_r8() }, None).unwrap();
     assert!(d.warnings.iter().any(|w| w.contains("creases are ignored by the dual")), "{:?}", d.warnings);
 }
 

@@ -150,7 +150,7 @@ fn tiny_cube_ply_has_no_inf_and_exact_curvatures() {
     for p in &mut cube.positions {
         *p *= 1e-20;
     }
-    let conv = convert(&cube, &ConvertOptions::default(), None).unwrap();
+    let conv = convert(&cube, &ConvertOptions::triangles_r8(), None).unwrap();
     let m = &conv.mesh;
     let max_k = m.gaussian_curvature.iter().fold(0.0f64, |a, &k| a.max(k.abs()));
     assert!(max_k > f32::MAX as f64, "the case needs curvatures beyond f32: {max_k:e}");

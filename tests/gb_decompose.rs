@@ -462,7 +462,7 @@ fn constructed_surface_with_mixed_degrees_keeps_its_joins() {
     // dual (GB) surfaces: give the patches degrees 3, 4, 5, 6 in turn, then one common degree;
     // every patch keeps its boundary points and normals (1e-9), so the joins are as before.
     for (name, mesh) in meshes() {
-        let s = build_dual(&mesh, &ConvertOptions::default()).unwrap();
+        let s = build_dual(&mesh, &ConvertOptions::triangles_r8()).unwrap();
         let gb: Vec<GbPatch> = s
             .patches
             .iter()
@@ -532,14 +532,14 @@ fn constructed_surface_with_mixed_degrees_keeps_its_joins() {
 fn surface_common_degree_keeps_the_joins() {
     use gbsurf::construct::check::{ribbon_g1_angle, ribbon_gap};
     let mesh = gbsurf::mesh::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube_corner_pulled.obj")).unwrap();
-    let surface = gbsurf::construct::build_dual(&mesh, &gbsurf::ConvertOptions::default()).unwrap();
+    let surface = gbsurf::construct::build_dual(&mesh, &gbsurf::ConvertOptions::triangles_r8()).unwrap();
     let elevated = surface.with_common_degree(6).unwrap();
     assert!(elevated.patches.iter().all(|p| p.ribbons().iter().all(|r| r.degree == 6)));
     assert!(elevated.curves.iter().all(|c| c.len() == 7));
     let (g0, a0) = (ribbon_gap(&surface, 17).value, ribbon_g1_angle(&surface, 17).value);
     let (g1, a1) = (ribbon_gap(&elevated, 17).value, ribbon_g1_angle(&elevated, 17).value);
     assert!(g1 <= g0 + 1e-12 && a1 <= a0 + 1e-9, "gap {g0:e} -> {g1:e}, angle {a0:e}° -> {a1:e}°");
-    let topo = gbsurf::construct::build_topology(&mesh, &gbsurf::ConvertOptions::default()).unwrap();
+    let topo = gbsurf::construct::build_topology(&mesh, &gbsurf::ConvertOptions::triangles_r8()).unwrap();
     assert_eq!(topo.with_common_degree(6).unwrap_err(), gbsurf::gb::decompose::CommonDegreeError::NotGb { patch: 0 });
     assert!(matches!(surface.with_common_degree(2), Err(gbsurf::gb::decompose::CommonDegreeError::AboveTarget { patch: 0, .. })));
 }

@@ -245,7 +245,7 @@ fn obj_free_form_and_tags_are_skipped_with_warnings() {
     assert_eq!(pm.creases.edges, vec![([0, 1], c), ([1, 3], c)]);
     assert_eq!(map.edge_crease_lines, vec![24, 25]);
     // the same path feeds the conversion's warnings
-    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::CatmullClark, levels: 1, ..Default::default() };
+    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::CatmullClark, levels: 1, ..gbsurf::api::ConvertOptions::triangles_r8() };
     let c = gbsurf::convert_file(path("obj_freeform.obj"), &opts, None).unwrap();
     assert!(c.warnings.iter().any(|s| s.contains("t interpolateboundary")), "{:?}", c.warnings);
     // still an error: a statement OBJ does not have

@@ -10,7 +10,7 @@ fn err(name: &str) -> Vec<MeshError> {
     [Method::Dual, Method::Topology, Method::CatmullClark, Method::DooSabin]
         .into_iter()
         .map(|method| {
-            let opts = ConvertOptions { method, resolution: 2, levels: 1, ..Default::default() };
+            let opts = ConvertOptions { method, resolution: 2, levels: 1, ..ConvertOptions::triangles_r8() };
             match convert_file(format!("{BAD}/{name}"), &opts, None) {
                 Ok(c) => panic!("{name} ({method}): accepted ({} vertices)", c.mesh.positions.len()),
                 Err(ConvertError::Mesh(e)) => e,
@@ -103,7 +103,7 @@ fn zero_area() {
 #[test]
 fn isolated_vertex_converts_with_a_warning() {
     for method in [Method::Dual, Method::Topology, Method::CatmullClark, Method::DooSabin] {
-        let opts = ConvertOptions { method, resolution: 3, levels: 2, ..Default::default() };
+        let opts = ConvertOptions { method, resolution: 3, levels: 2, ..ConvertOptions::triangles_r8() };
         let c = convert_file(format!("{BAD}/isolated_vertex.obj"), &opts, None).unwrap_or_else(|e| panic!("{method}: {e}"));
         assert_eq!(c.warnings.len(), 1, "{method}: {:?}", c.warnings);
         assert!(c.warnings[0].contains("vertex 8") && c.warnings[0].contains("line 10"), "{}", c.warnings[0]);
@@ -115,13 +115,13 @@ fn isolated_vertex_converts_with_a_warning() {
 #[test]
 fn invalid_options_name_the_option() {
     let cases: Vec<(ConvertOptions, &str)> = vec![
-        (ConvertOptions { resolution: 0, ..Default::default() }, "resolution"),
-        (ConvertOptions { resolution: 5000, ..Default::default() }, "resolution"),
-        (ConvertOptions { fullness: 1.0, ..Default::default() }, "fullness"),
-        (ConvertOptions { fullness: f64::NAN, ..Default::default() }, "fullness"),
-        (ConvertOptions { tile_depth: 2.0, ..Default::default() }, "tile-depth"),
-        (ConvertOptions { mid_scale: f64::INFINITY, ..Default::default() }, "mid-scale"),
-        (ConvertOptions { levels: 9, ..Default::default() }, "levels"),
+        (ConvertOptions { resolution: 0, ..ConvertOptions::triangles_r8() }, "resolution"),
+        (ConvertOptions { resolution: 5000, ..ConvertOptions::triangles_r8() }, "resolution"),
+        (ConvertOptions { fullness: 1.0, ..ConvertOptions::triangles_r8() }, "fullness"),
+        (ConvertOptions { fullness: f64::NAN, ..ConvertOptions::triangles_r8() }, "fullness"),
+        (ConvertOptions { tile_depth: 2.0, ..ConvertOptions::triangles_r8() }, "tile-depth"),
+        (ConvertOptions { mid_scale: f64::INFINITY, ..ConvertOptions::triangles_r8() }, "mid-scale"),
+        (ConvertOptions { levels: 9, ..ConvertOptions::triangles_r8() }, "levels"),
     ];
     for (o, name) in cases {
         match o.validate().map_err(ConvertError::from) {
@@ -132,6 +132,6 @@ fn invalid_options_name_the_option() {
         let e = convert_file(format!("{BAD}/does_not_exist.obj"), &o, None).unwrap_err();
         assert!(matches!(e, ConvertError::InvalidOption { .. }), "{e}");
     }
-    let e = convert_file(format!("{BAD}/does_not_exist.obj"), &ConvertOptions::default(), None).unwrap_err();
+    let e = convert_file(format!("{BAD}/does_not_exist.obj"), &ConvertOptions::triangles_r8(), None).unwrap_err();
     assert!(matches!(e, ConvertError::Mesh(MeshError::Io { .. })), "{e}");
 }

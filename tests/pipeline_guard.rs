@@ -19,7 +19,7 @@ fn estimate(mesh: &PolyMesh, o: &ConvertOptions) -> gbsurf::api::OutputEstimate 
 #[test]
 fn catmull_clark_levels_8_is_refused_before_any_work() {
     let torus = model("torus.obj");
-    let o = ConvertOptions { method: Method::CatmullClark, levels: 8, ..Default::default() };
+    let o = ConvertOptions { method: Method::CatmullClark, levels: 8, ..ConvertOptions::triangles_r8() };
     let e = estimate(&torus, &o);
     // 96 quads, closed: every level multiplies the vertices by 4.
     assert_eq!(e.vertices, 96 * 4u64.pow(8));
@@ -52,10 +52,10 @@ fn catmull_clark_levels_8_is_refused_before_any_work() {
 #[test]
 fn a_small_limit_refuses_the_default_conversion_and_a_large_one_accepts_it() {
     let cube = model("cube.obj");
-    let small = ConvertOptions { max_memory_mb: 1, ..Default::default() };
+    let small = ConvertOptions { max_memory_mb: 1, ..ConvertOptions::triangles_r8() };
     assert!(matches!(convert(&cube, &small, None), Err(ConvertError::OutputTooLarge { limit_mb: 1, .. })));
-    assert!(convert(&cube, &ConvertOptions::default(), None).is_ok());
-    let zero = ConvertOptions { max_memory_mb: 0, ..Default::default() };
+    assert!(convert(&cube, &ConvertOptions::triangles_r8(), None).is_ok());
+    let zero = ConvertOptions { max_memory_mb: 0, ..ConvertOptions::triangles_r8() };
     assert_eq!(convert(&cube, &zero, None).unwrap_err().to_string(), "invalid --max-memory-mb 0: must be in 1..=1048576");
 }
 
@@ -66,7 +66,7 @@ fn the_estimate_bounds_the_output_of_every_model_and_method() {
         for (method, resolution, levels) in
             [(Method::Dual, 3, 0), (Method::Topology, 3, 0), (Method::CatmullClark, 1, 2), (Method::DooSabin, 1, 2), (Method::CatmullClark, 1, 0)]
         {
-            let o = ConvertOptions { method, resolution, levels, ..Default::default() };
+            let o = ConvertOptions { method, resolution, levels, ..ConvertOptions::triangles_r8() };
             let e = estimate(&mesh, &o);
             let c = convert(&mesh, &o, None).unwrap_or_else(|err| panic!("{name} {method}: {err}"));
             assert!(e.vertices >= c.report.vertices as u64, "{name} {method}: {} < {}", e.vertices, c.report.vertices);
@@ -141,7 +141,7 @@ fn cube_and_torus_convert_the_same_at_every_scale() {
     for name in ["cube.obj", "torus.obj"] {
         let mesh = model(name);
         for (method, resolution, levels) in [(Method::Dual, 3, 0), (Method::Topology, 3, 0), (Method::CatmullClark, 1, 2), (Method::DooSabin, 1, 2)] {
-            let o = ConvertOptions { method, resolution, levels, ..Default::default() };
+            let o = ConvertOptions { method, resolution, levels, ..ConvertOptions::triangles_r8() };
             let base = convert(&mesh, &o, None).unwrap();
             for s in SCALES {
                 let what = format!("{name} {method} scale {s:e}");
@@ -157,7 +157,7 @@ fn extents_beyond_the_range_are_refused_with_it() {
     let cube = model("cube.obj");
     // (Beyond 1e150 the mesh validation refuses the coordinates themselves.)
     for s in [1e-160, 1e145] {
-        let e = convert(&scaled(&cube, s), &ConvertOptions::default(), None).unwrap_err();
+        let e = convert(&scaled(&cube, s), &ConvertOptions::triangles_r8(), None).unwrap_err();
         let ConvertError::ScaleOutOfRange { extent, min, max } = e else { panic!("{s:e}: {e}") };
         assert_eq!((min, max), gbsurf::limits::EXTENT_RANGE);
         assert!(rel(extent, 2.0 * s) <= 1e-15 || rel(extent, s) <= 1e-15, "{extent:e}");
@@ -165,7 +165,7 @@ fn extents_beyond_the_range_are_refused_with_it() {
     }
     // Far translation stays a mesh error (validation comes first).
     let far = PolyMesh { positions: cube.positions.iter().map(|&p| p + glam::DVec3::splat(1e15)).collect(), faces: cube.faces.clone(), creases: cube.creases.clone() };
-    assert!(matches!(convert(&far, &ConvertOptions::default(), None), Err(ConvertError::Mesh(gbsurf::mesh::MeshError::UnresolvableExtent { .. }))));
+    assert!(matches!(convert(&far, &ConvertOptions::triangles_r8(), None), Err(ConvertError::Mesh(gbsurf::mesh::MeshError::UnresolvableExtent { .. }))));
 }
 
 proptest! {
@@ -176,7 +176,7 @@ proptest! {
     fn cube_reports_are_scale_invariant(exp in -130i32..=130, shift in -100.0f64..100.0) {
         let cube = model("cube.obj");
         let s = 10f64.powi(exp);
-        let o = ConvertOptions { resolution: 2, ..Default::default() };
+        let o = ConvertOptions { resolution: 2, ..ConvertOptions::triangles_r8() };
         let moved = PolyMesh { positions: cube.positions.iter().map(|&p| (p + glam::DVec3::new(shift, 0.0, 0.0)) * s).collect(), faces: cube.faces.clone(), creases: cube.creases.clone() };
         let c = convert(&moved, &o, None).unwrap();
         let base = convert(&cube, &o, None).unwrap();

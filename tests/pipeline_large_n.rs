@@ -8,7 +8,7 @@ use gbsurf::mesh::generate::{cone, polygon, prism};
 use gbsurf::DVec2;
 
 fn opts(method: Method) -> ConvertOptions {
-    ConvertOptions { method, resolution: 1, ..Default::default() }
+    ConvertOptions { method, resolution: 1, ..ConvertOptions::triangles_r8() }
 }
 
 #[test]

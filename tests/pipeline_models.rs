@@ -26,7 +26,7 @@ fn good_models_are_g1_and_watertight() {
         let closed_input = gbsurf::mesh::read_mesh(&path).unwrap().is_closed();
         for method in [Method::Dual, Method::Topology] {
             for twist in [Twist::Approx, Twist::Interp] {
-                let opts = ConvertOptions { method, twist, resolution: 4, ..Default::default() };
+                let opts = ConvertOptions { method, twist, resolution: 4, ..ConvertOptions::triangles_r8() };
                 let c = convert_file(&path, &opts, None).unwrap_or_else(|e| panic!("{path} {method}: {e}"));
                 let what = format!("{path} {method} {}", twist.name());
                 let r = &c.report;
@@ -70,7 +70,7 @@ fn twist_none_is_reported_and_larger_on_non_quad_junctions() {
     // twists are already G1; elsewhere the deviation is reported and clearly larger.
     let g1 = |model: &str, method: Method, twist: Twist| {
         let path = format!("{MODELS}/{model}.obj");
-        let c = convert_file(&path, &ConvertOptions { method, twist, resolution: 4, ..Default::default() }, None).unwrap();
+        let c = convert_file(&path, &ConvertOptions { method, twist, resolution: 4, ..ConvertOptions::triangles_r8() }, None).unwrap();
         assert!(c.report.closed);
         assert!(c.report.max_boundary_gap <= 1e-12);
         (c.report.max_g1_deg, c.report.mean_g1_deg)
@@ -100,7 +100,7 @@ fn subdivision_methods_on_good_models() {
     for path in models() {
         let closed_input = gbsurf::mesh::read_mesh(&path).unwrap().is_closed();
         for method in [Method::CatmullClark, Method::DooSabin] {
-            let c = convert_file(&path, &ConvertOptions { method, levels: 2, ..Default::default() }, None).unwrap_or_else(|e| panic!("{path} {method}: {e}"));
+            let c = convert_file(&path, &ConvertOptions { method, levels: 2, ..ConvertOptions::triangles_r8() }, None).unwrap_or_else(|e| panic!("{path} {method}: {e}"));
             let chk = check_mesh(&c.mesh.positions, &c.mesh.triangles);
             assert!(chk.is_two_manifold(), "{path} {method}: {chk:?}");
             assert_eq!(c.report.closed, closed_input, "{path} {method}");
@@ -121,11 +121,11 @@ fn progress_is_monotone_and_cancel_works() {
         seen.push(f);
         true
     };
-    convert_file(&path, &ConvertOptions::default(), Some(&mut cb)).unwrap();
+    convert_file(&path, &ConvertOptions::triangles_r8(), Some(&mut cb)).unwrap();
     assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
     assert_eq!(seen.first(), Some(&0.0));
     assert_eq!(seen.last(), Some(&1.0));
     let mut stop = |f: f32| f < 0.5;
-    let e = convert_file(&path, &ConvertOptions::default(), Some(&mut stop)).unwrap_err();
+    let e = convert_file(&path, &ConvertOptions::triangles_r8(), Some(&mut stop)).unwrap_err();
     assert!(matches!(e, gbsurf::api::ConvertError::Cancelled), "{e}");
 }

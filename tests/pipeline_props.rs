@@ -11,7 +11,7 @@ use proptest::prelude::*;
 fn check_converts(mesh: &PolyMesh, what: &str) -> Result<(), TestCaseError> {
     for method in [Method::Dual, Method::Topology] {
         for twist in [Twist::Approx, Twist::Interp] {
-            let opts = ConvertOptions { method, twist, resolution: 3, ..Default::default() };
+            let opts = ConvertOptions { method, twist, resolution: 3, ..ConvertOptions::triangles_r8() };
             let c = convert(mesh, &opts, None).map_err(|e| TestCaseError::fail(format!("{what} {method} {}: {e}", twist.name())))?;
             let chk = check_mesh(&c.mesh.positions, &c.mesh.triangles);
             prop_assert!(chk.is_clean_closed(), "{} {} {}: {:?}", what, method, twist.name(), chk);

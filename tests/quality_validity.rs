@@ -36,7 +36,7 @@ fn box_tris(lo: DVec3, hi: DVec3, base: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 #[test]
 fn a_pulled_central_point_folds_its_patch() {
     let he = HalfEdgeMesh::from_polymesh(&cube(None)).unwrap();
-    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let form = WeightForm::Squared;
     assert_eq!(find_folds(&surface, fold_level(8), form).patches, 0);
     let k = 3;
@@ -58,7 +58,7 @@ fn a_pulled_central_point_folds_its_patch() {
     assert!(uv.length() < 1.0 + 1e-9);
     assert!(surface.patches[k].normal(uv, form).unwrap().dot(n) < 0.0);
     // Pulled along the normal, far through the surface: a deep dimple, no fold.
-    let mut dimple = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let mut dimple = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let Patch::Gb(g) = &mut dimple.patches[k] else { panic!("GB") };
     g.center -= 40.0 * n;
     assert_eq!(find_folds(&dimple, fold_level(8), form).patches, 0);
@@ -68,7 +68,7 @@ fn a_pulled_central_point_folds_its_patch() {
 fn fold_sites_are_listed_in_patch_order() {
     let mesh = cube(None);
     let he = HalfEdgeMesh::from_polymesh(&mesh).unwrap();
-    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let form = WeightForm::Squared;
     for p in surface.patches.iter_mut() {
         let Patch::Gb(g) = p else { panic!("GB patch expected") };
@@ -124,7 +124,7 @@ fn a_cage_with_a_corner_pulled_through_intersects_itself() {
     let n = cage_self_intersections(&bad);
     assert!(n > 0, "{n}");
     // The conversion reports the input's intersections, whatever it makes of the cage.
-    if let Ok(c) = convert(&bad, &ConvertOptions { method: Method::Dual, resolution: 4, ..Default::default() }, None) {
+    if let Ok(c) = convert(&bad, &ConvertOptions { method: Method::Dual, resolution: 4, ..ConvertOptions::triangles_r8() }, None) {
         assert_eq!(c.report.input_self_intersections, n);
     }
 }
@@ -140,7 +140,7 @@ fn every_shared_model_is_valid_with_both_structures() {
     assert!(models.len() >= 10);
     for path in &models {
         for method in [Method::Dual, Method::Topology] {
-            let c = convert_file(path, &ConvertOptions { method, ..Default::default() }, None).unwrap();
+            let c = convert_file(path, &ConvertOptions { method, ..ConvertOptions::triangles_r8() }, None).unwrap();
             let r = &c.report;
             assert!(r.valid, "{} {method}: {:?}", path.display(), r.validity_problems());
             assert_eq!((r.folds, r.self_intersections, r.input_self_intersections), (0, 0, 0), "{}", path.display());
@@ -222,7 +222,7 @@ proptest! {
 /// Dual construction of `mesh` with its patches edited by `edit`.
 fn edited_dual(mesh: &PolyMesh, edit: impl Fn(&mut gbsurf::gb::GbPatch)) -> gbsurf::construct::Surface {
     let he = HalfEdgeMesh::from_polymesh(mesh).unwrap();
-    let mut surface = build_dual(&he, &ConvertOptions::default()).unwrap();
+    let mut surface = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     for p in surface.patches.iter_mut() {
         let Patch::Gb(g) = p else { panic!("dual patches are GB") };
         edit(g);
@@ -333,7 +333,7 @@ fn ribbon_normal_is_the_ribbon_frame_normal() {
     use gbsurf::tessellate::fold::ribbon_normal;
     for method in [Method::Dual, Method::Topology] {
         let he = HalfEdgeMesh::from_polymesh(&cube(Some(DVec3::new(1.5, 1.2, 0.9)))).unwrap();
-        let opts = ConvertOptions { method, ..Default::default() };
+        let opts = ConvertOptions { method, ..ConvertOptions::triangles_r8() };
         let surface = if method == Method::Dual { build_dual(&he, &opts) } else { gbsurf::construct::build_topology(&he, &opts) }.unwrap();
         for p in &surface.patches {
             for r in p.ribbons() {
@@ -497,7 +497,7 @@ fn certificates_keep_the_count_on_a_jittered_torus_against_brute_force() {
     let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let c = torus.positions[0];
     torus.positions[0] = c - 10.0 * DVec3::new(c.x, c.y, 0.0).normalize();
-    let c = convert(&torus, &ConvertOptions { method: Method::Dual, resolution: 3, ..Default::default() }, None).unwrap();
+    let c = convert(&torus, &ConvertOptions { method: Method::Dual, resolution: 3, ..ConvertOptions::triangles_r8() }, None).unwrap();
     let m = &c.mesh;
     let (n, cert) = same_with_certificates(m);
     assert_eq!(c.report.self_intersections, n);
@@ -546,7 +546,7 @@ proptest! {
             *p += amp * DVec3::new(jitter[3 * k], jitter[3 * k + 1], jitter[3 * k + 2]);
         }
         let method = if topology { Method::Topology } else { Method::Dual };
-        if let Ok(c) = convert(&torus, &ConvertOptions { method, resolution: 3, ..Default::default() }, None) {
+        if let Ok(c) = convert(&torus, &ConvertOptions { method, resolution: 3, ..ConvertOptions::triangles_r8() }, None) {
             prop_assert_eq!(c.report.self_intersections, self_intersections(&c.mesh.positions, &c.mesh.triangles));
         }
     }
@@ -556,7 +556,7 @@ proptest! {
 fn most_patches_of_smooth_surfaces_lie_in_a_certified_star() {
     for method in [Method::Dual, Method::Topology] {
         let torus = gbsurf::mesh::generate::torus(16, 8, 10.0, 3.0).unwrap();
-        let c = convert(&torus, &ConvertOptions { method, resolution: 8, ..Default::default() }, None).unwrap();
+        let c = convert(&torus, &ConvertOptions { method, resolution: 8, ..ConvertOptions::triangles_r8() }, None).unwrap();
         let (n, cert) = same_with_certificates(&c.mesh);
         assert_eq!(n, 0);
         assert_eq!(cert.patches(), c.report.patches);
@@ -565,7 +565,7 @@ fn most_patches_of_smooth_surfaces_lie_in_a_certified_star() {
     // The smooth shared models: every patch. (Cube-like cages have stars whose normals spread
     // beyond a half space: the star of a cube corner is not certified.)
     for name in ["torus.obj", "dodecahedron.obj"] {
-        let c = convert_file(format!("{MODELS}/{name}"), &ConvertOptions::default(), None).unwrap();
+        let c = convert_file(format!("{MODELS}/{name}"), &ConvertOptions::triangles_r8(), None).unwrap();
         let cert = Certified::of_mesh(&c.mesh);
         assert_eq!(cert.certified_patches(), cert.patches(), "{name}");
     }
@@ -635,7 +635,7 @@ fn crafted_regions_violating_a_condition_are_not_certified() {
 #[test]
 fn every_folded_patch_gets_a_site() {
     let cone = gbsurf::mesh::generate::cone(200).unwrap();
-    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Dual, resolution: 4, ..Default::default() };
+    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Dual, resolution: 4, ..ConvertOptions::triangles_r8() };
     let c = gbsurf::api::convert(&cone, &opts, None).unwrap();
     assert!(c.report.folds > 0 && !c.report.valid, "{} folds", c.report.folds);
     assert_eq!(c.report.fold_sites.len(), c.report.folds.min(gbsurf::quality::validity::MAX_FOLD_SITES));

@@ -169,19 +169,29 @@ def read_object(obj, depsgraph=None):
 
 
 def write_triangles(mesh, positions, triangles):
-    """Fills an empty mesh with vertices and triangles (numpy path). Positions beyond float32
-    raise Float32RangeError (see float32_positions) before the mesh is touched."""
+    """Fills an empty mesh with vertices and faces of one size (numpy path): triangles (T,3) or
+    the quads (Q,4) of the quad layout, as the array's width says (a flat array is triangles).
+    Positions beyond float32 raise Float32RangeError (see float32_positions) before the mesh is
+    touched."""
     positions = float32_positions(positions)
-    tris = np.ascontiguousarray(triangles, dtype=np.int32).reshape(-1, 3)
+    faces = np.asarray(triangles)
+    k = faces.shape[1] if faces.ndim == 2 and faces.shape[1] in (3, 4) else 3
+    tris = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1, k)
     nv, nt = len(positions), len(tris)
     mesh.vertices.add(nv)
     _set_positions(mesh, positions.reshape(-1))
-    mesh.loops.add(nt * 3)
+    mesh.loops.add(nt * k)
     _set_corner_verts(mesh, tris.reshape(-1))
     mesh.polygons.add(nt)
-    mesh.polygons.foreach_set("loop_start", np.arange(0, nt * 3, 3, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, nt * k, k, dtype=np.int32))
     mesh.update(calc_edges=True)
     return mesh
+
+
+def set_face_materials(mesh, material_index):
+    """Per-face material index (numpy, one value per polygon), e.g. the cage face's material
+    carried to every output face descending from it."""
+    mesh.polygons.foreach_set("material_index", np.ascontiguousarray(material_index, dtype=np.int32).reshape(-1))
 
 
 def write_polygons(mesh, positions, face_sizes, face_indices, edges=None):

@@ -33,6 +33,9 @@ ABI_VERSION = 2
 METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
 TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
 WEIGHTS = {"SQUARED": 0, "LINEAR": 1}
+# GBSURF_LAYOUT_*: output faces (the option is `face_layout` here: `layout` is taken by Blender's
+# operators and panels).
+LAYOUTS = {"TRIANGLES": 0, "QUADS": 1}
 
 ERR_CANCELLED = 7
 PATCH_GB = 0
@@ -68,7 +71,7 @@ class Options(Structure):
         ("weights", c_uint32),
         ("levels", c_uint32),
         ("best_plane", c_uint32),
-        ("reserved", c_uint32),
+        ("face_layout", c_uint32),
         ("fullness", c_double),
         ("tile_depth", c_double),
         ("mid_scale", c_double),
@@ -96,7 +99,7 @@ class Report(Structure):
         ("mean_g1_deg", c_double),
         ("max_boundary_gap", c_double),
         ("seconds", c_double),
-        # Second layout: validity.
+        # Second version: validity, quads.
         ("valid", c_uint32),
         ("input_closed", c_uint32),
         ("folds", c_uint64),
@@ -105,6 +108,7 @@ class Report(Structure):
         ("self_intersections", c_uint64),
         ("input_self_intersections", c_uint64),
         ("sharp_edges", c_uint64),
+        ("quads", c_uint64),
         ("max_abs_mean_curvature_times_diagonal", c_double),
     ]
 
@@ -167,6 +171,9 @@ _SIGNATURES = {
     "gbsurf_mesh_positions": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_normals": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_triangles": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_quads": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_face_corner": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_triangle_patch": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_patch_index": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_mean_curvature": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_gaussian_curvature": (c_uint32, [_R, _PD, _S]),
@@ -256,12 +263,12 @@ def _check(lib, status):
         raise cls(status, name, message)
 
 
-_ENUMS = {"method": METHODS, "twist": TWISTS, "weights": WEIGHTS}
+_ENUMS = {"method": METHODS, "twist": TWISTS, "weights": WEIGHTS, "face_layout": LAYOUTS}
 # The `Options` fields that are Python values as they are (the others: enums, best_plane).
 _PLAIN = {"resolution": int, "levels": int, "fullness": float, "tile_depth": float, "mid_scale": float, "max_memory_mb": int}
 # The library options by their Python names (as the add-on's properties and keyword options).
 OPTION_NAMES = ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
-                "weights", "levels", "max_memory_mb")
+                "weights", "levels", "max_memory_mb", "face_layout")
 
 
 def _init_options(lib):
@@ -316,7 +323,10 @@ def make_options(**overrides):
 class Conversion:
     """Everything copied out of a result handle (plain numpy arrays; the handle is freed).
 
-    positions (V,3) float64, normals (V,3), triangles (T,3) uint32, patch_index (V,) uint32,
+    positions (V,3) float64, normals (V,3), triangles (T,3) uint32, quads (Q,4) uint32 (quad
+    layout; quad k is triangles 2k, 2k+1), faces (the quads when there are any, else the
+    triangles), face_patch (F,) uint32 (the patch or input face of each face), face_corner (F,)
+    uint32 (the patch corner whose sector holds each face; empty for subdivision), patch_index (V,) uint32,
     mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees), fold (V,) uint8
     (1 on folded samples and the vertices of flipped triangles),
     curves: list of (3k+1,3) arrays, each curve's cubic Bezier chain (segment i = rows 3i..3i+3),
@@ -406,6 +416,11 @@ def _unpack(lib, h, want_patches, want_curves, want_control_net):
     c.positions = _view(lib, lib.gbsurf_mesh_positions, h, c_double).reshape(-1, 3)
     c.normals = _view(lib, lib.gbsurf_mesh_normals, h, c_double).reshape(-1, 3)
     c.triangles = _view(lib, lib.gbsurf_mesh_triangles, h, c_uint32).reshape(-1, 3)
+    c.quads = _view(lib, lib.gbsurf_mesh_quads, h, c_uint32).reshape(-1, 4)
+    c.faces = c.quads if len(c.quads) else c.triangles
+    c.face_corner = _view(lib, lib.gbsurf_mesh_face_corner, h, c_uint32)
+    triangle_patch = _view(lib, lib.gbsurf_mesh_triangle_patch, h, c_uint32)
+    c.face_patch = triangle_patch[::2] if len(c.quads) else triangle_patch
     c.patch_index = _view(lib, lib.gbsurf_mesh_patch_index, h, c_uint32)
     c.mean_curvature = _view(lib, lib.gbsurf_mesh_mean_curvature, h, c_double)
     c.gaussian_curvature = _view(lib, lib.gbsurf_mesh_gaussian_curvature, h, c_double)

@@ -65,6 +65,7 @@ class ConvertOptionsMixin:
     defaults are set by `apply_library_defaults`)."""
 
     method: EnumProperty(name="Method", items=METHOD_ITEMS, update=_settings_changed)
+    face_layout: EnumProperty(name="Layout", items=[('QUADS', "Quads", "n·r² quads per patch, like Subdivision Surface level L at r = 2^(L-1)"), ('TRIANGLES', "Triangles", "n·r² triangles per patch")], update=_settings_changed)
     resolution: IntProperty(
         name="Resolution", description="Samples per patch side (subdivision methods: unused)",
         min=1, max=1024, soft_min=2, soft_max=32, update=_settings_changed)
@@ -110,6 +111,7 @@ class ConvertOptionsMixin:
         patch_method = self.method in {'DUAL', 'TOPOLOGY'}
         col = layout.column()
         if patch_method:
+            col.prop(self, "face_layout")
             col.prop(self, "resolution")
             if self.method == 'DUAL':
                 col.prop(self, "fullness")

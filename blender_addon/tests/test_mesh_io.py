@@ -72,6 +72,21 @@ def test_triangle_writer_and_attributes():
     assert sm.all()
 
 
+def test_quad_writer_and_face_materials():
+    # The quad layout's faces: (Q,4) arrays become quads, material index per face.
+    pos = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float)
+    quads = np.array([[0, 1, 2, 3], [1, 4, 5, 2]], np.uint32)
+    mesh = bpy.data.meshes.new("quads")
+    mio().write_triangles(mesh, pos, quads)
+    assert len(mesh.polygons) == 2 and len(mesh.loops) == 8 and len(mesh.edges) == 7
+    p2, s2, i2 = mio().read_mesh(mesh)
+    assert s2.tolist() == [4, 4] and i2.reshape(-1, 4).tolist() == quads.tolist()
+    mio().set_face_materials(mesh, [0, 1])
+    mi = np.empty(2, dtype=np.int32)
+    mesh.polygons.foreach_get("material_index", mi)
+    assert mi.tolist() == [0, 1]
+
+
 def test_colour_maps():
     c = mio().diverging_colors([-2.0, 0.0, 1.0, 2.0], scale=2.0)
     assert np.allclose(c[0, :3], [0, 0, 1]) and np.allclose(c[1, :3], [1, 1, 1])

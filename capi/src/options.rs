@@ -2,7 +2,7 @@
 
 use super::*;
 use gbsurf::api::ConvertError;
-use gbsurf::options::{ConvertOptions, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{ConvertOptions, Layout, Method, OptionValue, Twist, WeightForm};
 
 /// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 pub const GBSURF_METHOD_DUAL: u32 = 0;
@@ -25,6 +25,12 @@ pub const GBSURF_WEIGHTS_SQUARED: u32 = 0;
 /// Correction weights: linear α (comparison only).
 pub const GBSURF_WEIGHTS_LINEAR: u32 = 1;
 
+/// Layout: n·r² triangles per n-sided patch (r samples per side).
+pub const GBSURF_LAYOUT_TRIANGLES: u32 = 0;
+/// Layout: n·r² quads per n-sided patch (r samples per half side; Catmull–Clark level L counts
+/// at r = 2^(L−1)). The default.
+pub const GBSURF_LAYOUT_QUADS: u32 = 1;
+
 /// Conversion options. Always initialize with `gbsurf_options_init`, which sets `struct_size`
 /// and the defaults, then change fields. Unknown `struct_size` values are rejected
 /// (`GBSURF_ERR_INVALID_OPTION`), so the struct can grow at its end in later versions.
@@ -35,7 +41,7 @@ pub struct GbsurfOptions {
     pub struct_size: u32,
     /// `GBSURF_METHOD_*`. Default `GBSURF_METHOD_DUAL`.
     pub method: u32,
-    /// Samples per patch side, 1..=1024. Default 8.
+    /// Samples per patch side (triangles) or per half side (quads), 1..=1024. Default 2.
     pub resolution: u32,
     /// `GBSURF_TWIST_*`. Default `GBSURF_TWIST_INTERP`.
     pub twist: u32,
@@ -45,8 +51,8 @@ pub struct GbsurfOptions {
     pub levels: u32,
     /// 1: project onto best-fit planes (seed 000 §3.3.2), 0: do not. Default 1.
     pub best_plane: u32,
-    /// Must be 0.
-    pub reserved: u32,
+    /// `GBSURF_LAYOUT_*`: output faces. Default `GBSURF_LAYOUT_QUADS`.
+    pub layout: u32,
     /// Fullness κ of the dual curves, 0 ≤ κ < 1 (seed 000 eq. 2.2). Default 1/3.
     pub fullness: f64,
     /// Tile split ratio w > 2 of the topology-preserving structure. Default 3.
@@ -100,11 +106,20 @@ impl Code for WeightForm {
     }
 }
 
+impl Code for Layout {
+    fn code(self) -> u32 {
+        match self {
+            Layout::Triangles => GBSURF_LAYOUT_TRIANGLES,
+            Layout::Quads => GBSURF_LAYOUT_QUADS,
+        }
+    }
+}
+
 impl From<&ConvertOptions> for GbsurfOptions {
     /// The C struct of `o` (`gbsurf_options_init` passes `ConvertOptions::default()`).
     fn from(o: &ConvertOptions) -> Self {
         // No `..`: a new option is a compile error here until the struct has it.
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *o;
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
             method: method.code(),
@@ -113,7 +128,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
             weights: weights.code(),
             levels,
             best_plane: best_plane as u32,
-            reserved: 0,
+            layout: layout.code(),
             fullness,
             tile_depth,
             mid_scale,
@@ -152,9 +167,8 @@ impl GbsurfOptions {
             1 => true,
             b => return Err(bad_option("best_plane", b, "expected 0 or 1")),
         };
-        if self.reserved != 0 {
-            return Err(bad_option("reserved", self.reserved, "must be 0"));
-        }
+        let layout = Layout::from_code(self.layout)
+            .ok_or_else(|| bad_option("layout", self.layout, "expected GBSURF_LAYOUT_* (0..=1)"))?;
         for (name, v) in [
             ("fullness", self.fullness),
             ("tile_depth", self.tile_depth),
@@ -169,6 +183,7 @@ impl GbsurfOptions {
         }
         let o = ConvertOptions {
             method,
+            layout,
             resolution: self.resolution as usize,
             fullness: self.fullness,
             tile_depth: self.tile_depth,
@@ -292,8 +307,8 @@ pub struct GbsurfReport {
     pub max_boundary_gap: f64,
     /// Wall-clock seconds of the conversion.
     pub seconds: f64,
-    // ---- Validity: the second layout of this struct. Callers compiled against the first
-    // layout (ending at `seconds`) pass its size and get the fields above only. ----
+    // ---- Second version of this struct (validity, quads). Callers compiled against the first
+    // version (ending at `seconds`) pass its size and get the fields above only. ----
     /// 1 if the output is valid: a closed two-manifold for closed input, no folds, no flipped
     /// triangles, no self-intersections beyond the input cage's own.
     pub valid: u32,
@@ -311,12 +326,14 @@ pub struct GbsurfReport {
     pub input_self_intersections: u64,
     /// Sharp (crease) patch sides built G0.
     pub sharp_edges: u64,
+    /// Output quads (quad layout; 0 in the triangle layout, where `triangles` are the faces).
+    pub quads: u64,
     /// Largest |mean curvature| times the output's bounding-box diagonal.
     pub max_abs_mean_curvature_times_diagonal: f64,
 }
 
 pub(crate) const REPORT_SIZE: u32 = std::mem::size_of::<GbsurfReport>() as u32;
-/// Size of the first layout of `GbsurfReport` (up to `seconds`), still accepted.
+/// Size of the first version of `GbsurfReport` (up to `seconds`), still accepted.
 pub(crate) const REPORT_SIZE_V1: u32 = std::mem::offset_of!(GbsurfReport, valid) as u32;
 
 impl GbsurfReport {
@@ -348,6 +365,7 @@ impl GbsurfReport {
             self_intersections: r.self_intersections as u64,
             input_self_intersections: r.input_self_intersections as u64,
             sharp_edges: r.sharp_edges as u64,
+            quads: r.quads as u64,
             max_abs_mean_curvature_times_diagonal: r.max_abs_mean_curvature_times_diagonal,
         }
     }

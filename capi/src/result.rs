@@ -68,6 +68,9 @@ impl GbsurfResult {
     fn triangles(&self) -> &[u32] {
         self.mesh.triangles.as_flattened()
     }
+    fn quads(&self) -> &[u32] {
+        self.mesh.quads.as_flattened()
+    }
     fn flat(&self) -> &[FlatPatch] {
         self.flat.get_or_init(|| {
             self.surface
@@ -658,6 +661,68 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_triangles(
     copy_array("gbsurf_mesh_copy_triangles", result, |r| Ok(r.triangles()), buf, capacity, written)
 }
 
+/// View of the quads of the quad layout (4 vertex indices each, counter-clockwise seen from
+/// outside; empty for the triangle layout and the subdivision methods). When not empty they are
+/// the output faces, and triangles 2k and 2k+1 of `gbsurf_mesh_triangles` are quad k split along
+/// its diagonal (0, 2). `*data` is valid until the handle is freed, `*len` is the number of
+/// values.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_quads(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_quads", result, |r| Ok(r.quads()), data, len)
+}
+
+/// Copy-out variant of `gbsurf_mesh_quads`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_quads(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_mesh_copy_quads", result, |r| Ok(r.quads()), buf, capacity, written)
+}
+
+/// View of the per-output-face patch corner (one value per quad, or per triangle in the
+/// triangle layout; empty for the subdivision methods): the corner i of the face's patch whose
+/// sector holds it (domain vertex i, the end of side i). With the per-face patch it names the
+/// cage face corner the output face descends from. `*data` is valid until the handle is freed.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_face_corner(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_face_corner", result, |r| Ok(&r.mesh.face_corner[..]), data, len)
+}
+
+/// View of the per-triangle patch index (patch methods: the patch it was sampled from;
+/// subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
+/// `*data` is valid until the handle is freed.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_triangle_patch(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_triangle_patch", result, |r| Ok(&r.mesh.triangle_patch[..]), data, len)
+}
+
 /// View of the per-vertex patch index (patch methods: the patch the vertex was sampled from;
 /// subdivision methods: the input face it descends from); `*data` is valid until the handle is
 /// freed, `*len` is the number of values.
@@ -816,7 +881,21 @@ pub unsafe extern "C" fn gbsurf_mesh_vertex_count(
     })
 }
 
-/// Number of triangles of the output mesh.
+/// Number of quads of the output mesh (0 for the triangle layout and the subdivision methods).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `count` writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_quad_count(
+    result: *const GbsurfResult,
+    count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_mesh_quad_count", || {
+        put(count, "count", handle(result)?.quads().len() / 4)
+    })
+}
+
+/// Number of triangles of the output mesh (two per quad in the quad layout).
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `count` writable or NULL.
@@ -1261,12 +1340,12 @@ pub unsafe extern "C" fn gbsurf_result_report(
         if size != REPORT_SIZE && size != REPORT_SIZE_V1 {
             return Err(FfiError::new(
                 GBSURF_ERR_INVALID_OPTION,
-                format!("report struct_size = {size}: unknown size (this library expects {REPORT_SIZE}, or {REPORT_SIZE_V1} for the first layout)"),
+                format!("report struct_size = {size}: unknown size (this library expects {REPORT_SIZE}, or {REPORT_SIZE_V1} for the first version)"),
             ));
         }
         let mut report = r.report;
         report.struct_size = size;
-        // SAFETY: the caller's struct is `size` bytes long (one of the two layouts, checked
+        // SAFETY: the caller's struct is `size` bytes long (one of the two versions, checked
         // above); the first `size` bytes of ours are the same fields at the same offsets.
         unsafe {
             std::ptr::copy_nonoverlapping(

@@ -37,7 +37,7 @@ use gbsurf::api::{self, ConvertError};
 use gbsurf::export::{self, AtomicFiles, FlagPath, MeshFormat, WriteMesh};
 use gbsurf::gb::gbp::load_gbp;
 use gbsurf::gb::GbPatch;
-use gbsurf::options::{check_resolution, check_slice_count, check_stripes, ConvertOptions, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{check_resolution, check_slice_count, check_stripes, ConvertOptions, Layout, Method, OptionValue, Twist, WeightForm};
 use gbsurf::tessellate::patch::tessellate_gb;
 use gbsurf::DVec2;
 use std::io::{BufRead, BufWriter, Write};
@@ -129,7 +129,11 @@ struct OptionFlags {
     /// scheme for comparison.
     #[arg(long, value_parser = choice::<Method>())]
     method: Option<Method>,
-    /// Samples per patch side (an n-sided patch gets n·N² triangles).
+    /// Output faces: quads (n·N² per n-sided patch, like Subdivision Surface level L at
+    /// N = 2^(L−1)) or triangles. STL output is always triangles.
+    #[arg(long, value_parser = choice::<Layout>())]
+    layout: Option<Layout>,
+    /// Samples per patch side (triangles: n·N² per n-sided patch) or per half side (quads).
     #[arg(long)]
     resolution: Option<usize>,
     /// Fullness κ ∈ [0, 1) of the dual curves.
@@ -167,8 +171,9 @@ impl OptionFlags {
             }
         }
         // No `..`: a new option is a compile error here until it has a flag.
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = &mut options;
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = &mut options;
         set(method, self.method);
+        set(layout, self.layout);
         set(resolution, self.resolution);
         set(fullness, self.fullness);
         set(tile_depth, self.tile_depth);
@@ -182,10 +187,11 @@ impl OptionFlags {
     }
 
     /// `(argument id, value)` of every flag for `options`, for the defaults shown in `--help`.
-    fn shown(options: &ConvertOptions) -> [(&'static str, String); 10] {
-        let ConvertOptions { method, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *options;
+    fn shown(options: &ConvertOptions) -> [(&'static str, String); 11] {
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *options;
         [
             ("method", method.to_string()),
+            ("layout", layout.to_string()),
             ("resolution", resolution.to_string()),
             ("fullness", fullness.to_string()),
             ("tile_depth", tile_depth.to_string()),
@@ -226,7 +232,7 @@ fn command() -> clap::Command {
 struct ConvertArgs {
     /// Input control mesh (.obj, .off, .ply, .stl).
     input: PathBuf,
-    /// Output triangle mesh (.obj, .ply, .stl).
+    /// Output mesh (.obj, .ply: quads or triangles per --layout; .stl: triangles).
     #[arg(short, long)]
     output: PathBuf,
     #[command(flatten)]
@@ -421,9 +427,10 @@ fn write_outputs(args: &ConvertArgs, conv: &mut api::Conversion, options: &Conve
     files.commit()?;
     if !args.quiet {
         let r = &conv.report;
+        let faces = if r.quads > 0 { format!("{} quads", r.quads) } else { format!("{} triangles", r.triangles) };
         eprintln!(
-            "{}: {} patches, {} vertices, {} triangles, closed {}, max G1 {:.3e}°, max gap {:.3e}, {:.3} s",
-            r.method, r.patches, r.vertices, r.triangles, r.closed, r.max_g1_deg, r.max_boundary_gap, r.seconds
+            "{}: {} patches, {} vertices, {faces}, closed {}, max G1 {:.3e}°, max gap {:.3e}, {:.3} s",
+            r.method, r.patches, r.vertices, r.closed, r.max_g1_deg, r.max_boundary_gap, r.seconds
         );
         for w in &conv.warnings {
             eprintln!("warning: {w}");

@@ -266,3 +266,40 @@ fn output_too_large_is_one_error_line_naming_the_flag() {
     let help = Command::new(env!("CARGO_BIN_EXE_gbsurf")).args(["convert", "--help"]).output().unwrap();
     assert!(String::from_utf8_lossy(&help.stdout).contains("[default: 2048]"));
 }
+
+/// The default layout is quads at resolution 2 (Subdivision Surface level 2): OBJ and PLY hold
+/// the quads (a quad cage gets Catmull–Clark level 2's counts), STL their triangles; the
+/// triangle layout at r = 8 (the old default) is one flag away.
+#[test]
+fn quad_layout_counts_in_obj_ply_and_stl() {
+    let dir = tmpdir("quads");
+    let cube = format!("{MODELS}/cube.obj");
+    for ext in ["obj", "ply", "stl"] {
+        let out = dir.join(format!("cube.{ext}"));
+        let rep = dir.join(format!("cube-{ext}.json"));
+        let (ok, err) = gbsurf(&["convert", &cube, "-o", &out.to_string_lossy(), "--method", "topology", "--report", &rep.to_string_lossy()]);
+        assert!(ok, "{err}");
+        // Not quiet: the summary names the quads.
+        assert!(err.contains(", 96 quads,"), "{err}");
+        let r = report_of(&rep);
+        assert_eq!((r["layout"].as_str(), r["resolution"].as_u64()), (Some("quads"), Some(2)));
+        // Catmull–Clark level 2 of the cube: 98 vertices, 96 quads.
+        assert_eq!((r["vertices"].as_u64(), r["quads"].as_u64(), r["triangles"].as_u64()), (Some(98), Some(96), Some(192)));
+        let m = gbsurf::mesh::read_mesh(&out).unwrap();
+        assert!(m.is_closed());
+        let want = if ext == "stl" { 192 } else { 96 };
+        assert_eq!(m.n_faces(), want, "{ext}");
+        if ext != "stl" {
+            assert_eq!(m.n_vertices(), 98, "{ext}");
+            assert!((0..m.n_faces()).all(|f| m.face_size(gbsurf::mesh::halfedge::FaceId::from(f)) == 4), "{ext}");
+        }
+    }
+    let out = dir.join("tri.obj");
+    let rep = dir.join("tri.json");
+    let (ok, err) = gbsurf(&["convert", &cube, "-o", &out.to_string_lossy(), "--layout", "triangles", "--resolution", "8", "--quiet", "--report", &rep.to_string_lossy()]);
+    assert!(ok, "{err}");
+    let r = report_of(&rep);
+    assert_eq!((r["layout"].as_str(), r["quads"].as_u64(), r["triangles"].as_u64()), (Some("triangles"), Some(0), Some(8 * 3 * 64)));
+    let (ok, err) = gbsurf(&["convert", &cube, "-o", &out.to_string_lossy(), "--layout", "hexagons"]);
+    assert!(!ok && err.contains("hexagons"), "{err}");
+}

@@ -106,6 +106,13 @@
 // Correction weights: linear α (comparison only).
 #define GBSURF_WEIGHTS_LINEAR 1
 
+// Layout: n·r² triangles per n-sided patch (r samples per side).
+#define GBSURF_LAYOUT_TRIANGLES 0
+
+// Layout: n·r² quads per n-sided patch (r samples per half side; Catmull–Clark level L counts
+// at r = 2^(L−1)). The default.
+#define GBSURF_LAYOUT_QUADS 1
+
 // Patch kind: an n-sided Generalized Bézier patch (ribbons plus a central control point).
 #define GBSURF_PATCH_GB 0
 
@@ -138,7 +145,7 @@ typedef struct {
   uint32_t struct_size;
   // `GBSURF_METHOD_*`. Default `GBSURF_METHOD_DUAL`.
   uint32_t method;
-  // Samples per patch side, 1..=1024. Default 8.
+  // Samples per patch side (triangles) or per half side (quads), 1..=1024. Default 2.
   uint32_t resolution;
   // `GBSURF_TWIST_*`. Default `GBSURF_TWIST_INTERP`.
   uint32_t twist;
@@ -148,8 +155,8 @@ typedef struct {
   uint32_t levels;
   // 1: project onto best-fit planes (seed 000 §3.3.2), 0: do not. Default 1.
   uint32_t best_plane;
-  // Must be 0.
-  uint32_t reserved;
+  // `GBSURF_LAYOUT_*`: output faces. Default `GBSURF_LAYOUT_QUADS`.
+  uint32_t layout;
   // Fullness κ of the dual curves, 0 ≤ κ < 1 (seed 000 eq. 2.2). Default 1/3.
   double fullness;
   // Tile split ratio w > 2 of the topology-preserving structure. Default 3.
@@ -243,6 +250,8 @@ typedef struct {
   uint64_t input_self_intersections;
   // Sharp (crease) patch sides built G0.
   uint64_t sharp_edges;
+  // Output quads (quad layout; 0 in the triangle layout, where `triangles` are the faces).
+  uint64_t quads;
   // Largest |mean curvature| times the output's bounding-box diagonal.
   double max_abs_mean_curvature_times_diagonal;
 } GbsurfReport;
@@ -421,6 +430,42 @@ uint32_t gbsurf_mesh_copy_triangles(const GbsurfResult *result,
                                     size_t capacity,
                                     size_t *written);
 
+// View of the quads of the quad layout (4 vertex indices each, counter-clockwise seen from
+// outside; empty for the triangle layout and the subdivision methods). When not empty they are
+// the output faces, and triangles 2k and 2k+1 of `gbsurf_mesh_triangles` are quad k split along
+// its diagonal (0, 2). `*data` is valid until the handle is freed, `*len` is the number of
+// values.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_quads(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// Copy-out variant of `gbsurf_mesh_quads`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_mesh_copy_quads(const GbsurfResult *result,
+                                uint32_t *buf,
+                                size_t capacity,
+                                size_t *written);
+
+// View of the per-output-face patch corner (one value per quad, or per triangle in the
+// triangle layout; empty for the subdivision methods): the corner i of the face's patch whose
+// sector holds it (domain vertex i, the end of side i). With the per-face patch it names the
+// cage face corner the output face descends from. `*data` is valid until the handle is freed.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_face_corner(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// View of the per-triangle patch index (patch methods: the patch it was sampled from;
+// subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
+// `*data` is valid until the handle is freed.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_triangle_patch(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
 // View of the per-vertex patch index (patch methods: the patch the vertex was sampled from;
 // subdivision methods: the input face it descends from); `*data` is valid until the handle is
 // freed, `*len` is the number of values.
@@ -513,7 +558,13 @@ uint32_t gbsurf_mesh_copy_fold(const GbsurfResult *result,
 // `result` is a live handle or NULL; `count` writable or NULL.
 uint32_t gbsurf_mesh_vertex_count(const GbsurfResult *result, size_t *count);
 
-// Number of triangles of the output mesh.
+// Number of quads of the output mesh (0 for the triangle layout and the subdivision methods).
+//
+// # Safety
+// `result` is a live handle or NULL; `count` writable or NULL.
+uint32_t gbsurf_mesh_quad_count(const GbsurfResult *result, size_t *count);
+
+// Number of triangles of the output mesh (two per quad in the quad layout).
 //
 // # Safety
 // `result` is a live handle or NULL; `count` writable or NULL.

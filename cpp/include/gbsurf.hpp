@@ -122,6 +122,8 @@ public:
     }
     options& method(gbsurf::method m) { raw_.method = static_cast<uint32_t>(m); return *this; }
     options& resolution(uint32_t r) { raw_.resolution = r; return *this; }
+    /// GBSURF_LAYOUT_QUADS (default) or GBSURF_LAYOUT_TRIANGLES.
+    options& layout(uint32_t l) { raw_.layout = l; return *this; }
     options& twist(gbsurf::twist t) { raw_.twist = static_cast<uint32_t>(t); return *this; }
     options& weights(gbsurf::weights w) { raw_.weights = static_cast<uint32_t>(w); return *this; }
     options& levels(uint32_t l) { raw_.levels = l; return *this; }

@@ -16,11 +16,11 @@
 //! (Output triangles are twice the vertices in all of them, so a figure per vertex includes two
 //! triangles: of the ~950 bytes, 76 are the vertex's output arrays and 2 × 16 its triangles'.)
 //! The estimate is [`BASE_BYTES`] plus [`GB_BYTES_PER_SAMPLE`] per tessellation sample (before
-//! welding: an n-sided patch at resolution r has 1 + n·r(r+1)/2) or [`SUBDIV_BYTES_PER_VERTEX`]
+//! welding: an n-sided patch at resolution r has 1 + n·r(r+1)/2, or 1 + n·r(r+1) in the quad
+//! layout, whose per-sample arrays are the same plus one quad (16 bytes) and one face corner) or [`SUBDIV_BYTES_PER_VERTEX`]
 //! per subdivided vertex, 10–25 % above every measurement (largest total: 1023 bytes per vertex
 //! for doo-sabin levels 6, estimated 1196).
 
-use crate::gb::layout::SampleLayout;
 use crate::mesh::HalfEdgeMesh;
 use crate::options::{ConvertOptions, Method};
 
@@ -49,8 +49,8 @@ pub struct OutputEstimate {
 /// convex pieces by the construction, get two more sides per cut: rare, and within the margin).
 pub fn estimate_output(mesh: &HalfEdgeMesh, options: &ConvertOptions) -> OutputEstimate {
     let sat = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
-    let r = options.resolution;
-    let samples = |n: usize| SampleLayout::sample_count(n, r) as u128;
+    let sampling = options.sampling();
+    let samples = |n: usize| sampling.sample_count(n) as u128;
     let vertices: u128 = match options.method {
         Method::Dual => (0..mesh.n_vertices())
             .map(|v| {

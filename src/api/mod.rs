@@ -216,7 +216,7 @@ fn convert_valid(
         warnings.extend(surface.warnings.iter().cloned());
         tick(0.2)?;
         let mut sub = |f: f32| tick(0.2 + 0.7 * f).is_ok();
-        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.resolution, options.weights, checks, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, Some(&mut sub))?;
         for p in &surface.patches {
             report.count_sides(p.sides());
         }
@@ -247,6 +247,8 @@ fn convert_valid(
     let check = crate::quality::check_mesh(&out.positions, &out.triangles);
     report.vertices = out.positions.len();
     report.triangles = out.triangles.len();
+    report.quads = out.quads.len();
+    report.layout = out.layout().to_string();
     report.closed = check.is_closed_manifold();
     report.two_manifold = check.is_two_manifold();
     report.boundary_edges = check.boundary_edges;

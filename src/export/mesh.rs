@@ -99,16 +99,22 @@ impl TriMesh {
 }
 
 impl SurfaceMesh {
-    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c`, shortest
-    /// round-trip coordinates.
+    /// Wavefront OBJ: a comment with the counts, `v`, `vn`, `f a//a b//b c//c` (quad layout:
+    /// `f` with 4 indices), shortest round-trip coordinates.
     pub fn write_obj<W: Write>(&self, w: W) -> io::Result<()> {
-        let comment = format!("gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len());
-        obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.triangles)
+        if self.quads.is_empty() {
+            let comment = format!("gbsurf: {} vertices, {} triangles", self.positions.len(), self.triangles.len());
+            obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.triangles)
+        } else {
+            let comment = format!("gbsurf: {} vertices, {} quads", self.positions.len(), self.quads.len());
+            obj::write_triangles(w, Some(&comment), &self.positions, &self.normals, &self.quads)
+        }
     }
 
     /// Binary little-endian PLY: `double x y z`, `float nx ny nz` (unit normals), per-vertex
     /// `double` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
-    /// (degrees), a `float` `fold` (1 on vertices of a fold or flipped triangle, else 0), triangles as `uchar`-counted `int` lists. The per-vertex data are `double` so
+    /// (degrees), a `float` `fold` (1 on vertices of a fold or flipped triangle, else 0),
+    /// triangles (or the quads of the quad layout) as `uchar`-counted `int` lists. The per-vertex data are `double` so
     /// that every value is written exactly: curvatures are unbounded (a cube scaled by 1e-20 has
     /// Gaussian curvatures near 1e40, beyond `f32`, which would have been written as `inf`), and
     /// patch indices above 2^24 are not all `f32` values.
@@ -123,10 +129,11 @@ impl SurfaceMesh {
             VertexScalar::double("g1_deviation", &self.g1_deviation_deg),
             VertexScalar::float("fold", &fold),
         ];
-        write_ply_faces(w, &self.positions, Some(&self.normals), Faces::Triangles(&self.triangles), &scalars, PlyFormat::BinaryLittleEndian)
+        write_ply_faces(w, &self.positions, Some(&self.normals), Faces::of(self), &scalars, PlyFormat::BinaryLittleEndian)
     }
 
-    /// Binary STL (facet normals from the triangles).
+    /// Binary STL (facet normals from the triangles; the quad layout's quads are written as
+    /// their two triangles).
     pub fn write_stl<W: Write>(&self, w: W) -> io::Result<()> {
         stl::write_stl_triangles(w, &self.positions, &self.triangles)
     }

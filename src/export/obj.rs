@@ -60,14 +60,14 @@ pub(crate) fn write_polygons<W: Write>(mut w: W, positions: &[DVec3], faces: &[V
     w.flush()
 }
 
-/// Triangles with normals: optional comment line, `v`, `vn`, then `f a//a b//b c//c` (or
-/// `f a b c` when there is not one normal per vertex).
-pub(crate) fn write_triangles<W: Write>(
+/// Triangles (or quads, N = 4) with normals: optional comment line, `v`, `vn`, then
+/// `f a//a b//b c//c` (or `f a b c` when there is not one normal per vertex).
+pub(crate) fn write_triangles<W: Write, const N: usize>(
     mut w: W,
     comment: Option<&str>,
     positions: &[DVec3],
     normals: &[DVec3],
-    triangles: &[[u32; 3]],
+    triangles: &[[u32; N]],
 ) -> io::Result<()> {
     if let Some(c) = comment {
         writeln!(w, "# {c}")?;
@@ -76,7 +76,7 @@ pub(crate) fn write_triangles<W: Write>(
     write_points(&mut w, "vn", normals)?;
     let with_normals = normals.len() == positions.len();
     write_chunks(&mut w, triangles.len(), |r, buf| {
-        buf.reserve(r.len() * if with_normals { 48 } else { 24 });
+        buf.reserve(r.len() * N * if with_normals { 16 } else { 8 });
         for t in &triangles[r] {
             buf.push(b'f');
             for i in t {

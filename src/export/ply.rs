@@ -75,6 +75,18 @@ pub(crate) enum Faces<'a> {
     Slices(&'a [&'a [u32]]),
     Polygons(&'a [Vec<u32>]),
     Triangles(&'a [[u32; 3]]),
+    Quads(&'a [[u32; 4]]),
+}
+
+impl<'a> Faces<'a> {
+    /// The output faces of a surface mesh: its quads when it has any, else its triangles.
+    pub(crate) fn of(mesh: &'a SurfaceMesh) -> Self {
+        if mesh.quads.is_empty() {
+            Faces::Triangles(&mesh.triangles)
+        } else {
+            Faces::Quads(&mesh.quads)
+        }
+    }
 }
 
 impl<'a> Faces<'a> {
@@ -83,6 +95,7 @@ impl<'a> Faces<'a> {
             Faces::Slices(f) => f.len(),
             Faces::Polygons(f) => f.len(),
             Faces::Triangles(f) => f.len(),
+            Faces::Quads(f) => f.len(),
         }
     }
     fn get(self, i: usize) -> &'a [u32] {
@@ -90,6 +103,7 @@ impl<'a> Faces<'a> {
             Faces::Slices(f) => f[i],
             Faces::Polygons(f) => &f[i],
             Faces::Triangles(f) => &f[i],
+            Faces::Quads(f) => &f[i],
         }
     }
 }
@@ -239,5 +253,5 @@ pub fn write_isophotes_ply<W: Write>(w: W, mesh: &SurfaceMesh, light: DVec3, str
     let iso = crate::quality::isophote(&mesh.normals, light);
     let band = crate::quality::isophote_stripes(&mesh.normals, light, stripes);
     let scalars = [VertexScalar::float("isophote", &iso), VertexScalar::float("stripe", &band)];
-    write_ply_faces(w, &mesh.positions, Some(&mesh.normals), Faces::Triangles(&mesh.triangles), &scalars, PlyFormat::BinaryLittleEndian)
+    write_ply_faces(w, &mesh.positions, Some(&mesh.normals), Faces::of(mesh), &scalars, PlyFormat::BinaryLittleEndian)
 }

@@ -8,6 +8,16 @@
 //! vertex i−1 to vertex i, so Wachspress s_i is linear along it). Sector i (centre, v_{i−1},
 //! v_i) is thus the regular r-subdivision of a triangle: r² triangles per side, n·r² in all,
 //! 1 + n·r(r+1)/2 samples. All triangles are counter-clockwise in the domain.
+//!
+//! Quad layout ([`Layout::Quads`], docs/math.md#quad-layout): the domain is split at its centre c
+//! into n sectors, sector i being the quad (c, m_i, v_i, m_{i+1}) with m_i the midpoint of side i;
+//! each sector is sampled bilinearly on an r × r grid: n·r² quads, r samples per half side, 2r
+//! steps per side, 1 + n·r(r+1) samples. Sample order: the centre, the spokes c → m_i (steps
+//! 1..r−1 each), the sector interiors, then the boundary loop (side 0 steps 0..2r−1, side 1, …)
+//! as in the triangle layout, so the welding code ([`SampleLayout::boundary_index`] with
+//! [`SampleLayout::per_side`] steps) serves both. Every quad is counter-clockwise; `triangles`
+//! holds each quad split along its diagonal (a, c) into two triangles (quad k → triangles 2k,
+//! 2k+1), for the validity checks and measures that work on triangles.
 
 use super::Domain;
 use glam::DVec2;
@@ -32,6 +42,74 @@ pub enum LayoutError {
     NotConvex { index: usize },
 }
 
+/// How an n-sided domain is sampled and cut into faces: the triangle layout (concentric rings)
+/// or the quad layout (n bilinear sectors), see the module doc.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Layout {
+    /// Concentric rings, n·r² triangles per patch, r steps per side.
+    Triangles,
+    /// n sectors of r × r quads per patch (like Catmull–Clark level L at r = 2^(L−1)), 2r steps
+    /// per side.
+    #[default]
+    Quads,
+}
+
+/// A layout and its resolution r. A bare `usize` converts to the triangle layout at that
+/// resolution (the layout every older call site means).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Sampling {
+    /// The layout.
+    pub layout: Layout,
+    /// Resolution r: samples per side (triangles) or per half side (quads).
+    pub resolution: usize,
+}
+
+impl From<usize> for Sampling {
+    fn from(resolution: usize) -> Self {
+        Sampling { layout: Layout::Triangles, resolution }
+    }
+}
+
+impl Sampling {
+    /// The sampling of `layout` at resolution `resolution`.
+    pub fn new(layout: Layout, resolution: usize) -> Self {
+        Sampling { layout, resolution }
+    }
+
+    /// Boundary steps per side: r (triangles) or 2r (quads).
+    pub fn per_side(self) -> usize {
+        match self.layout {
+            Layout::Triangles => self.resolution,
+            Layout::Quads => 2 * self.resolution,
+        }
+    }
+
+    /// Samples of an n-sided patch: 1 + n·r(r+1)/2 (triangles) or 1 + n·r(r+1) (quads);
+    /// saturating.
+    pub fn sample_count(self, n: usize) -> usize {
+        let r = self.resolution;
+        let x = n.saturating_mul(r).saturating_mul(r.saturating_add(1));
+        match self.layout {
+            Layout::Triangles => 1 + x / 2,
+            Layout::Quads => x.saturating_add(1),
+        }
+    }
+
+    /// Output faces of an n-sided patch: n·r² triangles or n·r² quads; saturating.
+    pub fn face_count(self, n: usize) -> usize {
+        n.saturating_mul(self.resolution).saturating_mul(self.resolution)
+    }
+
+    /// Triangles of an n-sided patch (a quad counts as two); saturating.
+    pub fn triangle_count(self, n: usize) -> usize {
+        match self.layout {
+            Layout::Triangles => self.face_count(n),
+            Layout::Quads => self.face_count(n).saturating_mul(2),
+        }
+    }
+}
+
 /// The samples of an n-sided domain at resolution r and their CCW triangulation (see the
 /// module doc). Sample 0 is the centre; ring m ≥ 1 starts at index 1 + n·m(m−1)/2 and lists
 /// side 0 (t = 0..m−1), side 1, …; step t = m of side i is step 0 of side i+1.
@@ -39,12 +117,18 @@ pub enum LayoutError {
 pub struct SampleLayout {
     /// Number of sides n.
     pub sides: usize,
-    /// Resolution r: samples per side on the boundary.
+    /// Resolution r: samples per side on the boundary (per half side in the quad layout).
     pub resolution: usize,
+    /// The layout.
+    pub layout: Layout,
     /// Domain position of every sample.
     pub uv: Vec<DVec2>,
-    /// Counter-clockwise triangles of sample indices.
+    /// Counter-clockwise triangles of sample indices (in the quad layout: quad k split into
+    /// triangles 2k and 2k+1).
     pub triangles: Vec<[u32; 3]>,
+    /// Counter-clockwise quads of sample indices (quad layout only; empty for triangles), sector
+    /// by sector: the quads of sector i (around domain vertex i) are `i·r²..(i+1)·r²`.
+    pub quads: Vec<[u32; 4]>,
 }
 
 impl SampleLayout {
@@ -77,23 +161,65 @@ impl SampleLayout {
     }
 
     /// The layout on a GB domain, centred at its centre.
-    pub fn for_domain(domain: &Domain, resolution: usize) -> Result<Self, LayoutError> {
-        Self::build(domain.vertices(), Some(domain.center()), resolution)
+    pub fn for_domain(domain: &Domain, sampling: impl Into<Sampling>) -> Result<Self, LayoutError> {
+        Self::build(domain.vertices(), Some(domain.center()), sampling.into())
     }
 
     /// The layout on a strictly convex CCW domain polygon (vertex i ends side i), scaled about
     /// its vertex centroid.
-    pub fn new(vertices: &[DVec2], resolution: usize) -> Result<Self, LayoutError> {
-        Self::build(vertices, None, resolution)
+    pub fn new(vertices: &[DVec2], sampling: impl Into<Sampling>) -> Result<Self, LayoutError> {
+        Self::build(vertices, None, sampling.into())
+    }
+
+    /// Boundary steps per side: r (triangles) or 2r (quads).
+    pub fn per_side(&self) -> usize {
+        self.sampling().per_side()
+    }
+
+    /// The layout and resolution.
+    pub fn sampling(&self) -> Sampling {
+        Sampling { layout: self.layout, resolution: self.resolution }
+    }
+
+    /// Index of the first boundary sample (side 0, step 0); the samples before it are interior.
+    pub fn first_boundary(&self) -> usize {
+        self.uv.len() - self.sides * self.per_side()
+    }
+
+    /// The domain corner (0..n; corner i is domain vertex i, the end of side i) of every output
+    /// face: the sector of each quad; in the triangle layout, the nearer end of the triangle's
+    /// side sector (centre, v_{i−1}, v_i) to its centroid.
+    pub fn face_corners(&self) -> Vec<u32> {
+        let r2 = self.resolution * self.resolution;
+        let n = self.sides;
+        match self.layout {
+            Layout::Quads => (0..self.quads.len()).map(|k| (k / r2.max(1)) as u32).collect(),
+            Layout::Triangles => {
+                let vertex = |i: usize| self.uv[self.boundary_index(i + 1, 0)];
+                let mut out = Vec::with_capacity(self.triangles.len());
+                let mut tris = self.triangles.iter();
+                for m in 1..=self.resolution {
+                    for i in 0..n {
+                        let (a, b) = (vertex(i + n - 1), vertex(i));
+                        for tri in tris.by_ref().take(2 * m - 1) {
+                            let c = tri.iter().map(|&x| self.uv[x as usize]).sum::<DVec2>() / 3.0;
+                            let near_end = c.distance_squared(b) <= c.distance_squared(a);
+                            out.push(if near_end { i as u32 } else { ((i + n - 1) % n) as u32 });
+                        }
+                    }
+                }
+                out
+            }
+        }
     }
 
     fn build(
         vertices: &[DVec2],
         centre: Option<DVec2>,
-        resolution: usize,
+        sampling: Sampling,
     ) -> Result<Self, LayoutError> {
         let n = vertices.len();
-        let r = resolution;
+        let r = sampling.resolution;
         if n < 3 {
             return Err(LayoutError::TooFewSides { n });
         }
@@ -104,11 +230,12 @@ impl SampleLayout {
         let tris = n
             .checked_mul(r)
             .and_then(|x| x.checked_mul(r))
+            .and_then(|x| x.checked_mul(if sampling.layout == Layout::Quads { 2 } else { 1 }))
             .ok_or_else(too_large)?;
         let samples = n
             .checked_mul(r)
             .and_then(|x| x.checked_mul(r + 1))
-            .map(|x| 1 + x / 2)
+            .map(|x| if sampling.layout == Layout::Quads { x + 1 } else { 1 + x / 2 })
             .ok_or_else(too_large)?;
         if tris > u32::MAX as usize || samples > u32::MAX as usize {
             return Err(too_large());
@@ -128,6 +255,9 @@ impl SampleLayout {
             if !(turn > 0.0 && around > 0.0) {
                 return Err(LayoutError::NotConvex { index: i });
             }
+        }
+        if sampling.layout == Layout::Quads {
+            return Ok(Self::quads(vertices, centre, r, samples));
         }
 
         let mut uv = Vec::with_capacity(samples);
@@ -151,8 +281,10 @@ impl SampleLayout {
         let mut layout = SampleLayout {
             sides: n,
             resolution: r,
+            layout: Layout::Triangles,
             uv,
             triangles: Vec::new(),
+            quads: Vec::new(),
         };
         let mut triangles = Vec::with_capacity(tris);
         for m in 1..=r {
@@ -173,6 +305,86 @@ impl SampleLayout {
         Ok(layout)
     }
 
+    /// The quad layout (module doc) on a checked polygon.
+    fn quads(vertices: &[DVec2], centre: DVec2, r: usize, samples: usize) -> Self {
+        let n = vertices.len();
+        let vert = |i: usize| vertices[i % n];
+        // Side i runs from vertex i−1 to vertex i; m_i is its midpoint.
+        let mid = |i: usize| (vert(i + n - 1) + vert(i)) * 0.5;
+        let rf = r as f64;
+        let mut uv = Vec::with_capacity(samples);
+        uv.push(centre);
+        for i in 0..n {
+            let m = mid(i);
+            for k in 1..r {
+                uv.push(centre + (m - centre) * (k as f64 / rf));
+            }
+        }
+        for i in 0..n {
+            let (m0, v, m1) = (mid(i), vert(i), mid(i + 1));
+            for a in 1..r {
+                for b in 1..r {
+                    let (s, t) = (a as f64 / rf, b as f64 / rf);
+                    uv.push(centre * ((1.0 - s) * (1.0 - t)) + m0 * (s * (1.0 - t)) + v * (s * t) + m1 * ((1.0 - s) * t));
+                }
+            }
+        }
+        for i in 0..n {
+            let (a, b) = (vert(i + n - 1), vert(i));
+            for t in 0..2 * r {
+                uv.push(if t == 0 { a } else { a + (b - a) * (t as f64 / (2 * r) as f64) });
+            }
+        }
+        debug_assert_eq!(uv.len(), samples);
+        let mut layout = SampleLayout {
+            sides: n,
+            resolution: r,
+            layout: Layout::Quads,
+            uv,
+            triangles: Vec::new(),
+            quads: Vec::with_capacity(n * r * r),
+        };
+        for i in 0..n {
+            for a in 0..r {
+                for b in 0..r {
+                    let q = [
+                        layout.sector_index(i, a, b),
+                        layout.sector_index(i, a + 1, b),
+                        layout.sector_index(i, a + 1, b + 1),
+                        layout.sector_index(i, a, b + 1),
+                    ]
+                    .map(|x| x as u32);
+                    layout.quads.push(q);
+                }
+            }
+        }
+        layout.triangles = layout.quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+        layout
+    }
+
+    /// Quad layout: index of grid point (a, b), 0 ≤ a, b ≤ r, of sector i (bilinear in the quad
+    /// (c, m_i, v_i, m_{i+1}): (0,0) the centre, (r,0) the midpoint of side i, (r,r) vertex i,
+    /// (0,r) the midpoint of side i+1), sectors taken mod n.
+    pub fn sector_index(&self, sector: usize, a: usize, b: usize) -> usize {
+        let (n, r) = (self.sides, self.resolution);
+        let i = sector % n;
+        let spoke = |j: usize, k: usize| 1 + (j % n) * (r - 1) + (k - 1);
+        if a == r {
+            // Second half of side i: steps r..2r.
+            return self.boundary_index(i, r + b);
+        }
+        if b == r {
+            // First half of side i+1, from its step r (a = 0) back to step 0 (a = r).
+            return self.boundary_index(i + 1, r - a);
+        }
+        match (a, b) {
+            (0, 0) => 0,
+            (a, 0) => spoke(i, a),
+            (0, b) => spoke(i + 1, b),
+            (a, b) => 1 + n * (r - 1) + i * (r - 1) * (r - 1) + (a - 1) * (r - 1) + (b - 1),
+        }
+    }
+
     /// Index of sample (ring m, side i, step t), 0 ≤ t ≤ m, sides taken mod n; step m of side
     /// i is step 0 of side i+1. Ring 0 is the centre (index 0) whatever i and t.
     pub fn ring_index(&self, m: usize, side: usize, t: usize) -> usize {
@@ -183,21 +395,22 @@ impl SampleLayout {
         1 + n * m * (m - 1) / 2 + ((side % n) * m + t) % (n * m)
     }
 
-    /// Index of boundary sample (side i, step t), t = 0..=r: at parameter s_i = t/r of side i.
-    /// Step r of side i is step 0 of side i+1. A neighbour across side i traverses it in the
-    /// opposite direction: its step r − t is this patch's step t.
+    /// Index of boundary sample (side i, step t), t = 0..=k with k = [`SampleLayout::per_side`]
+    /// (r for triangles, 2r for quads): at parameter s_i = t/k of side i. Step k of side i is
+    /// step 0 of side i+1. A neighbour across side i traverses it in the opposite direction: its
+    /// step k − t is this patch's step t.
     pub fn boundary_index(&self, side: usize, t: usize) -> usize {
-        self.ring_index(self.resolution, side, t)
+        let (n, k) = (self.sides, self.per_side());
+        self.first_boundary() + ((side % n) * k + t) % (n * k)
     }
 
-    /// The boundary loop, counter-clockwise: side 0 steps 0..r−1, side 1, …; n·r samples.
+    /// The boundary loop, counter-clockwise: side 0 steps 0..k−1, side 1, …; n·k samples.
     pub fn boundary_loop(&self) -> Vec<u32> {
-        let first = self.ring_index(self.resolution, 0, 0);
-        (first..self.uv.len()).map(|x| x as u32).collect()
+        (self.first_boundary()..self.uv.len()).map(|x| x as u32).collect()
     }
 
     /// True for samples on the boundary ring.
     pub fn is_boundary(&self, sample: usize) -> bool {
-        sample >= self.ring_index(self.resolution, 0, 0) && sample < self.uv.len()
+        sample >= self.first_boundary() && sample < self.uv.len()
     }
 }

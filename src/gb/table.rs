@@ -26,7 +26,7 @@
 use super::cgb::CgbBasisEvaluator;
 use super::derivs::SurfaceDerivs;
 use super::error::GbError;
-use super::layout::{LayoutError, SampleLayout};
+use super::layout::{LayoutError, SampleLayout, Sampling};
 use super::patch::{CgbPatch, GbPatch, WeightForm};
 use super::weights::{GbBasis, GbBasisEvaluator};
 use super::Jet2;
@@ -477,10 +477,10 @@ impl GbTable {
     pub fn new(
         sides: usize,
         degree: usize,
-        resolution: usize,
+        resolution: impl Into<Sampling>,
         form: WeightForm,
     ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution, form, false)
+        Self::build(sides, degree, resolution.into(), form, false)
     }
 
     /// As [`GbTable::new`], also with the second derivatives of the weights (for
@@ -488,27 +488,28 @@ impl GbTable {
     pub fn with_second_derivatives(
         sides: usize,
         degree: usize,
-        resolution: usize,
+        resolution: impl Into<Sampling>,
         form: WeightForm,
     ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution, form, true)
+        Self::build(sides, degree, resolution.into(), form, true)
     }
 
     /// The bytes a table of (n, d, r) needs (with or without second derivatives).
-    pub fn bytes_needed(sides: usize, degree: usize, resolution: usize, second: bool) -> u128 {
+    pub fn bytes_needed(sides: usize, degree: usize, resolution: impl Into<Sampling>, second: bool) -> u128 {
         let controls = GbBasis::len_for(sides, degree) as u128;
-        rows_bytes(SampleLayout::sample_count(sides, resolution) as u128, controls, second)
+        rows_bytes(resolution.into().sample_count(sides) as u128, controls, second)
     }
 
     fn build(
         sides: usize,
         degree: usize,
-        resolution: usize,
+        sampling: Sampling,
         form: WeightForm,
         second: bool,
     ) -> Result<Self, TableError> {
+        let resolution = sampling.resolution;
         let mut ev = GbBasisEvaluator::new(sides, degree)?;
-        let bytes = Self::bytes_needed(sides, degree, resolution, second);
+        let bytes = Self::bytes_needed(sides, degree, sampling, second);
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides,
@@ -517,7 +518,7 @@ impl GbTable {
                 bytes,
             });
         }
-        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+        let layout = SampleLayout::for_domain(ev.domain(), sampling)?;
         let controls = ev.len();
         let rows = Rows::from_jets(&layout, controls, second, |uv, jets| {
             // `jets` has the evaluator's length, so this cannot fail.
@@ -570,17 +571,19 @@ impl Deref for CgbTable {
 
 impl CgbTable {
     /// The bytes a CGB table of `sides` at resolution r needs.
-    pub fn bytes_needed(sides: &[(usize, usize)], resolution: usize) -> u128 {
+    pub fn bytes_needed(sides: &[(usize, usize)], resolution: impl Into<Sampling>) -> u128 {
         let controls: u128 = sides.iter().map(|&(d, l)| (l * (d + 1)) as u128).sum();
-        rows_bytes(SampleLayout::sample_count(sides.len(), resolution) as u128, controls, true)
+        rows_bytes(resolution.into().sample_count(sides.len()) as u128, controls, true)
     }
 
     /// Builds the table (with second derivatives).
-    pub fn new(sides: &[(usize, usize)], resolution: usize, form: WeightForm) -> Result<Self, TableError> {
+    pub fn new(sides: &[(usize, usize)], resolution: impl Into<Sampling>, form: WeightForm) -> Result<Self, TableError> {
+        let sampling: Sampling = resolution.into();
+        let resolution = sampling.resolution;
         let degrees: Vec<usize> = sides.iter().map(|s| s.0).collect();
         let layers: Vec<usize> = sides.iter().map(|s| s.1).collect();
         let mut ev = CgbBasisEvaluator::new(&degrees, &layers)?;
-        let bytes = Self::bytes_needed(sides, resolution);
+        let bytes = Self::bytes_needed(sides, sampling);
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides.len(),
@@ -589,7 +592,7 @@ impl CgbTable {
                 bytes,
             });
         }
-        let layout = SampleLayout::for_domain(ev.domain(), resolution)?;
+        let layout = SampleLayout::for_domain(ev.domain(), sampling)?;
         let rows = Rows::from_jets(&layout, ev.len(), true, |uv, jets| {
             // `jets` has the evaluator's length, so this cannot fail.
             let _ = ev.eval_into(uv, form, jets);

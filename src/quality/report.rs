@@ -12,9 +12,15 @@ pub struct Report {
     pub patches: usize,
     /// Number of patches (faces) per side count, keyed by the count as a string: {"4": 120}.
     pub sides_histogram: BTreeMap<String, usize>,
-    /// Output vertices and triangles.
+    /// Output vertices and triangles (in the quad layout: two per quad).
     pub vertices: usize,
     pub triangles: usize,
+    /// Output face layout: `triangles` or `quads` ([`crate::options::Layout`]).
+    #[serde(default)]
+    pub layout: String,
+    /// Output quads (0 in the triangle layout).
+    #[serde(default)]
+    pub quads: usize,
     /// The output is a closed, consistently oriented two-manifold.
     pub closed: bool,
     /// The output is a consistently oriented two-manifold (possibly with boundary).

@@ -8,7 +8,7 @@
 
 use crate::construct::{Patch, Surface};
 use crate::gb::table::{CgbTable, ControlSoa, GbTable, TableError, TILE};
-use crate::gb::{Domain, SampleLayout, SurfaceDerivs, WeightForm};
+use crate::gb::{Domain, SampleLayout, Sampling, SurfaceDerivs, WeightForm};
 use super::TessellateError;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -60,7 +60,7 @@ use crate::limits::MAX_TESSELLATION_TABLE_BYTES as TABLE_BYTES;
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct TableKey {
     kind: Kind,
-    resolution: usize,
+    resolution: Sampling,
     form: WeightForm,
 }
 
@@ -231,17 +231,17 @@ thread_local! {
 impl GbSurfaceEvaluator {
     /// Validates every patch and builds the weight tables for resolution `r`; they are dropped
     /// with the evaluator.
-    pub fn new(surface: &Surface, r: usize, form: WeightForm) -> Result<Self, TessellateError> {
-        Self::build(surface, r, form, None)
+    pub fn new(surface: &Surface, r: impl Into<Sampling>, form: WeightForm) -> Result<Self, TessellateError> {
+        Self::build(surface, r.into(), form, None)
     }
 
     /// As [`GbSurfaceEvaluator::new`], taking the tables from `cache` (and adding the ones it
     /// builds).
-    pub fn with_cache(surface: &Surface, r: usize, form: WeightForm, cache: &TableCache) -> Result<Self, TessellateError> {
-        Self::build(surface, r, form, Some(cache))
+    pub fn with_cache(surface: &Surface, r: impl Into<Sampling>, form: WeightForm, cache: &TableCache) -> Result<Self, TessellateError> {
+        Self::build(surface, r.into(), form, Some(cache))
     }
 
-    fn build(surface: &Surface, r: usize, form: WeightForm, cache: Option<&TableCache>) -> Result<Self, TessellateError> {
+    fn build(surface: &Surface, r: Sampling, form: WeightForm, cache: Option<&TableCache>) -> Result<Self, TessellateError> {
         let mut which = Vec::with_capacity(surface.patches.len());
         let mut distinct: HashMap<Kind, u32> = HashMap::new();
         let mut firsts: Vec<(Kind, usize)> = Vec::new();
@@ -357,7 +357,7 @@ mod tests {
     }
 
     fn key(n: usize, d: usize, r: usize) -> TableKey {
-        TableKey { kind: Kind::Gb(n, d), resolution: r, form: WeightForm::Squared }
+        TableKey { kind: Kind::Gb(n, d), resolution: r.into(), form: WeightForm::Squared }
     }
 
     fn ptr(t: &Table) -> *const () {

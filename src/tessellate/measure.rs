@@ -21,7 +21,7 @@ pub(crate) struct BoundarySamples {
 }
 
 impl BoundarySamples {
-    /// Room for the boundary samples of every patch (n·r each), zeroed.
+    /// Room for the boundary samples of every patch (n·r each, r boundary steps per side), zeroed.
     pub fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize) -> Self {
         let mut start = Vec::with_capacity(surface.patches.len() + 1);
         let mut nb = 0usize;
@@ -32,7 +32,7 @@ impl BoundarySamples {
         start.push(nb);
         let mut first = vec![0usize; layouts.keys().max().map_or(0, |&n| n + 1)];
         for (&n, l) in layouts {
-            first[n] = l.ring_index(r, 0, 0);
+            first[n] = l.first_boundary();
         }
         BoundarySamples { samples: super::surface::zeroed(nb), start, first }
     }

@@ -1,5 +1,8 @@
-//! Watertight tessellation of a whole [`Surface`]: every patch is sampled with the concentric
-//! [`SampleLayout`] of its n-sided domain at one common resolution r, then the samples are welded.
+//! Watertight tessellation of a whole [`Surface`]: every patch is sampled with the
+//! [`SampleLayout`] of its n-sided domain (concentric triangles, or the quad layout's bilinear
+//! sectors) at one common resolution, then the samples are welded. Below, r is the number of
+//! boundary steps per side ([`SampleLayout::per_side`]: the resolution for triangles, twice it for
+//! quads); welding and measuring are the same code for both layouts.
 //!
 //! Welding (no position comparison anywhere, only the adjacency of [`Surface::neighbors`]):
 //! - interior samples belong to their patch;
@@ -27,7 +30,7 @@ use super::fold::{flipped_triangles, patch_folds, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
-use crate::gb::{SampleLayout, WeightForm};
+use crate::gb::{Layout, SampleLayout, Sampling, WeightForm};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -40,8 +43,16 @@ pub struct SurfaceMesh {
     pub positions: Vec<DVec3>,
     /// Analytic unit normals (averaged over the patches sharing a boundary vertex).
     pub normals: Vec<DVec3>,
-    /// Counter-clockwise triangles (outward for a closed input).
+    /// Counter-clockwise triangles (outward for a closed input). In the quad layout: quad k
+    /// split along its diagonal (0, 2) into triangles 2k and 2k+1, for the checks and measures.
     pub triangles: Vec<[u32; 3]>,
+    /// Counter-clockwise quads of the quad layout ([`crate::gb::Layout::Quads`]; empty for the
+    /// triangle layout and the subdivision methods). When not empty these are the output faces.
+    pub quads: Vec<[u32; 4]>,
+    /// Per output face (quads when there are any, else triangles): the corner of its patch whose
+    /// sector holds it (domain vertex i, the end of side i; [`SampleLayout::face_corners`]).
+    /// Empty for the subdivision methods.
+    pub face_corner: Vec<u32>,
     /// Per vertex: the patch that created it (the smallest patch index sharing it). For subdivision
     /// methods: the face of the input mesh it descends from.
     pub patch: Vec<u32>,
@@ -102,7 +113,8 @@ impl PatchLoops {
         self.of(p).iter().step_by(self.per_side.max(1)).copied()
     }
 
-    /// The loops of all patches from the welding map: O(boundary samples), no hashing.
+    /// The loops of all patches from the welding map (`r` boundary steps per side):
+    /// O(boundary samples), no hashing.
     fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, map: &WeldMap, r: usize) -> PatchLoops {
         let np = surface.patches.len();
         let mut out = PatchLoops { per_side: r, ..PatchLoops::default() };
@@ -112,9 +124,9 @@ impl PatchLoops {
         for (p, patch) in surface.patches.iter().enumerate() {
             out.start.push(out.ids.len());
             out.triangles.push(nt);
-            nt += SampleLayout::triangle_count(patch.sides(), r);
             let layout = &layouts[&patch.sides()];
-            let first = layout.ring_index(r, 0, 0);
+            nt += layout.triangles.len();
+            let first = layout.first_boundary();
             out.ids.extend_from_slice(&map.ids[map.offsets[p] + first..map.offsets[p + 1]]);
         }
         out.start.push(out.ids.len());
@@ -182,7 +194,7 @@ pub(crate) fn try_filled<T: Clone>(len: usize, value: T, what: &'static str) -> 
 const CHUNK: usize = 2048;
 
 /// The sampling layout of every side count n of the surface's patches, in the evaluator's domain.
-fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: usize, evaluator: &E) -> Result<HashMap<usize, SampleLayout>, TessellateError> {
+fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: Sampling, evaluator: &E) -> Result<HashMap<usize, SampleLayout>, TessellateError> {
     let mut layouts: HashMap<usize, SampleLayout> = HashMap::new();
     for (p, patch) in surface.patches.iter().enumerate() {
         let n = patch.sides();
@@ -205,6 +217,8 @@ struct PatchOut<'a> {
     weight: &'a mut [u16],
     tris: &'a mut [[u32; 3]],
     tri_patch: &'a mut [u32],
+    quads: &'a mut [[u32; 4]],
+    corner: &'a mut [u32],
     bnd: &'a mut [SurfacePoint],
     fold: &'a mut TessellationFolds,
     /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
@@ -217,7 +231,7 @@ struct PatchOut<'a> {
 /// without locks.
 fn partition<'a>(
     surface: &Surface,
-    r: usize,
+    layouts: &HashMap<usize, (SampleLayout, Sectors, Vec<u32>)>,
     map: &WeldMap,
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
@@ -225,14 +239,25 @@ fn partition<'a>(
 ) -> Result<Vec<PatchOut<'a>>, TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
-    let mut nt = 0usize;
+    let mut quad_start = Vec::with_capacity(np + 1);
+    let mut face_start = Vec::with_capacity(np + 1);
+    let (mut nt, mut nq, mut nf) = (0usize, 0usize, 0usize);
     for patch in &surface.patches {
+        let l = &layouts[&patch.sides()].0;
         tri_start.push(nt);
-        nt += SampleLayout::triangle_count(patch.sides(), r);
+        quad_start.push(nq);
+        face_start.push(nf);
+        nt += l.triangles.len();
+        nq += l.quads.len();
+        nf += if l.quads.is_empty() { l.triangles.len() } else { l.quads.len() };
     }
     tri_start.push(nt);
+    quad_start.push(nq);
+    face_start.push(nf);
     mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
     mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
+    mesh.quads = try_filled(nq, [0; 4], "output quads")?;
+    mesh.face_corner = try_filled(nf, 0, "output face corners")?;
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
     let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
@@ -242,6 +267,8 @@ fn partition<'a>(
     let mut w = split_by(weight, vs).into_iter();
     let mut tr = split_by(&mut mesh.triangles, &tri_start).into_iter();
     let mut tp = split_by(&mut mesh.triangle_patch, &tri_start).into_iter();
+    let mut qu = split_by(&mut mesh.quads, &quad_start).into_iter();
+    let mut fc = split_by(&mut mesh.face_corner, &face_start).into_iter();
     let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
     mesh.patch_folds = vec![TessellationFolds::default(); np];
     // Every split has exactly np pieces; an empty slice is never taken.
@@ -257,6 +284,8 @@ fn partition<'a>(
             weight: w.next().unwrap_or_default(),
             tris: tr.next().unwrap_or_default(),
             tri_patch: tp.next().unwrap_or_default(),
+            quads: qu.next().unwrap_or_default(),
+            corner: fc.next().unwrap_or_default(),
             bnd: bd.next().unwrap_or_default(),
             fold,
             folded: Vec::new(),
@@ -269,15 +298,14 @@ fn partition<'a>(
 fn evaluate_patch<E: PatchEvaluator>(
     surface: &Surface,
     evaluator: &E,
-    layouts: &HashMap<usize, (SampleLayout, Sectors)>,
+    layouts: &HashMap<usize, (SampleLayout, Sectors, Vec<u32>)>,
     map: &WeldMap,
-    r: usize,
     folds: bool,
     buf: &mut Vec<SurfacePoint>,
     o: &mut PatchOut<'_>,
 ) -> Result<(), TessellateError> {
     let p = o.p;
-    let (layout, sectors) = &layouts[&surface.patches[p].sides()];
+    let (layout, sectors, corners) = &layouts[&surface.patches[p].sides()];
     evaluator.evaluate(surface, p, layout, buf);
     if buf.len() != layout.uv.len() {
         return Err(TessellateError::Evaluation { patch: p, sample: buf.len().min(layout.uv.len()) });
@@ -286,7 +314,7 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Err(TessellateError::Evaluation { patch: p, sample: s });
     }
     let base = map.offsets[p];
-    let first_boundary = layout.ring_index(r, 0, 0);
+    let first_boundary = layout.first_boundary();
     let mut j = 0;
     for (s, sp) in buf.iter().enumerate() {
         if map.owner[base + s] {
@@ -309,6 +337,10 @@ fn evaluate_patch<E: PatchEvaluator>(
         *t = lt.map(|x| ids[x as usize]);
     }
     o.tri_patch.fill(p as u32);
+    for (q, lq) in o.quads.iter_mut().zip(&layout.quads) {
+        *q = lq.map(|x| ids[x as usize]);
+    }
+    o.corner.copy_from_slice(corners);
     if !folds {
         return Ok(());
     }
@@ -319,15 +351,15 @@ fn evaluate_patch<E: PatchEvaluator>(
     Ok(())
 }
 
-/// Tessellates `surface` at resolution `r` (samples per patch side) with `evaluator`, welds the
-/// patches (see the module doc) and returns the mesh with the measurements. `progress` is called
+/// Tessellates `surface` at resolution `r` (samples per patch side; a bare `usize` is the
+/// triangle layout, a [`Sampling`] names the layout) with `evaluator`, welds the patches (see the module doc) and returns the mesh with the measurements. `progress` is called
 /// with the fraction done (0..1) after every chunk of patches; returning false cancels.
 ///
 /// Every patch's samples also go through the fold test ([`super::fold`]): the result is in
 /// `SurfaceMesh::patch_folds`, `fold` and `flipped_triangles`.
 pub fn tessellate_surface_with<E: PatchEvaluator>(
     surface: &Surface,
-    r: usize,
+    r: impl Into<Sampling>,
     evaluator: &E,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
@@ -338,24 +370,29 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
 /// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share).
 pub fn tessellate_checked<E: PatchEvaluator>(
     surface: &Surface,
-    r: usize,
+    r: impl Into<Sampling>,
     evaluator: &E,
     folds: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     check_adjacency(surface)?;
     let np = surface.patches.len();
-    let layouts = layouts_of(surface, r, evaluator)?;
+    let sampling: Sampling = r.into();
+    let layouts = layouts_of(surface, sampling, evaluator)?;
+    // Boundary steps per side, the same for every n: what welding and measuring count in.
+    let r = sampling.per_side();
     let map = WeldMap::new(surface, &layouts, r)?;
-    let with_sectors: HashMap<usize, (SampleLayout, Sectors)> = layouts
+    let with_sectors: HashMap<usize, (SampleLayout, Sectors, Vec<u32>)> = layouts
         .iter()
-        .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv))))
+        .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv), l.face_corners())))
         .collect();
     let nv = map.vertex_count;
     let mut mesh = SurfaceMesh {
         positions: try_filled(nv, DVec3::ZERO, "output positions")?,
         normals: try_filled(nv, DVec3::ZERO, "output normals")?,
         triangles: Vec::new(),
+        quads: Vec::new(),
+        face_corner: Vec::new(),
         patch: try_filled(nv, 0, "output patch indices")?,
         triangle_patch: Vec::new(),
         mean_curvature: try_filled(nv, 0.0, "output mean curvature")?,
@@ -370,13 +407,13 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
     let folded: Vec<u32> = {
-        let mut outs = partition(surface, r, &map, &mut mesh, &mut weight, &mut boundary)?;
+        let mut outs = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary)?;
         let mut done = 0usize;
         while done < np {
             let end = (done + CHUNK).min(np);
             outs[done..end]
                 .par_iter_mut()
-                .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, r, folds, buf, o))?;
+                .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
             done = end;
             if let Some(cb) = progress.as_mut() {
                 if !cb(done as f32 / np.max(1) as f32) {
@@ -426,10 +463,11 @@ pub fn tessellate_checked<E: PatchEvaluator>(
 /// [`tessellate_surface_with`]).
 pub fn tessellate_surface(
     surface: &Surface,
-    r: usize,
+    r: impl Into<Sampling>,
     form: WeightForm,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    let r: Sampling = r.into();
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
     tessellate_surface_with(surface, r, &eval, progress)
 }
@@ -437,11 +475,12 @@ pub fn tessellate_surface(
 /// [`tessellate_surface`] with or without the fold test (see [`tessellate_checked`]).
 pub fn tessellate_surface_checked(
     surface: &Surface,
-    r: usize,
+    r: impl Into<Sampling>,
     form: WeightForm,
     folds: bool,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    let r: Sampling = r.into();
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
     tessellate_checked(surface, r, &eval, folds, progress)
 }
@@ -465,6 +504,39 @@ impl SurfaceMesh {
     /// Triangles as a flat index array.
     pub fn triangles_flat(&self) -> Vec<u32> {
         self.triangles.iter().flatten().copied().collect()
+    }
+
+    /// Number of output faces: quads when there are any, else triangles.
+    pub fn face_count(&self) -> usize {
+        if self.quads.is_empty() {
+            self.triangles.len()
+        } else {
+            self.quads.len()
+        }
+    }
+
+    /// The layout of the output faces.
+    pub fn layout(&self) -> Layout {
+        if self.quads.is_empty() {
+            Layout::Triangles
+        } else {
+            Layout::Quads
+        }
+    }
+
+    /// Output face f as vertex ids (3 or 4).
+    pub fn face(&self, f: usize) -> &[u32] {
+        if self.quads.is_empty() {
+            &self.triangles[f]
+        } else {
+            &self.quads[f]
+        }
+    }
+
+    /// The patch (or input face) of output face f.
+    pub fn face_patch(&self, f: usize) -> u32 {
+        let t = if self.quads.is_empty() { f } else { 2 * f };
+        self.triangle_patch[t]
     }
 }
 

@@ -60,7 +60,8 @@ pub(crate) struct WeldMap {
 }
 
 impl WeldMap {
-    /// The map of `surface` sampled at resolution `r` with `layouts` (one per side count n).
+    /// The map of `surface` sampled with `layouts` (one per side count n), `r` boundary steps
+    /// per side ([`SampleLayout::per_side`], the same for every layout).
     pub fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize) -> Result<WeldMap, TessellateError> {
         let np = surface.patches.len();
         let sides: Vec<usize> = surface.patches.iter().map(|p| p.sides()).collect();
@@ -93,7 +94,7 @@ impl WeldMap {
         let mut len = 0usize;
         for &n in &sides {
             offsets.push(len);
-            len += SampleLayout::sample_count(n, r);
+            len += layouts[&n].uv.len();
         }
         offsets.push(len);
         let mut ids = vec![u32::MAX; len];
@@ -106,7 +107,7 @@ impl WeldMap {
             let n = sides[p];
             let layout = &layouts[&n];
             let base = offsets[p];
-            let first_boundary = layout.ring_index(r, 0, 0);
+            let first_boundary = layout.first_boundary();
             for s in 0..first_boundary {
                 ids[base + s] = next as u32;
                 owner[base + s] = true;

@@ -50,6 +50,7 @@ fn options_init_matches_rust_defaults_and_validates() {
     assert_eq!(o.struct_size as usize, std::mem::size_of::<GbsurfOptions>());
     let d = gbsurf::api::ConvertOptions::default();
     assert_eq!(o.resolution as usize, d.resolution);
+    assert_eq!((o.layout, o.resolution), (GBSURF_LAYOUT_QUADS, 2));
     assert_eq!(o.method, GBSURF_METHOD_DUAL);
     assert_eq!(o.twist, GBSURF_TWIST_INTERP);
     assert_eq!(o.fullness, d.fullness);
@@ -62,7 +63,8 @@ fn options_init_matches_rust_defaults_and_validates() {
 
     type Case = (fn(&mut GbsurfOptions), u32, &'static str);
     // The limits are the core's (gbsurf::limits), whatever the width of the C field.
-    let cases: [Case; 14] = [
+    let cases: [Case; 15] = [
+        (|o| o.layout = 2, GBSURF_ERR_INVALID_OPTION, "layout"),
         (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
         (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
         (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
@@ -238,6 +240,7 @@ fn cube_result(method: u32) -> *mut GbsurfResult {
     o.method = method;
     o.levels = 2;
     o.resolution = 2;
+    o.layout = GBSURF_LAYOUT_TRIANGLES;
     let mut out = null_mut();
     // SAFETY: valid arrays and out pointer.
     let code = unsafe { convert(&p, &s, &f, &o, &mut out) };
@@ -257,7 +260,7 @@ fn check_result_matches_rust(method: u32, rust_method: gbsurf::api::Method) {
         at += n as usize;
     }
     let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
-    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..gbsurf::api::ConvertOptions::triangles_r8() };
     let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
     // SAFETY: `r` is a live handle; all outputs are valid locals.
     unsafe {
@@ -347,7 +350,7 @@ fn check_patches_match_rust(method: u32, rust_method: gbsurf::api::Method) {
     let faces: Vec<Vec<u32>> = f.chunks(4).map(|c| c.to_vec()).collect();
     assert_eq!(s.len(), faces.len());
     let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
-    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..Default::default() };
+    let opts = gbsurf::api::ConvertOptions { method: rust_method, levels: 2, resolution: 2, ..gbsurf::api::ConvertOptions::triangles_r8() };
     let surface = gbsurf::api::convert(&mesh, &opts, None).unwrap().surface.unwrap();
     // SAFETY: `r` is a live handle; outputs are valid locals.
     unsafe {
@@ -786,10 +789,10 @@ fn dual_report(mesh: &gbsurf::mesh::PolyMesh) -> (*mut GbsurfResult, gbsurf::qua
     }
 }
 
-/// The report's validity fields (second layout) equal the Rust report's, the first layout's size
+/// The report's validity fields (second version) equal the Rust report's, the first version's size
 /// is still accepted and gets only its own fields, and the fold sites are listed.
 #[test]
-fn report_carries_validity_and_accepts_the_first_layout() {
+fn report_carries_validity_and_accepts_the_first_version() {
     // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
     // themselves (valid: no intersections beyond the cage's own). A cube with a corner pulled
     // inside to (-0.5, -0.5, -0.5): the dual surface folds (not valid).
@@ -826,6 +829,7 @@ fn report_carries_validity_and_accepts_the_first_layout() {
             assert_eq!(rep.flipped_triangles as usize, rust.flipped_triangles);
             assert_eq!(rep.fold_sites as usize, rust.fold_sites.len());
             assert_eq!(rep.max_abs_mean_curvature_times_diagonal, rust.max_abs_mean_curvature_times_diagonal);
+            assert_eq!(rep.quads as usize, rust.quads);
             for (k, site) in rust.fold_sites.iter().enumerate() {
                 let (mut patch, mut u, mut v) = (0usize, 0.0, 0.0);
                 assert_eq!(gbsurf_report_fold_site(r, k, &mut patch, &mut u, &mut v), GBSURF_OK);
@@ -838,7 +842,7 @@ fn report_carries_validity_and_accepts_the_first_layout() {
             if n > 0 {
                 assert_eq!(gbsurf_report_fold_site(r, 0, null_mut(), &mut u, &mut v), GBSURF_ERR_NULL);
             }
-            // The first layout: its size is accepted, and nothing past it is written.
+            // The first version: its size is accepted, and nothing past it is written.
             let mut old = GbsurfReport { struct_size: REPORT_SIZE_V1, valid: 7, folds: 7, ..Default::default() };
             assert_eq!(gbsurf_result_report(r, &mut old), GBSURF_OK);
             assert_eq!(old.struct_size, REPORT_SIZE_V1);
@@ -846,5 +850,50 @@ fn report_carries_validity_and_accepts_the_first_layout() {
             assert_eq!((old.valid, old.folds), (7, 7));
             gbsurf_result_free(r);
         }
+    }
+}
+
+/// The quad layout through the C ABI (the default): quads, their count, the per-face corner and
+/// patch views, equal to the Rust API's; the cube at r = 2 has Catmull–Clark level 2's counts.
+#[test]
+fn quad_layout_views_match_rust() {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = GBSURF_METHOD_TOPOLOGY;
+    let mut r = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut r) }, GBSURF_OK, "{}", last());
+    let mut faces = Vec::new();
+    for k in 0..6 {
+        faces.push(f[4 * k..4 * k + 4].to_vec());
+    }
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Topology, ..gbsurf::api::ConvertOptions::default() };
+    let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
+    // SAFETY: `r` is a live handle; all outputs are valid locals.
+    unsafe {
+        let (mut n, mut q, mut t) = (0usize, 0usize, 0usize);
+        assert_eq!(gbsurf_mesh_vertex_count(r, &mut n), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_quad_count(r, &mut q), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_triangle_count(r, &mut t), GBSURF_OK);
+        assert_eq!((n, q, t), (98, 96, 192));
+        let (mut u, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_quads(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, len), conv.mesh.quads.as_flattened());
+        let mut buf = vec![0u32; len];
+        let mut written = 0usize;
+        assert_eq!(gbsurf_mesh_copy_quads(r, buf.as_mut_ptr(), buf.len(), &mut written), GBSURF_OK);
+        assert_eq!(&buf[..written], conv.mesh.quads.as_flattened());
+        assert_eq!(gbsurf_mesh_face_corner(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.face_corner[..]);
+        assert_eq!(len, 96);
+        assert_eq!(gbsurf_mesh_triangle_patch(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.triangle_patch[..]);
+        gbsurf_result_free(r);
     }
 }
