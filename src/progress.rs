@@ -28,6 +28,15 @@ pub const INTERVAL: Duration = Duration::from_millis(100);
 /// [`Ticker::at`] reads the clock once per this many calls.
 pub const CLOCK_EVERY: u32 = 16;
 
+/// Least number of ticks of a chunked loop ([`chunk_size`]), so small inputs tick finely too.
+pub const TICKS_PER_LOOP: usize = 64;
+
+/// The chunk size of a chunked parallel loop over `n` items: at most `max` (the size that
+/// keeps a chunk short on large inputs) and small enough for [`TICKS_PER_LOOP`] chunks.
+pub fn chunk_size(n: usize, max: usize) -> usize {
+    max.min(n.div_ceil(TICKS_PER_LOOP)).max(1)
+}
+
 /// The progress callback asked to stop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("cancelled")]
@@ -134,33 +143,11 @@ impl<'a> Ticker<'a> {
     }
 }
 
-/// Runs `f` on the items of `items` in parallel (rayon), in chunks of `chunk` items, ticking
-/// `ticker` with the items done between chunks on the calling thread; returns the first error of
-/// `f` in item order or [`Cancelled`] (converted by `E: From<Cancelled>`).
-pub fn par_chunks_mut<T: Send, E: Send + From<Cancelled>>(
-    ticker: &mut Ticker<'_>,
-    items: &mut [T],
-    chunk: usize,
-    f: impl Fn(usize, &mut T) -> Result<(), E> + Sync,
-) -> Result<(), E> {
-    use rayon::prelude::*;
-    let n = items.len();
-    let chunk = chunk.max(1);
-    let mut done = 0;
-    for part in items.chunks_mut(chunk) {
-        let base = done;
-        part.par_iter_mut().enumerate().try_for_each(|(i, x)| f(base + i, x))?;
-        done += part.len();
-        ticker.at(done, n)?;
-    }
-    Ok(())
-}
-
-/// Maps `f` over `0..n` in parallel (rayon), in chunks of `chunk` indices, ticking `ticker`
+/// Maps `f` over `0..n` in parallel (rayon), in chunks of at most `chunk` indices ([`chunk_size`]), ticking `ticker`
 /// between chunks on the calling thread; the results in index order.
 pub fn par_map<R: Send>(ticker: &mut Ticker<'_>, n: usize, chunk: usize, f: impl Fn(usize) -> R + Sync) -> Result<Vec<R>, Cancelled> {
     use rayon::prelude::*;
-    let chunk = chunk.max(1);
+    let chunk = chunk_size(n, chunk);
     let mut out = Vec::with_capacity(n);
     let mut start = 0;
     while start < n {

@@ -3,6 +3,18 @@
 //! data and a report. The options are defined in [`crate::options`] (re-exported here), the
 //! writers in [`crate::export`].
 //!
+//! Progress and cancel: the callback ([`Progress`]) is wrapped in one
+//! [`crate::progress::Ticker`] that goes down every layer (construction, subdivision levels,
+//! tessellation, mesh check, certificates, self-intersection searches, curvatures). Each stage
+//! owns a range of [0, 1] (`GB_STAGES`, `SUBDIV_STAGES`, from the time shares measured by
+//! `examples/progress_timing.rs` on a 50k-face UV sphere and a 40k-face torus); loops tick per
+//! item or per chunk of a parallel loop on the calling thread (never from rayon workers), and the
+//! callback is called when the fraction advanced by 1 % or 0.1 s passed. Fractions never
+//! decrease, start at 0 and end at 1; after the callback returns false it is never called again
+//! and `convert` returns [`ConvertError::Cancelled`] after the running chunk. Measured (release,
+//! shared 2-core machine): largest interval between reports ≤ 1.5 s (the setup of the
+//! tessellation and the mesh validation are not split yet), cancel latency ≤ 0.35 s.
+//!
 //! Everything here is plain data (vectors of f64/u32, enums without payload in the options) so the
 //! C ABI crate can wrap it one to one.
 //!
@@ -259,7 +271,7 @@ fn convert_valid(
     let (mut out, mut surface) = (out, surface);
     let [_, check_start, self_start, cage_start, cage_end] = if surface.is_some() { GB_STAGES } else { SUBDIV_STAGES };
     ticker.stage(check_start, self_start)?;
-    let check = crate::quality::check_mesh(&out.positions, &out.triangles);
+    let check = crate::quality::check_mesh_ticked(&out.positions, &out.triangles, ticker)?;
     report.vertices = out.positions.len();
     report.triangles = out.triangles.len();
     report.closed = check.is_closed_manifold();

@@ -16,7 +16,7 @@ pub mod display;
 pub mod report;
 pub mod validity;
 
-pub use check::{check_mesh, MeshCheck};
+pub use check::{check_mesh, check_mesh_ticked, MeshCheck};
 pub use curvature::{discrete_curvature, discrete_curvature_ticked};
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;

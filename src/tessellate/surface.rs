@@ -388,7 +388,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         tick(&mut progress, 0.0)?;
         let mut done = 0usize;
         while done < np {
-            let end = (done + CHUNK).min(np);
+            let end = (done + crate::progress::chunk_size(np, CHUNK)).min(np);
             outs[done..end]
                 .par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, r, folds, buf, o))?;
