@@ -46,6 +46,7 @@ pub mod limits;
 pub mod mesh;
 pub mod offset;
 pub mod options;
+pub mod progress;
 pub mod quality;
 pub mod subdiv;
 pub mod tessellate;

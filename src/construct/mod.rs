@@ -16,11 +16,11 @@ pub mod topology;
 
 pub use blend::{BlendKind, DirectionBlend};
 pub use derived::ControlNet;
-pub use dual::{build_dual, dual_network};
-pub use network::{assemble, CurveNetwork, PatchLayout, SideUse};
+pub use dual::{build_dual, build_dual_ticked, dual_network};
+pub use network::{assemble, assemble_ticked, CurveNetwork, PatchLayout, SideUse};
 pub use prepare::{dissolve_valence2, prepare, Prepared};
 pub use surface::{Patch, PatchSource, SideRef, Surface};
-pub use topology::{build_topology, tiles, topology_network, Tiles};
+pub use topology::{build_topology, build_topology_ticked, tiles, topology_network, Tiles};
 
 use crate::options::ConvertOptions;
 
@@ -62,6 +62,15 @@ pub enum ConstructError {
     Mesh(#[from] crate::mesh::MeshError),
     #[error("internal inconsistency: {0}")]
     Internal(String),
+    /// The progress callback asked to stop ([`crate::progress`]).
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<crate::progress::Cancelled> for ConstructError {
+    fn from(_: crate::progress::Cancelled) -> Self {
+        ConstructError::Cancelled
+    }
 }
 
 /// The mesh the constructions work on: `mesh` itself when every face is convex in its best-fit

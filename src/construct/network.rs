@@ -6,6 +6,7 @@ use super::blend::{cross_derivative_coeffs, decompose, BlendKind, DirectionBlend
 use super::surface::{Patch, PatchSource, SideRef, Surface};
 use super::{check_options, ConstructError, TwistMode};
 use crate::options::ConvertOptions;
+use crate::progress::{par_map, Ticker};
 use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -80,6 +81,15 @@ fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
 /// - on open sides (curve used once): the twist of the adjacent side at that corner when that side
 ///   is shared, otherwise the corner twist, so the corner block stays consistent.
 pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
+    assemble_ticked(net, opts, &mut Ticker::none())
+}
+
+/// Patches per progress tick of the parallel loops of [`assemble_ticked`].
+const CHUNK: usize = 4096;
+
+/// [`assemble`] reporting progress to `ticker` (its current part: the twists and the patches, in
+/// chunks of [`CHUNK`] curves or patches; see [`crate::progress`]).
+pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<Surface, ConstructError> {
     check_options(opts)?;
     let np = net.patches.len();
     // Curve uses and consistency.
@@ -169,17 +179,15 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
         // first error in curve order is returned, as in a serial loop.
-        let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = uses
-            .par_iter()
-            .enumerate()
-            .map(|(c, u)| {
-                if u.len() != 2 || crease_of(c) >= 1.0 {
-                    return Ok(None);
-                }
-                let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
-                shared_twists(net, &rows, opts, kind, c, a, b).map(Some)
-            })
-            .collect();
+        let nc = uses.len();
+        let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
+            let u = &uses[c];
+            if u.len() != 2 || crease_of(c) >= 1.0 {
+                return Ok(None);
+            }
+            let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
+            shared_twists(net, &rows, opts, kind, c, a, b).map(Some)
+        }))?;
         for (u, t) in uses.iter().zip(twists) {
             let Some(t) = t? else { continue };
             let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
@@ -243,12 +251,9 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
     }
 
     // Per patch in parallel, collected in patch order; the first error in patch order wins.
-    let built: Vec<Result<Patch, ConstructError>> = net
-        .patches
-        .par_iter()
-        .zip(rows.par_iter())
-        .enumerate()
-        .map(|(p, (lay, rows_p))| {
+    let built: Vec<Result<Patch, ConstructError>> = ticker.within(0.5, 1.0, |t| {
+        par_map(t, np, CHUNK, |p| {
+            let (lay, rows_p) = (&net.patches[p], &rows[p]);
             let ribbons: Vec<Ribbon> = rows_p
                 .iter()
                 .map(|r| Ribbon { degree: 3, rows: vec![r[0].to_vec(), r[1].to_vec()] })
@@ -263,7 +268,7 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
                 None => Patch::Cgb(CgbPatch { ribbons }),
             })
         })
-        .collect();
+    })?;
     let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
     let sources: Vec<PatchSource> = net.patches.iter().map(|l| l.source).collect();
     let creases: Vec<Vec<f64>> = if net.crease.is_empty() {

@@ -42,7 +42,7 @@
 //! times three (as a first chord of a cubic): with M_f, M_g the midpoints of the two tile vertices
 //! of the edge in faces f and g, D_{0.5} = 3 · (M_f − M_g)/2, pointing into f's patch.
 
-use super::network::{assemble, CurveNetwork, PatchLayout, SideUse};
+use super::network::{CurveNetwork, PatchLayout, SideUse};
 use super::surface::{PatchSource, Surface};
 use super::{check_options, ConstructError};
 use crate::options::ConvertOptions;
@@ -447,12 +447,22 @@ fn crease_network(
 /// gives several patches; a face that lost a dissolved vertex has one side fewer). Dissolved
 /// vertices are listed in `warnings`. Errors name elements of `mesh`.
 pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
-    let prep = super::prepare(mesh)?;
-    let mut s =
-        topology_network(&prep.mesh, opts).and_then(|net| assemble(&net, opts)).map_err(|e| prep.error(e, false))?;
+    build_topology_ticked(mesh, opts, &mut crate::progress::Ticker::none())
+}
+
+/// [`build_topology`] reporting progress to `ticker` (parts measured on a 50k-face UV sphere: preparation,
+/// network, then [`super::assemble_ticked`]; see [`crate::progress`]).
+pub fn build_topology_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mut crate::progress::Ticker<'_>) -> Result<Surface, ConstructError> {
+    let prep = ticker.within(0.0, PREPARE, |_| super::prepare(mesh))?;
+    let net = ticker.within(PREPARE, NETWORK, |_| topology_network(&prep.mesh, opts)).map_err(|e| prep.error(e, false))?;
+    let mut s = ticker.within(NETWORK, 1.0, |t| super::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, false))?;
     for src in &mut s.sources {
         *src = prep.source(*src);
     }
     s.warnings = prep.warnings;
     Ok(s)
 }
+
+/// Ends of the preparation's and the network's shares of [`build_topology_ticked`].
+const PREPARE: f32 = 0.1;
+const NETWORK: f32 = 0.4;

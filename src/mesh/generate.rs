@@ -1,4 +1,4 @@
-//! Mesh generators for tests and benchmarks: quad tori, convex polyhedra (convex hulls) and the
+//! Mesh generators for tests and benchmarks: quad tori, UV spheres, convex polyhedra (convex hulls) and the
 //! large-n cases (a planar n-gon, a cone over an n-gon, a prism with n-gon caps).
 
 use super::error::MeshError;
@@ -35,6 +35,43 @@ pub fn torus(n_major: usize, n_minor: usize, major_radius: f64, minor_radius: f6
         for j in 0..nv {
             faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
+    }
+    Ok(PolyMesh::new(positions, faces))
+}
+
+/// Unit UV sphere like Blender's: `segments` meridians and `rings` bands of faces
+/// (`segments · rings` faces: a triangle fan at each pole and quads between). Vertex 0 is the
+/// south pole (0, 0, −1), then the `rings − 1` parallels from south to north, `segments` vertices
+/// each (vertex `1 + k·segments + i` at polar angle `π(k+1)/rings`, azimuth `2πi/segments`), then
+/// the north pole. Faces outward, counter-clockwise. Needs `segments ≥ 3`, `rings ≥ 2`.
+pub fn uv_sphere(segments: usize, rings: usize) -> Result<PolyMesh, MeshError> {
+    if segments < 3 || rings < 2 {
+        return Err(MeshError::Degenerate(format!("UV sphere needs segments >= 3 and rings >= 2 (got {segments}, {rings})")));
+    }
+    let (s, r) = (segments, rings);
+    let mut positions = Vec::with_capacity(2 + s * (r - 1));
+    positions.push(-DVec3::Z);
+    for k in 1..r {
+        let theta = std::f64::consts::PI * k as f64 / r as f64;
+        for i in 0..s {
+            let phi = TAU * i as f64 / s as f64;
+            positions.push(DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), -theta.cos()));
+        }
+    }
+    positions.push(DVec3::Z);
+    let north = (positions.len() - 1) as u32;
+    let id = |k: usize, i: usize| (1 + k * s + i % s) as u32;
+    let mut faces = Vec::with_capacity(s * r);
+    for i in 0..s {
+        faces.push(vec![0, id(0, i + 1), id(0, i)]);
+    }
+    for k in 0..r - 2 {
+        for i in 0..s {
+            faces.push(vec![id(k, i), id(k, i + 1), id(k + 1, i + 1), id(k + 1, i)]);
+        }
+    }
+    for i in 0..s {
+        faces.push(vec![id(r - 2, i), id(r - 2, i + 1), north]);
     }
     Ok(PolyMesh::new(positions, faces))
 }

@@ -52,6 +52,7 @@
 //! another patch of the star cancelled. Every pair of patches sharing a vertex or a side lies in
 //! one star, so on smooth closed surfaces all neighbouring pairs are certified.
 
+use crate::progress::{Cancelled, Ticker};
 use crate::tessellate::{PatchLoops, SurfaceMesh};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -211,6 +212,9 @@ fn certify_star(positions: &[DVec3], loops: &PatchLoops, cones: &[Option<(DVec3,
     single_loop(edges).is_some_and(|lp| star_shaped(positions, &lp, q, a))
 }
 
+/// Stars certified per progress tick.
+const STARS_PER_TICK: usize = 2048;
+
 impl Certified {
     /// No certified region: every pair is tested.
     pub fn none() -> Certified {
@@ -225,6 +229,21 @@ impl Certified {
 
     /// The certified stars of the nodes of `loops` over the mesh (`positions`, `triangles`).
     pub fn of_patches(positions: &[DVec3], triangles: &[[u32; 3]], loops: &PatchLoops) -> Certified {
+        Certified::of_patches_ticked(positions, triangles, loops, &mut Ticker::none()).unwrap_or_else(|_| Certified::none())
+    }
+
+    /// [`Certified::of_mesh`] reporting progress to `ticker` (see [`crate::progress`]).
+    pub fn of_mesh_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<Certified, Cancelled> {
+        Certified::of_patches_ticked(&mesh.positions, &mesh.triangles, &mesh.patch_loops, ticker)
+    }
+
+    /// [`Certified::of_patches`] reporting progress to `ticker` (per chunk of stars).
+    pub fn of_patches_ticked(
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        loops: &PatchLoops,
+        ticker: &mut Ticker<'_>,
+    ) -> Result<Certified, Cancelled> {
         let np = loops.len();
         let consistent = np > 0
             && loops.triangles.len() == np + 1
@@ -232,7 +251,7 @@ impl Certified {
             && loops.triangles.windows(2).all(|w| w[0] <= w[1])
             && loops.ids.iter().all(|&v| (v as usize) < positions.len());
         if !consistent {
-            return Certified::none();
+            return Ok(Certified::none());
         }
         let cones: Vec<Option<(DVec3, f64)>> = (0..np)
             .into_par_iter()
@@ -251,14 +270,17 @@ impl Certified {
             }
             groups.push((s, k));
         }
-        let certified: Vec<bool> = groups
-            .par_iter()
-            .map_init(Vec::new, |ps, &(s, e)| {
+        ticker.at(1, 10)?;
+        let mut certified: Vec<bool> = Vec::with_capacity(groups.len());
+        let per_tick = crate::progress::chunk_size(groups.len(), STARS_PER_TICK);
+        for part in groups.chunks(per_tick) {
+            certified.par_extend(part.par_iter().map_init(Vec::new, |ps, &(s, e)| {
                 ps.clear();
                 ps.extend(corners[s..e].iter().map(|c| c.1));
                 certify_star(positions, loops, &cones, corners[s].0, ps)
-            })
-            .collect();
+            }));
+            ticker.at_part(0.1, 1.0, certified.len(), groups.len())?;
+        }
         let mut member: Vec<(u32, u32)> = Vec::new();
         for (g, &(s, e)) in groups.iter().enumerate() {
             if certified[g] {
@@ -275,7 +297,7 @@ impl Certified {
             }
         }
         star_start.push(member.len());
-        Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect() }
+        Ok(Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect() })
     }
 
     /// Number of patches lying in at least one certified star.

@@ -1,5 +1,6 @@
 //! Topology and sanity checks of a triangle mesh (positions + CCW triangles), linear time.
 
+use crate::progress::{Cancelled, Ticker};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -51,6 +52,11 @@ pub const ZERO_AREA_REL: f64 = 1e-14;
 /// corners are bucketed per vertex (compressed rows), edges and vertex fans are checked on those
 /// short lists; duplicate positions by a parallel sort.
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
+    check_mesh_ticked(positions, triangles, &mut Ticker::none()).unwrap_or_default()
+}
+
+/// [`check_mesh`] reporting progress to `ticker` between its passes (see [`crate::progress`]).
+pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &mut Ticker<'_>) -> Result<MeshCheck, Cancelled> {
     let nv = positions.len();
     let mut c = MeshCheck { vertices: nv, triangles: triangles.len(), ..Default::default() };
     let good = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
@@ -67,6 +73,7 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
             t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(area2 > 2.0 * ZERO_AREA_REL * longest)
         })
         .count();
+    ticker.at(1, 6)?;
     // Corners per vertex: corner (v; a, b) for triangle (v, a, b) in CCW order. Its outgoing
     // directed edge is v → a and its link edge a → b. Bucketed in parallel (atomic counters;
     // the order within a bucket does not matter below).
@@ -76,6 +83,7 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
             count[v as usize + 1].fetch_add(1, Ordering::Relaxed);
         }
     });
+    ticker.at(2, 6)?;
     let mut start: Vec<u32> = count.into_iter().map(AtomicU32::into_inner).collect();
     for v in 0..nv {
         start[v + 1] += start[v];
@@ -89,6 +97,7 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
         }
     });
     drop(fill);
+    ticker.at(3, 6)?;
     let unpack = |x: &AtomicU64| {
         let x = x.load(Ordering::Relaxed);
         ((x >> 32) as u32, x as u32)
@@ -184,6 +193,7 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
             t
         })
         .reduce(|| [0usize; 6], |a, b| std::array::from_fn(|i| a[i] + b[i]));
+    ticker.at(5, 6)?;
     let [inconsistent, undirected, boundary, nm_edges, nm_vertices, used] = tally;
     c.inconsistent_edges = inconsistent;
     c.boundary_edges = boundary;
@@ -201,7 +211,7 @@ pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
         c.duplicate_vertices = keys.windows(2).filter(|w| w[0] == w[1]).count();
     }
     c.euler_characteristic = used as i64 - undirected as i64 + (triangles.len() - c.bad_indices) as i64;
-    c
+    Ok(c)
 }
 
 /// A 64-bit mix of three words (multiply–xorshift rounds, as in splitmix64).

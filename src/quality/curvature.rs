@@ -7,18 +7,32 @@
 //! H = ½ Δx·n with the sign convention of the analytic evaluator (H = (eG − 2fF + gE)/(2(EG − F²))
 //! with the outward normal: a sphere of radius R gives H = −1/R, K = 1/R²).
 
+use crate::progress::{Cancelled, Ticker};
 use glam::DVec3;
 
 /// (mean, Gaussian) curvature per vertex; `normals` orient H. Unused vertices and vertices with
 /// zero area get 0.
 pub fn discrete_curvature(positions: &[DVec3], triangles: &[[u32; 3]], normals: &[DVec3]) -> (Vec<f64>, Vec<f64>) {
+    discrete_curvature_ticked(positions, triangles, normals, &mut Ticker::none()).unwrap_or_default()
+}
+
+/// [`discrete_curvature`] reporting progress to `ticker` (per triangle, then per vertex; see
+/// [`crate::progress`]).
+pub fn discrete_curvature_ticked(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: &[DVec3],
+    ticker: &mut Ticker<'_>,
+) -> Result<(Vec<f64>, Vec<f64>), Cancelled> {
+    let total = triangles.len() + positions.len();
     let nv = positions.len();
     let mut area = vec![0.0; nv];
     let mut angle = vec![0.0; nv];
     let mut lap = vec![DVec3::ZERO; nv];
     // Boundary detection: an undirected edge used once.
     let mut edge_count: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::with_capacity(triangles.len() * 2);
-    for t in triangles {
+    for (i, t) in triangles.iter().enumerate() {
+        ticker.at(i, total)?;
         if t.iter().any(|&i| i as usize >= nv) {
             continue;
         }
@@ -51,6 +65,7 @@ pub fn discrete_curvature(positions: &[DVec3], triangles: &[[u32; 3]], normals: 
     let mut h = vec![0.0; nv];
     let mut k = vec![0.0; nv];
     for v in 0..nv {
+        ticker.at(triangles.len() + v, total)?;
         if area[v] > 0.0 {
             let full = if boundary[v] { std::f64::consts::PI } else { std::f64::consts::TAU };
             k[v] = (full - angle[v]) / area[v];
@@ -58,5 +73,5 @@ pub fn discrete_curvature(positions: &[DVec3], triangles: &[[u32; 3]], normals: 
             h[v] = 0.5 * (lap[v] / (2.0 * area[v])).dot(n);
         }
     }
-    (h, k)
+    Ok((h, k))
 }

@@ -16,9 +16,9 @@ pub mod display;
 pub mod report;
 pub mod validity;
 
-pub use check::{check_mesh, MeshCheck};
-pub use curvature::discrete_curvature;
+pub use check::{check_mesh, check_mesh_ticked, MeshCheck};
+pub use curvature::{discrete_curvature, discrete_curvature_ticked};
 pub use display::{isophote, isophote_stripes, slice, slices, Polyline};
 pub use report::Report;
 pub use certify::Certified;
-pub use validity::{cage_self_intersections, find_folds, mesh_self_intersections, self_intersections, self_intersections_certified, FoldSite, Folds};
+pub use validity::{cage_self_intersections, cage_self_intersections_ticked, find_folds, mesh_self_intersections, mesh_self_intersections_ticked, self_intersections, self_intersections_certified, FoldSite, Folds};

@@ -37,6 +37,7 @@ use glam::{DVec2, DVec3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use rayon::prelude::*;
+use crate::progress::{Cancelled, Ticker};
 use robust::{orient2d, orient3d, Coord, Coord3D};
 
 /// At most this many fold sites are listed in a report.
@@ -410,7 +411,15 @@ fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 ///
 /// Chunk pairs whose triangles all lie in one region of `certified` are skipped: such a region
 /// is proven free of self-intersections ([`super::certify`]), so the count stays exact.
-fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option<&[u32]>, certified: &Certified) -> Vec<(u32, u32)> {
+///
+/// Progress goes to `ticker` (its current range) after every [`PAIRS_PER_TICK`] chunk pairs.
+fn intersecting_pairs(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    group: Option<&[u32]>,
+    certified: &Certified,
+    ticker: &mut Ticker<'_>,
+) -> Result<Vec<(u32, u32)>, Cancelled> {
     let nv = positions.len();
     let kept: Vec<u32> = (0..triangles.len() as u32)
         .into_par_iter()
@@ -421,8 +430,9 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         })
         .collect();
     if kept.len() < 2 {
-        return Vec::new();
+        return Ok(Vec::new());
     }
+    ticker.at(1, 20)?;
     let kept_tris: Vec<[u32; 3]> = kept.par_iter().with_min_len(1 << 12).map(|&i| triangles[i as usize]).collect();
     let to_aabb = |lo: DVec3, hi: DVec3| Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z));
     // The box of a triangle, computed where needed when certified regions are skipped (most
@@ -491,9 +501,14 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         }
         triangles_intersect(ti.map(|v| positions[v as usize]), tj.map(|v| positions[v as usize]))
     };
-    let hits: Vec<(u32, u32)> = chunk_pairs
-        .into_par_iter()
-        .fold(Vec::new, |mut acc, (ca, cb)| {
+    ticker.at(2, 20)?;
+    let mut hits: Vec<(u32, u32)> = Vec::new();
+    let n_pairs = chunk_pairs.len();
+    let per_tick = crate::progress::chunk_size(n_pairs, PAIRS_PER_TICK);
+    for (k, part) in chunk_pairs.chunks(per_tick).enumerate() {
+      let found: Vec<(u32, u32)> = part
+        .par_iter()
+        .fold(Vec::new, |mut acc, &(ca, cb)| {
             if ca == cb {
                 let slots = chunk(ca);
                 for (k, &i) in slots.iter().enumerate() {
@@ -520,8 +535,11 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
             x.append(&mut y);
             x
         });
+      hits.extend(found);
+      ticker.at(2 * n_pairs + 18 * (k * per_tick + part.len()), 20 * n_pairs)?;
+    }
     if hits.is_empty() {
-        return hits;
+        return Ok(hits);
     }
     let shell = shells(nv, &kept_tris);
     let mut hits: Vec<(u32, u32)> = hits
@@ -534,7 +552,7 @@ fn intersecting_pairs(positions: &[DVec3], triangles: &[[u32; 3]], group: Option
         .collect();
     hits.par_sort_unstable();
     hits.dedup();
-    hits
+    Ok(hits)
 }
 
 /// Triangles per chunk of the coarse search in [`intersecting_pairs`].
@@ -598,28 +616,48 @@ fn chunk_layout(positions: &[DVec3], kept: &[u32], kept_tris: &[[u32; 3]], certi
     (keyed.into_iter().map(|k| k.1).collect(), start)
 }
 
+/// Chunk pairs of the self-intersection search per progress tick.
+const PAIRS_PER_TICK: usize = 256;
+
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None, &Certified::none()).len()
+    intersecting_pairs(positions, triangles, None, &Certified::none(), &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
 /// self-intersections, see [`super::certify`]): the same count, faster on smooth surfaces.
 pub fn self_intersections_certified(positions: &[DVec3], triangles: &[[u32; 3]], certified: &Certified) -> usize {
-    intersecting_pairs(positions, triangles, None, certified).len()
+    intersecting_pairs(positions, triangles, None, certified, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections_certified`] of a tessellation with the certified stars of its nodes
 /// ([`Certified::of_mesh`]).
 pub fn mesh_self_intersections(mesh: &SurfaceMesh) -> usize {
-    self_intersections_certified(&mesh.positions, &mesh.triangles, &Certified::of_mesh(mesh))
+    mesh_self_intersections_ticked(mesh, &mut Ticker::none()).unwrap_or(0)
 }
+
+/// [`mesh_self_intersections`] reporting progress to `ticker` (its current range: the
+/// certificates, then the search in chunks; see [`crate::progress`]).
+pub fn mesh_self_intersections_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+    // Meshes without patch loops (subdivision methods) have no certificates to compute.
+    let share = if mesh.patch_loops.is_empty() { 0.0 } else { CERTIFY };
+    let certified = ticker.within(0.0, share, |t| Certified::of_mesh_ticked(mesh, t))?;
+    ticker.within(share, 1.0, |t| intersecting_pairs(&mesh.positions, &mesh.triangles, None, &certified, t)).map(|p| p.len())
+}
+
+/// The certificates' share of [`mesh_self_intersections_ticked`].
+const CERTIFY: f32 = 0.2;
 
 /// Number of pairs of faces of the input cage, in one shell and sharing no vertex, that meet:
 /// every face is split into convex pieces ([`crate::mesh::geometry::convexify`]) and each piece
 /// fan-triangulated.
 pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
+    cage_self_intersections_ticked(mesh, &mut Ticker::none()).unwrap_or(0)
+}
+
+/// [`cage_self_intersections`] reporting progress to `ticker` (see [`crate::progress`]).
+pub fn cage_self_intersections_ticked(mesh: &PolyMesh, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
     let (convex, origin) = crate::mesh::geometry::convexify(mesh);
     let mut tris = Vec::new();
     let mut face = Vec::new();
@@ -630,7 +668,8 @@ pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
         }
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
-    let mut pairs: Vec<(u32, u32)> = intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none())
+    ticker.at(1, 20)?;
+    let mut pairs: Vec<(u32, u32)> = ticker.within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none(), t))?
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);
@@ -643,7 +682,7 @@ pub fn cage_self_intersections(mesh: &PolyMesh) -> usize {
         .collect();
     pairs.sort_unstable();
     pairs.dedup();
-    pairs.len()
+    Ok(pairs.len())
 }
 
 /// Largest |H| over the vertices times the diagonal of the positions' bounding box (0 for an

@@ -3,47 +3,54 @@
 
 use super::{check_size, first_halfedge, Corners, Level, LevelOutput, SubdivError};
 use crate::mesh::PolyMesh;
+use crate::progress::Ticker;
 use glam::DVec3;
 
 /// One level; the parent of output face `k` is the input face it lies in.
-pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
+pub(super) fn level(level: &Level<'_>, ticker: &mut Ticker<'_>) -> Result<LevelOutput, SubdivError> {
     let (he, p, index) = (&*level.he, level.positions, &level.index);
     let (nv, ne, nf) = (p.len(), he.n_edges(), he.n_faces());
     check_size((nv + ne + nf) as u64)?;
     let corners = Corners::new(he);
+    // Progress: face points, edge points, vertex points, faces (one item each).
+    let total = 2 * nf + ne + nv;
+    ticker.at(0, total)?;
 
     let face_points: Vec<DVec3> = he
         .faces()
         .map(|f| {
+            ticker.at(f.idx(), total)?;
             let k = he.face_size(f) as f64;
-            he.face_vertices(f)
+            Ok(he.face_vertices(f)
                 .map(|v| p[index[v.idx()] as usize])
                 .sum::<DVec3>()
-                / k
+                / k)
         })
-        .collect();
+        .collect::<Result<_, crate::progress::Cancelled>>()?;
 
     let edge_points: Vec<DVec3> = he
         .edges()
         .map(|e| {
+            ticker.at(nf + e.idx(), total)?;
             let h = first_halfedge(he, e);
             let (a, b) = (
                 p[index[he.origin(h).idx()] as usize],
                 p[index[he.target(h).idx()] as usize],
             );
-            match he.face(he.twin(h)) {
+            Ok(match he.face(he.twin(h)) {
                 None => 0.5 * (a + b),
                 Some(g) => {
                     let f = he.face(h).map_or(0, |f| f.idx());
                     0.25 * (a + b + face_points[f] + face_points[g.idx()])
                 }
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, crate::progress::Cancelled>>()?;
 
     // Unused vertices keep their positions.
     let mut positions = p.to_vec();
     for v in he.vertices() {
+        ticker.at(nf + ne + v.idx(), total)?;
         let pv = he.position(v);
         let fan = corners.fan(he, v);
         let new = if he.is_boundary_vertex(v) {
@@ -73,6 +80,7 @@ pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
     let mut faces = Vec::with_capacity(corners.count);
     let mut parent = Vec::with_capacity(corners.count);
     for f in he.faces() {
+        ticker.at(nf + ne + nv + f.idx(), total)?;
         for h in he.face_halfedges(f) {
             faces.push(vec![
                 index[he.origin(h).idx()],

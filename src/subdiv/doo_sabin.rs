@@ -4,6 +4,7 @@
 
 use super::{check_size, first_halfedge, Corners, Level, LevelOutput, SubdivError};
 use crate::mesh::PolyMesh;
+use crate::progress::Ticker;
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -23,10 +24,14 @@ pub fn doo_sabin_weights(n: usize) -> Vec<f64> {
 }
 
 /// One level; the parent of an output face is the face of its first new corner point.
-pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
+pub(super) fn level(level: &Level<'_>, ticker: &mut Ticker<'_>) -> Result<LevelOutput, SubdivError> {
     let (he, index) = (&*level.he, &level.index);
     let corners = Corners::new(he);
     let nc = corners.count;
+    // Progress: corner points and F-faces per face, E-faces per edge, V-faces per vertex.
+    let (nf, ne) = (he.n_faces(), he.n_edges());
+    let total = 2 * nf + ne + he.n_vertices();
+    ticker.at(0, total)?;
 
     // Boundary edges get consecutive numbers for their two Chaikin points.
     const NONE: u32 = u32::MAX;
@@ -40,6 +45,7 @@ pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
 
     let mut positions = Vec::with_capacity(nc + 2 * nb as usize);
     for f in he.faces() {
+        ticker.at(f.idx(), total)?;
         let verts: Vec<DVec3> = he.face_vertices(f).map(|v| he.position(v)).collect();
         let n = verts.len();
         let alpha = doo_sabin_weights(n);
@@ -65,11 +71,13 @@ pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
     let mut parent: Vec<u32> = Vec::new();
     // F-faces.
     for f in he.faces() {
+        ticker.at(nf + f.idx(), total)?;
         faces.push(he.face_halfedges(f).map(|h| corners.of(h)).collect());
         parent.push(f.0);
     }
     // E-faces: edge a → b in f, b → a in g: [P(f,b), P(f,a), P(g,a), P(g,b)].
     for e in he.edges().filter(|&e| !he.is_boundary_edge(e)) {
+        ticker.at(2 * nf + e.idx(), total)?;
         let fa = first_halfedge(he, e);
         let gb = he.twin(fa);
         faces.push(vec![
@@ -93,6 +101,7 @@ pub(super) fn level(level: &Level<'_>) -> Result<LevelOutput, SubdivError> {
     }
     // V-faces.
     for v in he.vertices() {
+        ticker.at(2 * nf + ne + v.idx(), total)?;
         let fan = corners.fan(he, v);
         let (first, last) = (fan[0], fan[fan.len() - 1]);
         if he.is_boundary_vertex(v) {

@@ -19,6 +19,7 @@ mod doo_sabin;
 pub use doo_sabin::doo_sabin_weights;
 
 use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, MeshError, PolyMesh, VertexId};
+use crate::progress::Ticker;
 use glam::DVec3;
 use std::borrow::Cow;
 
@@ -82,6 +83,15 @@ pub enum SubdivError {
     /// The output would need more indices than u32 can address.
     #[error("the subdivided mesh would need {count} indices, more than u32 can address")]
     TooLarge { count: u64 },
+    /// The progress callback asked to stop ([`crate::progress`]).
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<crate::progress::Cancelled> for SubdivError {
+    fn from(_: crate::progress::Cancelled) -> Self {
+        SubdivError::Cancelled
+    }
 }
 
 /// Subdivides `mesh` `levels` times with `scheme` and tracks the face ancestry.
@@ -91,6 +101,17 @@ pub fn subdivide<'a>(
     mesh: impl Into<ControlMesh<'a>>,
     scheme: SubdivisionScheme,
     levels: u32,
+) -> Result<Subdivided, SubdivError> {
+    subdivide_ticked(mesh, scheme, levels, &mut Ticker::none())
+}
+
+/// [`subdivide`] reporting progress to `ticker` (its current range split over the levels by
+/// their sizes, each level ticking per face, edge and vertex; see [`crate::progress`]).
+pub fn subdivide_ticked<'a>(
+    mesh: impl Into<ControlMesh<'a>>,
+    scheme: SubdivisionScheme,
+    levels: u32,
+    ticker: &mut Ticker<'_>,
 ) -> Result<Subdivided, SubdivError> {
     let level = match mesh.into() {
         ControlMesh::Poly(m) => {
@@ -111,7 +132,7 @@ pub fn subdivide<'a>(
             }
         }
     };
-    subdivide_levels(level, scheme, levels)
+    subdivide_levels(level, scheme, levels, ticker)
 }
 
 impl Subdivided {
@@ -204,15 +225,23 @@ fn subdivide_levels(
     first: Level<'_>,
     scheme: SubdivisionScheme,
     levels: u32,
+    ticker: &mut Ticker<'_>,
 ) -> Result<Subdivided, SubdivError> {
-    let one = |level: &Level<'_>| match scheme {
-        SubdivisionScheme::CatmullClark => catmull_clark::level(level),
-        SubdivisionScheme::DooSabin => doo_sabin::level(level),
+    let one = |level: &Level<'_>, t: &mut Ticker<'_>| match scheme {
+        SubdivisionScheme::CatmullClark => catmull_clark::level(level, t),
+        SubdivisionScheme::DooSabin => doo_sabin::level(level, t),
     };
-    let (mut mesh, mut ancestor) = one(&first)?;
-    for _ in 1..levels {
-        let he = HalfEdgeMesh::from_checked_polymesh(&mesh)?;
-        let (next, parent) = one(&Level::of_polymesh(&mesh, Cow::Owned(he)))?;
+    // Level k costs about 4^k times the first (faces and corners grow fourfold per level): its
+    // share of the range is 4^k / Σ 4^j. Within a level the half-edge mesh of its input takes
+    // HALF_EDGE of the share (measured), the level itself the rest.
+    let total: f32 = (0..levels).map(|k| 4f32.powi(k as i32)).sum();
+    let share = |k: u32| (4f32.powi(k as i32) - 1.0) / 3.0 / total;
+    let (mut mesh, mut ancestor) = ticker.within(0.0, share(1), |t| one(&first, t))?;
+    for k in 1..levels {
+        let (next, parent) = ticker.within(share(k), share(k + 1), |t| {
+            let he = HalfEdgeMesh::from_checked_polymesh(&mesh)?;
+            t.within(HALF_EDGE, 1.0, |t| one(&Level::of_polymesh(&mesh, Cow::Owned(he)), t))
+        })?;
         ancestor = parent.iter().map(|&f| ancestor[f as usize]).collect();
         mesh = next;
     }
@@ -221,6 +250,9 @@ fn subdivide_levels(
         face_ancestor: ancestor,
     })
 }
+
+/// The half-edge mesh's share of a level after the first in [`subdivide_levels`].
+const HALF_EDGE: f32 = 0.3;
 
 /// Errors with [`SubdivError::TooLarge`] when `count` does not fit a u32 index.
 fn check_size(count: u64) -> Result<(), SubdivError> {

@@ -191,7 +191,21 @@ pub(crate) fn try_filled<T: Clone>(len: usize, value: T, what: &'static str) -> 
 }
 
 /// Patches evaluated per progress step.
-const CHUNK: usize = 2048;
+const CHUNK: usize = 512;
+
+/// The patch evaluation's share of the progress of [`tessellate_checked`] (then welding and
+/// normals).
+const EVALUATION: f32 = 0.9;
+
+/// Calls `progress` (if any) with `f`; [`TessellateError::Cancelled`] when it returns false.
+fn tick(progress: &mut Option<&mut dyn FnMut(f32) -> bool>, f: f32) -> Result<(), TessellateError> {
+    if let Some(cb) = progress.as_mut() {
+        if !cb(f) {
+            return Err(TessellateError::Cancelled);
+        }
+    }
+    Ok(())
+}
 
 /// The sampling layout of every side count n of the surface's patches, in the evaluator's domain.
 fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: Sampling, evaluator: &E) -> Result<HashMap<usize, SampleLayout>, TessellateError> {
@@ -408,18 +422,15 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let mut weight = vec![0u16; nv];
     let folded: Vec<u32> = {
         let mut outs = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary)?;
+        tick(&mut progress, 0.0)?;
         let mut done = 0usize;
         while done < np {
-            let end = (done + CHUNK).min(np);
+            let end = (done + crate::progress::chunk_size(np, CHUNK)).min(np);
             outs[done..end]
                 .par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
             done = end;
-            if let Some(cb) = progress.as_mut() {
-                if !cb(done as f32 / np.max(1) as f32) {
-                    return Err(TessellateError::Cancelled);
-                }
-            }
+            tick(&mut progress, EVALUATION * done as f32 / np.max(1) as f32)?;
         }
         outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)).collect()
     };
@@ -428,8 +439,11 @@ pub fn tessellate_checked<E: PatchEvaluator>(
             *f = 1;
         }
     }
+    tick(&mut progress, EVALUATION)?;
     let stats = join_shared_sides(surface, &layouts, &map, r, &boundary, &mut mesh, &mut weight);
+    tick(&mut progress, 0.5 * (1.0 + EVALUATION))?;
     finish_normals(&mut mesh, &weight);
+    tick(&mut progress, 1.0)?;
     if !folds {
         mesh.patch_folds.clear();
         return Ok((mesh, stats));

@@ -507,6 +507,8 @@ fn progress_reaches_one_and_cancels_mid_run() {
         } else {
             assert!(out.is_null());
             assert!(*seen.last().unwrap() >= 0.5 && seen.len() >= 2, "{seen:?}");
+            // The callback is not called again after it returned false.
+            assert_eq!(seen.iter().filter(|&&x| x >= 0.5).count(), 1, "{seen:?}");
         }
     }
 }
