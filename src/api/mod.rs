@@ -256,7 +256,15 @@ fn convert_valid(
     if checks {
         report.self_intersections = crate::quality::mesh_self_intersections(&out);
         tick(0.98)?;
-        report.input_self_intersections = crate::quality::cage_self_intersections(mesh);
+        // A face with holes is checked as its split pieces (the outer loop alone covers the holes).
+        let split;
+        let cage = if mesh.holes.is_empty() {
+            mesh
+        } else {
+            split = he.to_polymesh();
+            &split
+        };
+        report.input_self_intersections = crate::quality::cage_self_intersections(cage);
     }
     report.max_abs_mean_curvature_times_diagonal =
         crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
