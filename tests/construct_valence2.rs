@@ -202,6 +202,7 @@ fn collapsing_face_is_a_typed_error() {
         positions: vec![DVec3::ZERO, DVec3::new(0.5, 0.5, 0.0), DVec3::X, DVec3::new(0.5, -0.5, 0.3)],
         faces: vec![vec![0, 1, 2], vec![2, 1, 0, 3], vec![0, 2, 3]],
         creases: Default::default(),
+        holes: Vec::new(),
     };
     let m = he(&pm);
     for structure in ["dual", "topology"] {
@@ -229,6 +230,7 @@ fn existing_neighbour_edge_is_a_typed_error() {
         ],
         faces: vec![vec![a, v, b, c], vec![b, v, a, d], vec![b, a, c], vec![a, b, d]],
         creases: Default::default(),
+        holes: Vec::new(),
     };
     let m = he(&pm);
     assert!(!m.is_boundary_vertex(gbsurf::mesh::VertexId(1)) && m.valence(gbsurf::mesh::VertexId(1)) == 2);

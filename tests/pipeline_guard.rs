@@ -78,7 +78,7 @@ fn the_estimate_bounds_the_output_of_every_model_and_method() {
 }
 
 fn scaled(mesh: &PolyMesh, s: f64) -> PolyMesh {
-    PolyMesh { positions: mesh.positions.iter().map(|&p| p * s).collect(), faces: mesh.faces.clone(), creases: mesh.creases.clone() }
+    PolyMesh { positions: mesh.positions.iter().map(|&p| p * s).collect(), faces: mesh.faces.clone(), creases: mesh.creases.clone(), holes: mesh.holes.clone() }
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -164,7 +164,7 @@ fn extents_beyond_the_range_are_refused_with_it() {
         assert!(e.to_string().contains("outside the supported range 1e-140..1e140"), "{e}");
     }
     // Far translation stays a mesh error (validation comes first).
-    let far = PolyMesh { positions: cube.positions.iter().map(|&p| p + glam::DVec3::splat(1e15)).collect(), faces: cube.faces.clone(), creases: cube.creases.clone() };
+    let far = PolyMesh { positions: cube.positions.iter().map(|&p| p + glam::DVec3::splat(1e15)).collect(), faces: cube.faces.clone(), creases: cube.creases.clone(), holes: cube.holes.clone() };
     assert!(matches!(convert(&far, &ConvertOptions::triangles_r8(), None), Err(ConvertError::Mesh(gbsurf::mesh::MeshError::UnresolvableExtent { .. }))));
 }
 
@@ -177,7 +177,7 @@ proptest! {
         let cube = model("cube.obj");
         let s = 10f64.powi(exp);
         let o = ConvertOptions { resolution: 2, ..ConvertOptions::triangles_r8() };
-        let moved = PolyMesh { positions: cube.positions.iter().map(|&p| (p + glam::DVec3::new(shift, 0.0, 0.0)) * s).collect(), faces: cube.faces.clone(), creases: cube.creases.clone() };
+        let moved = PolyMesh { positions: cube.positions.iter().map(|&p| (p + glam::DVec3::new(shift, 0.0, 0.0)) * s).collect(), faces: cube.faces.clone(), creases: cube.creases.clone(), holes: cube.holes.clone() };
         let c = convert(&moved, &o, None).unwrap();
         let base = convert(&cube, &o, None).unwrap();
         prop_assert!(c.report.valid, "{:?}", c.report.validity_problems());

@@ -146,7 +146,9 @@ pub(crate) fn mesh_error_code(e: &MeshError) -> u32 {
         MeshError::NonFiniteCoordinate { .. } => GBSURF_ERR_NAN,
         MeshError::IndexOutOfRange { .. }
         | MeshError::ObjIndexOutOfRange { .. }
-        | MeshError::CreaseVertexOutOfRange { .. } => GBSURF_ERR_INDEX,
+        | MeshError::CreaseVertexOutOfRange { .. }
+        | MeshError::HoleFaceOutOfRange { .. }
+        | MeshError::Hole { defect: gbsurf::mesh::HoleDefect::IndexOutOfRange { .. }, .. } => GBSURF_ERR_INDEX,
         _ => GBSURF_ERR_INVALID_MESH,
     }
 }
@@ -292,6 +294,7 @@ pub unsafe extern "C" fn gbsurf_convert(
             "gbsurf_convert",
             (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len),
             std::ptr::null(),
+            std::ptr::null(),
             options,
             progress,
             user_data,
@@ -300,11 +303,11 @@ pub unsafe extern "C" fn gbsurf_convert(
     }
 }
 
-/// The one body of `gbsurf_convert` and `gbsurf_convert_creased` (`creases` may be NULL), behind
-/// the panic boundary named `name`.
+/// The one body of `gbsurf_convert`, `gbsurf_convert_creased` and `gbsurf_convert_holed`
+/// (`creases` and `holes` may be NULL), behind the panic boundary named `name`.
 ///
 /// # Safety
-/// As `gbsurf_convert_creased`.
+/// As `gbsurf_convert_holed`.
 #[allow(clippy::type_complexity)]
 unsafe fn convert_arrays(
     name: &str,
@@ -317,6 +320,7 @@ unsafe fn convert_arrays(
         usize,
     ),
     creases: *const GbsurfCreases,
+    holes: *const GbsurfHoles,
     options: *const GbsurfOptions,
     progress: GbsurfProgressFn,
     user_data: *mut c_void,
@@ -337,6 +341,8 @@ unsafe fn convert_arrays(
         let mut mesh = build_mesh(p, s, i)?;
         // SAFETY: NULL or a readable struct (contract of the callers).
         unsafe { read_creases(creases, &mut mesh)? };
+        // SAFETY: NULL or a readable struct (contract of the callers).
+        unsafe { read_holes(holes, &mut mesh)? };
         let r = run(options, progress, user_data, |o, cb| {
             gbsurf::api::convert(&mesh, o, cb)
         })?;
@@ -439,6 +445,104 @@ pub unsafe extern "C" fn gbsurf_convert_creased(
             "gbsurf_convert_creased",
             (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len),
             creases,
+            std::ptr::null(),
+            options,
+            progress,
+            user_data,
+            out,
+        )
+    }
+}
+
+/// Inner loops (holes) of faces for `gbsurf_convert_holed` (docs/math.md#holes): hole k belongs to
+/// face `faces[k]` (0-based) and is the loop of `sizes[k]` vertex indices taken in order from
+/// `indices`. The face's own loop is then its outer loop (counter-clockwise seen from outside);
+/// an inner loop runs the opposite way, lies strictly inside, and shares no vertex with the
+/// face's other loops. A face may have several holes. A pointer may be NULL when its count is 0;
+/// a zeroed struct means "no holes".
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GbsurfHoles {
+    /// `count` face indices, one per hole.
+    pub faces: *const u32,
+    /// `count` loop sizes (at least 3 each), one per hole.
+    pub sizes: *const u32,
+    /// Number of holes.
+    pub count: usize,
+    /// The loops' vertex indices, concatenated (`indices_len` = sum of `sizes`).
+    pub indices: *const u32,
+    /// Length of `indices`.
+    pub indices_len: usize,
+}
+
+/// Reads the hole arrays into [`PolyMesh::holes`] (counts here; face, vertex and geometry checks
+/// are the validator's, named in the message).
+///
+/// # Safety
+/// `h` must be NULL or point to a `GbsurfHoles` whose pointers hold the stated counts.
+unsafe fn read_holes(h: *const GbsurfHoles, mesh: &mut PolyMesh) -> FfiResult<()> {
+    if h.is_null() {
+        return Ok(());
+    }
+    // SAFETY: non-null and readable (contract).
+    let h = unsafe { *h };
+    // SAFETY: pointer/length pairs per the contract.
+    let (faces, sizes, indices) = unsafe {
+        (
+            slice_arg(h.faces, h.count, "holes.faces")?,
+            slice_arg(h.sizes, h.count, "holes.sizes")?,
+            slice_arg(h.indices, h.indices_len, "holes.indices")?,
+        )
+    };
+    let total: u64 = sizes.iter().map(|&s| s as u64).sum();
+    if total != indices.len() as u64 {
+        return Err(FfiError::new(
+            GBSURF_ERR_COUNT,
+            format!("hole sizes sum to {total} but holes.indices_len = {}", indices.len()),
+        ));
+    }
+    let mut at = 0usize;
+    for (&face, &size) in faces.iter().zip(sizes) {
+        let lp = &indices[at..at + size as usize];
+        mesh.holes.push(gbsurf::mesh::Hole { face, vertices: lp.to_vec() });
+        at += size as usize;
+    }
+    Ok(())
+}
+
+/// `gbsurf_convert_creased` with faces with holes (`holes`: NULL for none, see `GbsurfHoles`;
+/// `creases` NULL for none). Each face with holes is split into convex simple faces before the
+/// conversion. Additional errors: `GBSURF_ERR_COUNT` (hole sizes do not sum to
+/// `holes.indices_len`), `GBSURF_ERR_INDEX` (a hole names a face or vertex out of range),
+/// `GBSURF_ERR_INVALID_MESH` (a hole that is too small, repeats or shares a vertex, has zero area
+/// or the outer loop's orientation, is not strictly inside its face, or meets another loop: the
+/// message names the face and the hole), `GBSURF_ERR_NULL` (a NULL array with a non-zero count).
+///
+/// # Safety
+/// As for `gbsurf_convert_creased`; `holes` must be NULL or point to a `GbsurfHoles` whose arrays
+/// hold the stated counts.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_convert_holed(
+    positions: *const f64,
+    positions_len: usize,
+    face_sizes: *const u32,
+    face_count: usize,
+    face_indices: *const u32,
+    face_indices_len: usize,
+    creases: *const GbsurfCreases,
+    holes: *const GbsurfHoles,
+    options: *const GbsurfOptions,
+    progress: GbsurfProgressFn,
+    user_data: *mut c_void,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    // SAFETY: per the contract above.
+    unsafe {
+        convert_arrays(
+            "gbsurf_convert_holed",
+            (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len),
+            creases,
+            holes,
             options,
             progress,
             user_data,

@@ -194,6 +194,25 @@ typedef struct {
   size_t vertex_count;
 } GbsurfCreases;
 
+// Inner loops (holes) of faces for `gbsurf_convert_holed` (docs/math.md#holes): hole k belongs to
+// face `faces[k]` (0-based) and is the loop of `sizes[k]` vertex indices taken in order from
+// `indices`. The face's own loop is then its outer loop (counter-clockwise seen from outside);
+// an inner loop runs the opposite way, lies strictly inside, and shares no vertex with the
+// face's other loops. A face may have several holes. A pointer may be NULL when its count is 0;
+// a zeroed struct means "no holes".
+typedef struct {
+  // `count` face indices, one per hole.
+  const uint32_t *faces;
+  // `count` loop sizes (at least 3 each), one per hole.
+  const uint32_t *sizes;
+  // Number of holes.
+  size_t count;
+  // The loops' vertex indices, concatenated (`indices_len` = sum of `sizes`).
+  const uint32_t *indices;
+  // Length of `indices`.
+  size_t indices_len;
+} GbsurfHoles;
+
 // Report figures of a conversion. Set `struct_size = sizeof(GbsurfReport)` before calling
 // `gbsurf_result_report` (unknown sizes are rejected so the struct can grow).
 typedef struct {
@@ -361,6 +380,30 @@ uint32_t gbsurf_convert_creased(const double *positions,
                                 GbsurfProgressFn progress,
                                 void *user_data,
                                 GbsurfResult **out);
+
+// `gbsurf_convert_creased` with faces with holes (`holes`: NULL for none, see `GbsurfHoles`;
+// `creases` NULL for none). Each face with holes is split into convex simple faces before the
+// conversion. Additional errors: `GBSURF_ERR_COUNT` (hole sizes do not sum to
+// `holes.indices_len`), `GBSURF_ERR_INDEX` (a hole names a face or vertex out of range),
+// `GBSURF_ERR_INVALID_MESH` (a hole that is too small, repeats or shares a vertex, has zero area
+// or the outer loop's orientation, is not strictly inside its face, or meets another loop: the
+// message names the face and the hole), `GBSURF_ERR_NULL` (a NULL array with a non-zero count).
+//
+// # Safety
+// As for `gbsurf_convert_creased`; `holes` must be NULL or point to a `GbsurfHoles` whose arrays
+// hold the stated counts.
+uint32_t gbsurf_convert_holed(const double *positions,
+                              size_t positions_len,
+                              const uint32_t *face_sizes,
+                              size_t face_count,
+                              const uint32_t *face_indices,
+                              size_t face_indices_len,
+                              const GbsurfCreases *creases,
+                              const GbsurfHoles *holes,
+                              const GbsurfOptions *options,
+                              GbsurfProgressFn progress,
+                              void *user_data,
+                              GbsurfResult **out);
 
 // Reads a mesh file (OBJ, OFF, PLY, STL; strict readers, errors name the line) and converts it
 // like `gbsurf_convert`. `path` is a NUL-terminated UTF-8 path. Errors additionally include

@@ -399,6 +399,50 @@ inline result convert(const std::vector<double>& positions, const std::vector<ui
     });
 }
 
+/// Inner loops (holes) of faces (see GbsurfHoles): the face's own loop is its outer loop, each hole
+/// runs the opposite way strictly inside it. Faces with holes are split into convex simple faces.
+struct holes {
+    std::vector<uint32_t> faces;
+    std::vector<uint32_t> sizes;
+    std::vector<uint32_t> indices;
+    /// Adds the inner loop `loop` to face `face`.
+    holes& add(uint32_t face, const std::vector<uint32_t>& loop) {
+        faces.push_back(face);
+        sizes.push_back(static_cast<uint32_t>(loop.size()));
+        indices.insert(indices.end(), loop.begin(), loop.end());
+        return *this;
+    }
+};
+
+/// Converts a polygon mesh with creases and faces with holes (see gbsurf_convert_holed). The
+/// arrays must pair up (as for the creases overload; one face and one size per hole, the sizes
+/// summing to the index count): otherwise GBSURF_ERR_COUNT.
+inline result convert(const std::vector<double>& positions, const std::vector<uint32_t>& face_sizes,
+                      const std::vector<uint32_t>& face_indices, const creases& cr, const holes& h,
+                      const options& opt = options(), const progress_fn& progress = {}) {
+    if (cr.edge_vertices.size() != 2 * cr.edge_sharpness.size() || cr.vertices.size() != cr.vertex_sharpness.size()) {
+        throw error(GBSURF_ERR_COUNT, "creases: need two edge vertices per edge sharpness and one sharpness per corner");
+    }
+    if (h.faces.size() != h.sizes.size()) {
+        throw error(GBSURF_ERR_COUNT, "holes: need one size per hole face");
+    }
+    GbsurfCreases raw{cr.edge_vertices.data(), cr.edge_sharpness.data(), cr.edge_sharpness.size(),
+                      cr.vertices.data(),      cr.vertex_sharpness.data(), cr.vertex_sharpness.size()};
+    GbsurfHoles raw_h{h.faces.data(), h.sizes.data(), h.faces.size(), h.indices.data(), h.indices.size()};
+    return detail::run(progress, [&](GbsurfProgressFn cb, void* user, GbsurfResult** out) {
+        return gbsurf_convert_holed(positions.data(), positions.size(), face_sizes.data(), face_sizes.size(),
+                                    face_indices.data(), face_indices.size(), &raw, &raw_h, &opt.raw(), cb, user,
+                                    out);
+    });
+}
+
+/// Converts a polygon mesh with faces with holes and no creases (see gbsurf_convert_holed).
+inline result convert(const std::vector<double>& positions, const std::vector<uint32_t>& face_sizes,
+                      const std::vector<uint32_t>& face_indices, const holes& h, const options& opt = options(),
+                      const progress_fn& progress = {}) {
+    return convert(positions, face_sizes, face_indices, creases(), h, opt, progress);
+}
+
 /// Reads a mesh file (OBJ, OFF, PLY, STL) with the library's strict readers and converts it.
 inline result convert_file(const std::string& path, const options& opt = options(),
                            const progress_fn& progress = {}) {

@@ -176,6 +176,35 @@ int main() {
         CHECK(code_of([&] { gbsurf::convert(P, S, F, odd, opt); }) == GBSURF_ERR_COUNT);
     }
 
+    // Faces with holes: a slab over [-2, 2]^2 with the hole [-1, 1]^2 through it (top face 0 and
+    // bottom face 1 carry one inner loop each) converts to a closed G1 surface; bad holes throw.
+    {
+        std::vector<double> hp;
+        for (double r : {2.0, 1.0})
+            for (double z : {0.0, 1.0})
+                for (int k = 0; k < 4; ++k) {
+                    const double x[4] = {-r, r, r, -r}, y[4] = {-r, -r, r, r};
+                    hp.insert(hp.end(), {x[k], y[k], z});
+                }
+        const std::vector<uint32_t> hs(10, 4);
+        const std::vector<uint32_t> hf = {4, 5, 6, 7, 3, 2, 1, 0, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6,
+                                          3, 0, 4, 7, 9, 8, 12, 13, 10, 9, 13, 14, 11, 10, 14, 15, 8, 11, 15, 12};
+        gbsurf::holes h;
+        h.add(0, {15, 14, 13, 12}).add(1, {8, 9, 10, 11});
+        const auto opt = gbsurf::options().resolution(4);
+        gbsurf::result c = gbsurf::convert(hp, hs, hf, h, opt);
+        const GbsurfReport r = c.report();
+        CHECK(r.closed && r.two_manifold);
+        CHECK(r.max_g1_deg <= 1e-4);
+        gbsurf::holes wrong;
+        wrong.add(0, {12, 13, 14, 15});
+        CHECK(code_of([&] { gbsurf::convert(hp, hs, hf, wrong, opt); }) == GBSURF_ERR_INVALID_MESH);
+        CHECK(code_of([&] { gbsurf::convert(hp, hs, hf, gbsurf::holes().add(99, {8, 9, 10}), opt); }) == GBSURF_ERR_INDEX);
+        gbsurf::holes odd;
+        odd.faces = {0};
+        CHECK(code_of([&] { gbsurf::convert(hp, hs, hf, odd, opt); }) == GBSURF_ERR_COUNT);
+    }
+
     if (failures) {
         std::cerr << failures << " failures\n";
         return 1;

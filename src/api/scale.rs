@@ -77,7 +77,7 @@ impl Normalisation {
             let v = crate::mesh::halfedge::VertexId::from(v);
             he.set_position(v, self.to_unit(he.position(v)));
         }
-        let mesh = PolyMesh { positions: mesh.positions.iter().map(|&p| self.to_unit(p)).collect(), faces: mesh.faces.clone(), creases: mesh.creases.clone() };
+        let mesh = PolyMesh { positions: mesh.positions.iter().map(|&p| self.to_unit(p)).collect(), faces: mesh.faces.clone(), creases: mesh.creases.clone(), holes: mesh.holes.clone() };
         (he, mesh)
     }
 

@@ -94,6 +94,43 @@ pub enum MeshError {
     /// A vertex crease names a vertex that does not exist.
     #[error("vertex crease {entry}{}: vertex {vertex} out of range (0..{n_vertices})", fmt_line(*line))]
     CreaseVertexOutOfRange { entry: usize, vertex: usize, n_vertices: usize, line: Option<usize> },
+    /// A hole ([`super::PolyMesh::holes`] entry `hole`) of face `face` is not a proper inner loop;
+    /// `line` is the line of the hole's own `f` line in an OBJ file.
+    #[error("hole {hole} of face {face}{}: {defect}", fmt_line(*line))]
+    Hole { face: usize, hole: usize, defect: HoleDefect, line: Option<usize> },
+    /// A hole names a face that does not exist.
+    #[error("hole {hole}{}: face {face} out of range (0..{n_faces})", fmt_line(*line))]
+    HoleFaceOutOfRange { hole: usize, face: usize, n_faces: usize, line: Option<usize> },
+    /// An OBJ `#h N` line announces more inner loops than `f` lines follow it.
+    #[error("line {line}: `#h {declared}` announces {declared} hole loop(s) of face {face} but only {found} `f` line(s) follow")]
+    MissingHoleLoops { face: usize, declared: usize, found: usize, line: usize },
+}
+
+/// What is wrong with an inner loop ([`MeshError::Hole`]). Vertex indices are 0-based input
+/// indices; `other` is another hole (index into [`super::PolyMesh::holes`]).
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum HoleDefect {
+    #[error("has {len} corners (at least 3 needed)")]
+    TooSmall { len: usize },
+    #[error("corner {corner}: vertex index {index} out of range (0..{n_vertices})")]
+    IndexOutOfRange { corner: usize, index: i64, n_vertices: usize },
+    #[error("names vertex {vertex} more than once")]
+    RepeatedVertex { vertex: usize },
+    /// The vertex is also on the outer loop (`other` = None) or on hole `other` of the same face.
+    #[error("vertex {vertex} is also on {}", match other { None => "the outer loop".to_string(), Some(h) => format!("hole {h} of the same face") })]
+    SharedVertex { vertex: usize, other: Option<usize> },
+    #[error("has zero area (area {area:e})")]
+    ZeroArea { area: f64 },
+    #[error("has the orientation of the outer loop (an inner loop must run the opposite way)")]
+    SameOrientation,
+    #[error("edge from corner {corner} crosses or touches the outer loop")]
+    CrossesOuter { corner: usize },
+    #[error("vertex {vertex} is not strictly inside the outer loop")]
+    Outside { vertex: usize },
+    #[error("crosses or touches hole {other}")]
+    CrossesHole { other: usize },
+    #[error("lies inside hole {other} or contains it")]
+    Nested { other: usize },
 }
 
 fn obj_range(index: i64, n: usize) -> String {
@@ -134,6 +171,8 @@ pub struct SourceMap {
     pub edge_crease_lines: Vec<usize>,
     /// Line of each vertex crease ([`super::Creases::vertices`], OBJ `t corner`).
     pub vertex_crease_lines: Vec<usize>,
+    /// Line of each hole loop ([`super::PolyMesh::holes`], the `f` lines after OBJ `#h N`).
+    pub hole_lines: Vec<usize>,
     /// What the reader skipped (added to the mesh's warnings by
     /// [`super::HalfEdgeMesh::annotate_warnings`]).
     pub warnings: Vec<MeshWarning>,
@@ -192,6 +231,28 @@ impl MeshError {
             CreaseVertexOutOfRange { entry, vertex, n_vertices, .. } => {
                 CreaseVertexOutOfRange { entry, vertex, n_vertices, line: map.vertex_crease_lines.get(entry).copied() }
             }
+            Hole { face, hole, defect, .. } => Hole { face, hole, defect, line: map.hole_lines.get(hole).copied() },
+            HoleFaceOutOfRange { hole, face, n_faces, .. } => {
+                HoleFaceOutOfRange { hole, face, n_faces, line: map.hole_lines.get(hole).copied() }
+            }
+            e => e,
+        }
+    }
+}
+
+impl MeshError {
+    /// Renames the faces an error names through `f` (e.g. faces of a split mesh back to the input
+    /// faces they come from).
+    pub fn map_faces(self, f: impl Fn(usize) -> usize) -> Self {
+        use MeshError::*;
+        match self {
+            FaceTooSmall { face, len, line } => FaceTooSmall { face: f(face), len, line },
+            IndexOutOfRange { face, corner, index, n_vertices, line } => IndexOutOfRange { face: f(face), corner, index, n_vertices, line },
+            RepeatedIndex { face, vertex, line } => RepeatedIndex { face: f(face), vertex, line },
+            ZeroAreaFace { face, area, line } => ZeroAreaFace { face: f(face), area, line },
+            DuplicateFace { face, first, line } => DuplicateFace { face: f(face), first: f(first), line },
+            NonManifoldEdge { edge, faces, line } => NonManifoldEdge { edge, faces: faces.into_iter().map(&f).collect(), line },
+            InconsistentOrientation { edge, faces, line } => InconsistentOrientation { edge, faces: (f(faces.0), f(faces.1)), line },
             e => e,
         }
     }

@@ -294,7 +294,7 @@ pub fn convexify(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>) {
             origin.push(f as u32);
         }
     }
-    (PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone() }, origin)
+    (PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone(), holes: Vec::new() }, origin)
 }
 
 /// Area-weighted vertex normals of a triangle mesh (unit, zero for unused vertices).

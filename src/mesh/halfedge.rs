@@ -88,9 +88,19 @@ pub struct HalfEdgeMesh {
 impl HalfEdgeMesh {
     /// Validates `mesh` (see [`super::validate`]), drops isolated vertices and builds the
     /// half-edge structure. Errors name elements in the input numbering.
+    ///
+    /// Faces with holes ([`PolyMesh::holes`]) are checked and split into simple convex faces
+    /// first ([`super::holes::split_holes`]): face `f` then holds its first piece and the other
+    /// pieces follow the input faces; errors name the input face.
     pub fn from_polymesh(mesh: &PolyMesh) -> Result<Self, MeshError> {
         check_polymesh(mesh)?;
-        Self::from_checked_polymesh(mesh)
+        if mesh.holes.is_empty() {
+            return Self::from_checked_polymesh(mesh);
+        }
+        let (split, origin) = super::holes::split_holes(mesh)?;
+        check_polymesh(&split)
+            .and_then(|()| Self::from_checked_polymesh(&split))
+            .map_err(|e| e.map_faces(|f| origin.get(f).map_or(f, |&o| o as usize)))
     }
 
     /// Builds the half-edge structure of a mesh whose faces are valid by construction (indices in
@@ -502,6 +512,7 @@ impl HalfEdgeMesh {
             positions: self.positions.clone(),
             faces: self.faces().map(|f| self.face_vertices(f).map(|v| v.0).collect()).collect(),
             creases,
+            holes: Vec::new(),
         }
     }
 }

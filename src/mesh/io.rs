@@ -27,6 +27,16 @@
 //! (carried in [`SourceMap::warnings`] to the mesh's warnings), and rejects anything else with
 //! [`MeshError::Parse`] naming the line, so a garbage file is an error, never a partial mesh.
 //!
+//! Faces with holes ([`super::Hole`]) follow the convention of the public polyhedral GB modeller
+//! molihua (github.com/salvipeter/molihua: `read-obj` in `molihua.scm`, models such as
+//! `models/elretolt-otszog-lyukkal.obj`): a comment line `#h N` after a face line announces that
+//! the next N `f` lines are inner loops of that face (listed in the opposite orientation to the
+//! outer loop), not faces of their own; other statements may come in between. `#h` must be
+//! followed by exactly one count ([`MeshError::Parse`] otherwise, or when it comes before any
+//! face); fewer than N `f` lines before the next `#h` or the end of the file give
+//! [`MeshError::MissingHoleLoops`] naming the `#h` line; errors about an inner loop name its own
+//! `f` line ([`SourceMap::hole_lines`]). Any other `#` line stays a comment.
+//!
 //! Hostile input. Every reader takes bytes: a UTF-8 byte-order mark is skipped, and UTF-8 is
 //! required only where numbers are parsed (names and comments may hold any bytes). A declared
 //! count (OFF/PLY element counts, OFF face sizes, PLY list lengths, the binary STL triangle
@@ -129,7 +139,30 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     let mut tags: Vec<ObjTag> = Vec::new();
     let mut lines = lines_from(bytes, 1);
     let mut joined: Vec<u8> = Vec::new();
+    // Holes (molihua's convention, see the module doc): per inner loop the indices as written,
+    // the line, the vertices above it and the face it belongs to; the open `#h` announcement.
+    let mut raw_holes: Vec<(Vec<i64>, usize, usize, usize)> = Vec::new();
+    let mut pending_holes: Option<PendingHoles> = None;
     while let Some((ln, physical)) = lines.next() {
+        if let Some(rest) = physical.trim_ascii_start().strip_prefix(b"#h") {
+            if rest.first().is_none_or(|b| b.is_ascii_whitespace()) {
+                if let Some(p) = pending_holes.take().filter(|p| p.remaining > 0) {
+                    return Err(p.missing());
+                }
+                let toks: Vec<&str> = text_at(rest, ln)?.split_whitespace().collect();
+                let [count] = toks.as_slice() else {
+                    return Err(parse_err(Some(ln), "`#h` needs exactly one count (the number of hole loops that follow)"));
+                };
+                let declared: usize = count
+                    .parse()
+                    .map_err(|_| parse_err(Some(ln), format!("bad hole count {count:?} after `#h`")))?;
+                if declared > 0 && raw_faces.is_empty() {
+                    return Err(parse_err(Some(ln), "`#h` before any face (the holes belong to the face above)"));
+                }
+                pending_holes = Some(PendingHoles { face: raw_faces.len().saturating_sub(1), declared, remaining: declared, line: ln });
+                continue;
+            }
+        }
         let mut content = strip_comment(physical);
         if content.trim_ascii_end().ends_with(b"\\") {
             // Backslash continuation: join the physical lines (each without its comment).
@@ -184,8 +217,17 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
                     }
                     idx.push(i);
                 }
-                raw_faces.push((idx, ln, positions.len()));
-                map.face_lines.push(ln);
+                match pending_holes.as_mut() {
+                    Some(p) if p.remaining > 0 => {
+                        p.remaining -= 1;
+                        raw_holes.push((idx, ln, positions.len(), p.face));
+                        map.hole_lines.push(ln);
+                    }
+                    _ => {
+                        raw_faces.push((idx, ln, positions.len()));
+                        map.face_lines.push(ln);
+                    }
+                }
             }
             b"vn" | b"vt" | b"vp" | b"g" | b"o" | b"s" | b"usemtl" | b"mtllib" | b"l" | b"p" => {}
             b"t" => {
@@ -221,8 +263,24 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
         }
         faces.push(face);
     }
+    if let Some(p) = pending_holes.filter(|p| p.remaining > 0) {
+        return Err(p.missing());
+    }
+    let mut holes = Vec::with_capacity(raw_holes.len());
+    for (idx, ln, above, face) in raw_holes {
+        let mut lp = Vec::with_capacity(idx.len());
+        for (c, &i) in idx.iter().enumerate() {
+            let (i0, available) = if i > 0 { (i - 1, nv) } else { (above as i64 + i, above) };
+            if i0 < 0 || i0 as usize >= available || i0 >= u32::MAX as i64 {
+                return Err(MeshError::ObjIndexOutOfRange { face, corner: c, index: i, available, line: Some(ln) });
+            }
+            lp.push(i0 as u32);
+        }
+        holes.push(super::Hole { face: face as u32, vertices: lp });
+    }
     map.warnings = skipped.into_warnings();
     let mut mesh = PolyMesh::new(positions, faces);
+    mesh.holes = holes;
     for tag in tags {
         if let Some(&v) = tag.vertices.iter().find(|&&v| v >= nv as u64) {
             return Err(parse_err(Some(tag.line), format!("vertex index {v} out of range (0..{nv}; tags are 0-based)")));
@@ -237,6 +295,20 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
         }
     }
     Ok((mesh, map))
+}
+
+/// An OBJ `#h N` announcement whose `f` lines are still being read.
+struct PendingHoles {
+    face: usize,
+    declared: usize,
+    remaining: usize,
+    line: usize,
+}
+
+impl PendingHoles {
+    fn missing(&self) -> MeshError {
+        MeshError::MissingHoleLoops { face: self.face, declared: self.declared, found: self.declared - self.remaining, line: self.line }
+    }
 }
 
 /// One edge (`t crease`) or vertex (`t corner`) sharpness read from an OBJ tag line.

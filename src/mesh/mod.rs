@@ -14,14 +14,33 @@ pub struct PolyMesh {
     pub faces: Vec<Vec<u32>>,
     /// Edge and vertex sharpness (empty for a smooth mesh).
     pub creases: Creases,
+    /// Inner loops of faces with holes (empty for a mesh of simple faces; see [`Hole`]).
+    pub holes: Vec<Hole>,
 }
 
 impl PolyMesh {
     /// A mesh from positions and faces, without creases (no validation here; see the validation
     /// module).
     pub fn new(positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Self {
-        Self { positions, faces, creases: Creases::default() }
+        Self { positions, faces, creases: Creases::default(), holes: Vec::new() }
     }
+}
+
+/// An inner loop (hole) of a face (the one definition; see docs/math.md, "Faces with holes").
+///
+/// The face `faces[face]` is then the outer loop (counter-clockwise seen from outside) and
+/// `vertices` an inner loop in the opposite orientation (clockwise seen from outside), strictly
+/// inside the outer loop, sharing no vertex with it or with the face's other holes, crossing no
+/// other loop of the face. A face may have several holes (entries in order). Read from OBJ as
+/// molihua writes it (`#h N` after a face line, then N `f` lines holding the inner loops).
+/// Validated and split into simple convex faces by the one validator
+/// ([`HalfEdgeMesh::from_polymesh`], [`holes::split_holes`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Hole {
+    /// Index of the face (outer loop) into [`PolyMesh::faces`].
+    pub face: u32,
+    /// The inner loop's vertex indices.
+    pub vertices: Vec<u32>,
 }
 
 /// Sharpness of edges and vertices of a control mesh (the one definition; see docs/math.md#creases).
@@ -82,9 +101,10 @@ impl MeshSink for TriMesh {
 pub mod error;
 pub mod geometry;
 pub mod halfedge;
+pub mod holes;
 pub mod validate;
 
-pub use error::{MeshError, MeshWarning, SourceMap, COORDINATE_LIMIT};
+pub use error::{HoleDefect, MeshError, MeshWarning, SourceMap, COORDINATE_LIMIT};
 pub use halfedge::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
 pub use validate::{validate, ValidMesh};
 pub mod io;

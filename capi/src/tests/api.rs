@@ -899,3 +899,70 @@ fn quad_layout_views_match_rust() {
         gbsurf_result_free(r);
     }
 }
+
+/// A slab of thickness 1 over the square [-2, 2]² with the square hole [-1, 1]² cut through it,
+/// as flat arrays: top face 0 and bottom face 1 carry one inner loop each.
+fn ring_slab() -> (Vec<f64>, Vec<u32>, Vec<u32>, [u32; 2], [u32; 2], Vec<u32>) {
+    let mut p = Vec::new();
+    for (r, z) in [(2.0, 0.0), (2.0, 1.0), (1.0, 0.0), (1.0, 1.0)] {
+        for (x, y) in [(-r, -r), (r, -r), (r, r), (-r, r)] {
+            p.extend([x, y, z]);
+        }
+    }
+    let f: Vec<u32> = vec![
+        4, 5, 6, 7, 3, 2, 1, 0, // top, bottom (outer loops)
+        0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7, // outer walls
+        9, 8, 12, 13, 10, 9, 13, 14, 11, 10, 14, 15, 8, 11, 15, 12, // hole walls
+    ];
+    (p, vec![4; 10], f, [0, 1], [4, 4], vec![15, 14, 13, 12, 8, 9, 10, 11])
+}
+
+unsafe fn convert_holed(h: *const GbsurfHoles, out: *mut *mut GbsurfResult) -> u32 {
+    let (p, s, f, ..) = ring_slab();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.resolution = 4;
+    // SAFETY: valid arrays and out pointer (caller).
+    unsafe {
+        gbsurf_convert_holed(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), h, &o, None, null_mut(), out)
+    }
+}
+
+#[test]
+fn holed_slab_converts_and_bad_holes_get_their_codes() {
+    let (_, _, _, faces, sizes, idx) = ring_slab();
+    let mut h = GbsurfHoles { faces: faces.as_ptr(), sizes: sizes.as_ptr(), count: 2, indices: idx.as_ptr(), indices_len: 8 };
+    let mut out = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_OK, "{}", last());
+    let pos = out_positions(out);
+    assert!(!pos.is_empty());
+    // the hole stays open: no output point near the slab's centre line
+    assert!(pos.iter().all(|q| q.truncate().length() > 0.9), "a point inside the hole");
+    // SAFETY: live handle.
+    unsafe { gbsurf_result_free(out) };
+    // counts, face index, orientation, NULL with a count
+    h.indices_len = 7;
+    // SAFETY: as above (7 readable indices).
+    assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_ERR_COUNT, "{}", last());
+    h.indices_len = 8;
+    let bad_face = [0u32, 99];
+    h.faces = bad_face.as_ptr();
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_ERR_INDEX, "{}", last());
+    assert!(last().contains("face 99"), "{}", last());
+    h.faces = faces.as_ptr();
+    let same_way = [12u32, 13, 14, 15, 8, 9, 10, 11];
+    h.indices = same_way.as_ptr();
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_ERR_INVALID_MESH);
+    assert!(last().contains("hole 0 of face 0"), "{}", last());
+    h.indices = null();
+    // SAFETY: as above.
+    assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_ERR_NULL);
+    assert!(last().contains("holes.indices"), "{}", last());
+}

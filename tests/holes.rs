@@ -1,0 +1,275 @@
+//! Faces with holes (docs/math.md, "Faces with holes"): the OBJ `#h N` reader (molihua's
+//! convention), the typed errors naming the OBJ line, the deterministic split into convex simple
+//! faces, and G1 surfaces of holed slabs with both GB structures.
+
+use gbsurf::api::{convert, ConvertOptions, Method};
+use gbsurf::mesh::geometry::{is_convex_polygon, polygon_area};
+use gbsurf::mesh::holes::split_holes;
+use gbsurf::mesh::io::parse_obj;
+use gbsurf::mesh::{Hole, HoleDefect, HalfEdgeMesh, MeshError, PolyMesh};
+use glam::{DVec2, DVec3};
+use proptest::prelude::*;
+
+/// A slab of thickness 1 over the counter-clockwise polygon `outer` with counter-clockwise
+/// `holes` cut through it: top face (index 0) and bottom face (index 1) carry the holes, then the
+/// outer walls and the hole walls.
+fn slab(outer: &[DVec2], holes: &[Vec<DVec2>]) -> PolyMesh {
+    let mut positions = Vec::new();
+    // per loop: (bottom indices, top indices)
+    let mut loops: Vec<(Vec<u32>, Vec<u32>)> = Vec::new();
+    for lp in std::iter::once(outer).chain(holes.iter().map(|h| &h[..])) {
+        let b: Vec<u32> = lp.iter().map(|p| { positions.push(DVec3::new(p.x, p.y, 0.0)); positions.len() as u32 - 1 }).collect();
+        let t: Vec<u32> = lp.iter().map(|p| { positions.push(DVec3::new(p.x, p.y, 1.0)); positions.len() as u32 - 1 }).collect();
+        loops.push((b, t));
+    }
+    let (ob, ot) = &loops[0];
+    let mut faces = vec![ot.clone(), ob.iter().rev().copied().collect()];
+    let mut hole_list = Vec::new();
+    for (_, ht) in &loops[1..] {
+        hole_list.push(Hole { face: 0, vertices: ht.iter().rev().copied().collect() });
+    }
+    for (hb, _) in &loops[1..] {
+        hole_list.push(Hole { face: 1, vertices: hb.clone() });
+    }
+    let n = ob.len();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        faces.push(vec![ob[i], ob[j], ot[j], ot[i]]);
+    }
+    for (hb, ht) in &loops[1..] {
+        let n = hb.len();
+        for i in 0..n {
+            let j = (i + 1) % n;
+            faces.push(vec![hb[j], hb[i], ht[i], ht[j]]);
+        }
+    }
+    PolyMesh { holes: hole_list, ..PolyMesh::new(positions, faces) }
+}
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<DVec2> {
+    vec![DVec2::new(x0, y0), DVec2::new(x1, y0), DVec2::new(x1, y1), DVec2::new(x0, y1)]
+}
+
+/// The mesh as OBJ text in molihua's convention (`#h N` after the face, then the inner loops).
+fn to_obj(m: &PolyMesh) -> String {
+    let mut s = String::new();
+    for p in &m.positions {
+        s += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    let line = |l: &[u32]| format!("f {}\n", l.iter().map(|i| (i + 1).to_string()).collect::<Vec<_>>().join(" "));
+    for (f, face) in m.faces.iter().enumerate() {
+        s += &line(face);
+        let hs: Vec<&Hole> = m.holes.iter().filter(|h| h.face as usize == f).collect();
+        if !hs.is_empty() {
+            s += &format!("#h {}\n", hs.len());
+            for h in hs {
+                s += &line(&h.vertices);
+            }
+        }
+    }
+    s
+}
+
+fn one_hole() -> PolyMesh {
+    slab(&rect(-2.0, -2.0, 2.0, 2.0), &[rect(-1.0, -1.0, 1.0, 1.0)])
+}
+
+fn two_holes() -> PolyMesh {
+    slab(&rect(-3.0, -1.5, 3.0, 1.5), &[rect(-2.0, -0.5, -0.5, 0.5), rect(0.5, -0.5, 2.0, 0.5)])
+}
+
+/// An L-shaped slab with a hole next to its reflex corner (2, 2).
+fn concave_outer() -> PolyMesh {
+    let l = [(0.0, 0.0), (4.0, 0.0), (4.0, 2.0), (2.0, 2.0), (2.0, 4.0), (0.0, 4.0)].map(|(x, y)| DVec2::new(x, y));
+    slab(&l, &[rect(1.0, 1.0, 1.6, 1.6)])
+}
+
+fn check_converts(name: &str, m: &PolyMesh) {
+    for method in [Method::Dual, Method::Topology] {
+        let c = convert(m, &ConvertOptions { method, ..Default::default() }, None)
+            .unwrap_or_else(|e| panic!("{name} {method:?}: {e}"));
+        let r = &c.report;
+        let chk = gbsurf::quality::check_mesh(&c.mesh.positions, &c.mesh.triangles);
+        assert_eq!(chk.boundary_edges, 0, "{name} {method:?}");
+        assert_eq!(chk.non_manifold_edges + chk.non_manifold_vertices + chk.inconsistent_edges, 0, "{name} {method:?}");
+        assert!(r.closed && r.two_manifold, "{name} {method:?}: {r:?}");
+        assert!(r.max_g1_deg <= 1e-4, "{name} {method:?}: G1 {}", r.max_g1_deg);
+        assert_eq!(r.input_self_intersections, 0, "{name} {method:?}");
+        assert!(r.valid, "{name} {method:?}: folds {} flipped {} self-int {}", r.folds, r.flipped_triangles, r.self_intersections);
+        // genus = number of through-holes
+        let holes = m.holes.len() as i64 / 2;
+        assert_eq!(chk.euler_characteristic, 2 - 2 * holes, "{name} {method:?}");
+    }
+}
+
+#[test]
+fn slab_with_one_hole_is_g1_and_valid() {
+    check_converts("one hole", &one_hole());
+}
+
+#[test]
+fn slab_with_two_holes_is_g1_and_valid() {
+    check_converts("two holes", &two_holes());
+}
+
+#[test]
+fn hole_next_to_a_concave_outer_loop_is_g1_and_valid() {
+    check_converts("concave outer", &concave_outer());
+}
+
+#[test]
+fn subdivision_methods_accept_holes() {
+    for method in [Method::DooSabin, Method::CatmullClark] {
+        let c = convert(&two_holes(), &ConvertOptions { method, ..Default::default() }, None).unwrap();
+        assert!(c.report.closed && c.report.two_manifold, "{method:?}");
+    }
+}
+
+/// The square ring splits into four trapezoids (each diagonal of a trapezoid is removed, the
+/// corner diagonals keep the hole corners convex).
+#[test]
+fn square_ring_splits_into_four_trapezoids() {
+    let m = one_hole();
+    let (split, origin) = split_holes(&m).unwrap();
+    let top: Vec<&Vec<u32>> = split.faces.iter().zip(&origin).filter(|(_, &o)| o == 0).map(|(f, _)| f).collect();
+    assert_eq!(top.len(), 4);
+    assert!(top.iter().all(|f| f.len() == 4));
+    assert_eq!(split.faces.len(), m.faces.len() + 6);
+    assert!(split.holes.is_empty());
+    // deterministic: the same mesh splits the same way
+    assert_eq!(split_holes(&m).unwrap(), (split, origin));
+}
+
+#[test]
+fn obj_reader_follows_molihua_convention() {
+    let m = two_holes();
+    let text = to_obj(&m);
+    let (read, map) = parse_obj(&text).unwrap();
+    assert_eq!(read, m);
+    assert_eq!(read.faces.len(), map.face_lines.len());
+    assert_eq!(map.hole_lines.len(), 4);
+    // the first hole line follows the top face line and `#h 2`
+    let top_line = map.face_lines[0];
+    assert_eq!(map.hole_lines[0], top_line + 2);
+    assert_eq!(map.face_lines[1], top_line + 4);
+}
+
+#[test]
+fn obj_missing_hole_loop_names_the_hash_h_line() {
+    let text = "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 1 1 0\nv 2 1 0\nv 2 2 0\nf 1 2 3 4\n#h 2\nf 7 6 5\n";
+    match parse_obj(text) {
+        Err(MeshError::MissingHoleLoops { face: 0, declared: 2, found: 1, line: 9 }) => {}
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(parse_obj("v 0 0 0\n#h 1\nf 1 1 1\n"), Err(MeshError::Parse { line: Some(2), .. })));
+    assert!(matches!(parse_obj("v 0 0 0\nf 1 1 1\n#h x\n"), Err(MeshError::Parse { line: Some(3), .. })));
+    // an ordinary comment starting with "#hello" is a comment
+    assert!(parse_obj("#hello\nv 0 0 0\n").is_ok());
+    // index out of range in a hole line names that line
+    assert!(matches!(
+        parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n#h 1\nf 3 2 9\n"),
+        Err(MeshError::ObjIndexOutOfRange { face: 0, line: Some(6), .. })
+    ));
+}
+
+/// Validation errors for a bad hole, as the CLI reports them: face, hole, defect, OBJ line.
+fn hole_error(text: &str) -> MeshError {
+    let (m, map) = parse_obj(text).unwrap();
+    HalfEdgeMesh::from_polymesh(&m).map(|_| ()).unwrap_err().with_source(&map)
+}
+
+const SQUARE: &str = "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\n";
+
+#[test]
+fn bad_holes_are_typed_errors_naming_the_line() {
+    // hole outside the outer loop
+    let e = hole_error(&format!("{SQUARE}v 5 5 0\nv 6 5 0\nv 6 6 0\nf 1 2 3 4\n#h 1\nf 7 6 5\n"));
+    assert!(matches!(e, MeshError::Hole { face: 0, hole: 0, defect: HoleDefect::CrossesOuter { .. } | HoleDefect::Outside { .. }, line: Some(10) }), "{e}");
+    // same orientation as the outer loop
+    let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 5 6 7\n"));
+    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::SameOrientation, line: Some(10), .. }), "{e}");
+    // crossing the outer loop
+    let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 5 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 7 6 5\n"));
+    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::CrossesOuter { .. }, line: Some(10), .. }), "{e}");
+    // sharing a vertex with the outer loop
+    let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 6 5 1\n"));
+    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::SharedVertex { vertex: 0, other: None }, line: Some(9), .. }), "{e}");
+    // two holes crossing each other
+    let e = hole_error(&format!(
+        "{SQUARE}v 1 1 0\nv 2 1 0\nv 2 2 0\nv 1.5 1.2 0\nv 3 1.2 0\nv 3 3 0\nf 1 2 3 4\n#h 2\nf 7 6 5\nf 10 9 8\n"
+    ));
+    assert!(matches!(e, MeshError::Hole { hole: 1, defect: HoleDefect::CrossesHole { other: 0 }, line: Some(14), .. }), "{e}");
+    // a hole inside another
+    let e = hole_error(&format!(
+        "{SQUARE}v 1 1 0\nv 3 1 0\nv 3 3 0\nv 1.8 1.5 0\nv 2.2 1.5 0\nv 2.2 1.9 0\nf 1 2 3 4\n#h 2\nf 7 6 5\nf 10 9 8\n"
+    ));
+    assert!(matches!(e, MeshError::Hole { hole: 1, defect: HoleDefect::Nested { other: 0 }, .. }), "{e}");
+    // too small
+    let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 6 5\n"));
+    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::TooSmall { len: 2 }, .. }), "{e}");
+    // hole on a face that does not exist (API input)
+    let mut m = one_hole();
+    m.holes[0].face = 99;
+    assert!(matches!(HalfEdgeMesh::from_polymesh(&m), Err(MeshError::HoleFaceOutOfRange { hole: 0, face: 99, .. })));
+    // the message names the line
+    let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 5 6 7\n"));
+    assert!(e.to_string().contains("line 10"), "{e}");
+}
+
+/// A star-shaped polygon around `c` with `n` corners at the given radii (counter-clockwise).
+fn star(c: DVec2, radii: &[f64], phase: f64) -> Vec<DVec2> {
+    let n = radii.len();
+    radii
+        .iter()
+        .enumerate()
+        .map(|(i, r)| c + *r * DVec2::from_angle(phase + std::f64::consts::TAU * i as f64 / n as f64))
+        .collect()
+}
+
+fn area2(p: &[DVec2]) -> f64 {
+    let n = p.len();
+    (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum::<f64>().abs() * 0.5
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// The split pieces are convex and their areas add up to the outer area minus the holes'.
+    #[test]
+    fn split_area_is_outer_minus_holes(
+        outer_r in prop::collection::vec(2.0f64..3.0, 5..12),
+        hole_a in prop::collection::vec(0.3f64..0.6, 3..7),
+        hole_b in prop::collection::vec(0.3f64..0.6, 3..7),
+        two in any::<bool>(),
+        phase in 0.0f64..1.0,
+        tilt in -0.5f64..0.5,
+    ) {
+        let outer = star(DVec2::ZERO, &outer_r, phase);
+        let mut holes = vec![star(DVec2::new(-0.8, 0.0), &hole_a, phase * 2.0)];
+        if two {
+            holes.push(star(DVec2::new(0.8, 0.1), &hole_b, -phase));
+        }
+        // one planar face, tilted out of the xy plane
+        let lift = |p: DVec2| DVec3::new(p.x, p.y * tilt.cos(), p.y * tilt.sin());
+        let mut positions: Vec<DVec3> = outer.iter().map(|&p| lift(p)).collect();
+        let face: Vec<u32> = (0..outer.len() as u32).collect();
+        let mut hole_list = Vec::new();
+        for h in &holes {
+            let s = positions.len() as u32;
+            positions.extend(h.iter().map(|&p| lift(p)));
+            hole_list.push(Hole { face: 0, vertices: (s..positions.len() as u32).rev().collect() });
+        }
+        let m = PolyMesh { holes: hole_list, ..PolyMesh::new(positions, vec![face]) };
+        let (split, origin) = split_holes(&m).unwrap();
+        prop_assert!(origin.iter().all(|&o| o == 0));
+        let expect = area2(&outer) - holes.iter().map(|h| area2(h)).sum::<f64>();
+        let mut total = 0.0;
+        for f in &split.faces {
+            let pts: Vec<DVec3> = f.iter().map(|&i| split.positions[i as usize]).collect();
+            prop_assert!(is_convex_polygon(&pts));
+            total += polygon_area(&pts);
+        }
+        prop_assert!((total - expect).abs() <= 1e-9 * expect, "{total} vs {expect}");
+        // every vertex of every loop is used, and every edge is in at most two pieces
+        prop_assert!(HalfEdgeMesh::from_polymesh(&split).is_ok());
+    }
+}
