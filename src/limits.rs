@@ -75,3 +75,10 @@ pub const MIN_RELATIVE_EXTENT: f64 = 1e-9;
 pub const EXTENT_RANGE: (f64, f64) = (1e-140, 1e140);
 
 const _: () = assert!(MAX_GBP_DEGREE <= MAX_DEGREE);
+
+/// Largest PN grid size N of `gbsurf offset` (N × N grid points per quad piece of a patch;
+/// (N − 1)² Coons patches per piece, each exported as a rational patch of degree (11, 11)).
+pub const MAX_OFFSET_GRID: usize = 64;
+
+/// Default PN grid size N of `gbsurf offset`: 4 × 4 points (9 Coons patches) per quad piece.
+pub const DEFAULT_OFFSET_GRID: usize = 4;

@@ -376,3 +376,123 @@ pub unsafe extern "C" fn gbsurf_pn_rational(
         copy_out(&flat, homogeneous, capacity, written)
     })
 }
+
+/// The numbers of `gbsurf::api::OffsetReport` (docs/math/pn.md §11), filled by `gbsurf_offset`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GbsurfOffsetReport {
+    /// Quad pieces (Σ n over the patches) and those whose PN fit was singular (their offset is
+    /// the GB surface's own x + d·n).
+    pub pieces: u64,
+    pub singular_pieces: u64,
+    /// Largest distance between the PN pieces and the GB surface at dense samples.
+    pub max_fit_error: f64,
+    /// Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces.
+    pub max_normal_residual: f64,
+    /// Largest deviation of the offset from distance |d| (and of its tangents from ⟂ n) away from
+    /// cusps.
+    pub max_offset_error: f64,
+    /// Largest gap between two pieces' evaluations of a shared sample, and the same between PN
+    /// pieces sharing their data and frame.
+    pub max_gap: f64,
+    pub max_gap_pn: f64,
+    /// Shared grid points whose derivative rays could not be matched (valence ≠ 4).
+    pub unmatched_points: u64,
+    /// Samples where |d| reaches the local radius of curvature on the concave side.
+    pub cusps: u64,
+    pub closed: u32,
+    pub two_manifold: u32,
+    pub seconds: f64,
+}
+
+/// The offset at signed distance `distance` of the GB surface of a polygon mesh (arrays as in
+/// `gbsurf_convert`), through PN pieces on a `grid` × `grid` grid each (2..=64; 0 for the
+/// default 4); `shell` ≠ 0 makes a closed solid. The mesh goes to `out` (a result handle: read it
+/// with the `gbsurf_mesh_*` accessors, free it with `gbsurf_result_free`; it has no patches),
+/// the figures to `report` (may be NULL).
+///
+/// Errors: as `gbsurf_convert`, plus `GBSURF_ERR_NAN` (non-finite distance) and
+/// `GBSURF_ERR_INVALID_OPTION` (distance 0, grid out of range, a subdivision method).
+///
+/// # Safety
+/// As `gbsurf_convert`; `report` is NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn gbsurf_offset(
+    positions: *const f64,
+    positions_len: usize,
+    face_sizes: *const u32,
+    face_count: usize,
+    face_indices: *const u32,
+    face_indices_len: usize,
+    options: *const GbsurfOptions,
+    distance: f64,
+    grid: usize,
+    shell: u32,
+    report: *mut GbsurfOffsetReport,
+    out: *mut *mut GbsurfResult,
+) -> u32 {
+    use gbsurf::api::{OffsetError, OffsetOptions};
+    boundary("gbsurf_offset", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: pointer/length pairs per the contract.
+        let (p, s, i) = unsafe {
+            (
+                slice_arg(positions, positions_len, "positions")?,
+                slice_arg(face_sizes, face_count, "face_sizes")?,
+                slice_arg(face_indices, face_indices_len, "face_indices")?,
+            )
+        };
+        let mesh = crate::result::build_mesh(p, s, i)?;
+        let opts = crate::options::read_options(options)?;
+        let grid = if grid == 0 { gbsurf::limits::DEFAULT_OFFSET_GRID } else { grid };
+        let off = OffsetOptions { distance, grid, shell: shell != 0 };
+        let o = gbsurf::api::offset(&mesh, &opts, &off).map_err(|e| match e {
+            OffsetError::Convert(c) => crate::options::convert_error(c),
+            OffsetError::BadDistance { .. } => FfiError::new(GBSURF_ERR_NAN, e.to_string()),
+            OffsetError::ZeroDistance | OffsetError::BadGrid { .. } => FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()),
+            OffsetError::Export { .. } => FfiError::new(GBSURF_ERR_DEGENERATE, e.to_string()),
+        })?;
+        let r = &o.report;
+        if !report.is_null() {
+            let numbers = GbsurfOffsetReport {
+                pieces: r.pieces as u64,
+                singular_pieces: r.singular_pieces as u64,
+                max_fit_error: r.max_fit_error,
+                max_normal_residual: r.max_normal_residual,
+                max_offset_error: r.max_offset_error,
+                max_gap: r.max_gap,
+                max_gap_pn: r.max_gap_pn,
+                unmatched_points: r.unmatched_points as u64,
+                cusps: r.cusps as u64,
+                closed: r.closed as u32,
+                two_manifold: r.two_manifold as u32,
+                seconds: r.seconds,
+            };
+            crate::result::put(report, "report", numbers)?;
+        }
+        let normals = gbsurf::mesh::geometry::vertex_normals(&o.positions, &o.triangles);
+        let quality = gbsurf::quality::Report {
+            method: opts.method.name().to_string(),
+            input_vertices: mesh.positions.len(),
+            input_faces: mesh.faces.len(),
+            vertices: o.positions.len(),
+            triangles: o.triangles.len(),
+            closed: r.closed,
+            two_manifold: r.two_manifold,
+            seconds: r.seconds,
+            ..Default::default()
+        };
+        let conv = gbsurf::api::Conversion {
+            mesh: gbsurf::tessellate::SurfaceMesh { positions: o.positions, normals, triangles: o.triangles, ..Default::default() },
+            surface: None,
+            report: quality,
+            warnings: Vec::new(),
+        };
+        let method = GbsurfOptions::from(&opts).method;
+        crate::result::write_out(out, Box::new(crate::result::pack(conv, method)));
+        Ok(())
+    })
+}

@@ -155,7 +155,7 @@ pub(crate) fn mesh_error_code(e: &MeshError) -> u32 {
 
 /// Checks the flat input arrays and builds the polygon mesh. Counts, NaN and indices are checked
 /// here so each gets its own code and a message naming the element.
-fn build_mesh(positions: &[f64], face_sizes: &[u32], face_indices: &[u32]) -> FfiResult<PolyMesh> {
+pub(crate) fn build_mesh(positions: &[f64], face_sizes: &[u32], face_indices: &[u32]) -> FfiResult<PolyMesh> {
     if positions.len() % 3 != 0 {
         return Err(FfiError::new(
             GBSURF_ERR_COUNT,
@@ -230,7 +230,7 @@ fn run(
     Ok(Box::new(pack(conv, method)))
 }
 
-fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
+pub(crate) fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
     GbsurfResult {
         report: GbsurfReport::from_report(&conv.report, method),
         sides_histogram: conv
@@ -253,7 +253,7 @@ fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
     }
 }
 
-fn write_out(out: *mut *mut GbsurfResult, r: Box<GbsurfResult>) {
+pub(crate) fn write_out(out: *mut *mut GbsurfResult, r: Box<GbsurfResult>) {
     // SAFETY: `out` was checked non-null by the caller of this helper and points to a writable
     // pointer (header contract).
     unsafe { *out = Box::into_raw(r) };

@@ -101,6 +101,9 @@ enum Command {
     /// A PN surface interpolating a grid of points with normals (JSON in), written as the exact
     /// rational form of every patch (JSON out).
     PnGrid(offsets::PnGridArgs),
+    /// The exact offset of the GB surface of a control mesh, through PN patches: a triangle mesh
+    /// of the offset (or with --shell a closed solid), a report and the rational patches.
+    Offset(offsets::OffsetArgs),
 }
 
 /// The values of an option enum of the core as possible values, parsed by its `FromStr`.
@@ -553,6 +556,7 @@ fn main() -> ExitCode {
         Command::Ph5(args) => offsets::ph5(args).map_err(|e| e.to_string()),
         Command::PhSpline(args) => offsets::ph_spline(args).map_err(|e| e.to_string()),
         Command::PnGrid(args) => offsets::pn_grid(args).map_err(|e| e.to_string()),
+        Command::Offset(args) => offsets::offset(args).map_err(|e| e.to_string()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

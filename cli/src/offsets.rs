@@ -329,3 +329,77 @@ pub fn pn_grid(args: &PnGridArgs) -> Result<()> {
     });
     write_json(&args.output, &v)
 }
+
+/// `gbsurf offset IN -o OUT --distance D [convert options] [--grid N] [--report FILE.json]
+/// [--shell] [--export FILE.json]`: the offset of the GB surface of a control mesh through PN
+/// pieces (`gbsurf::api::offset`, docs/math/pn.md §11).
+#[derive(clap::Args)]
+pub struct OffsetArgs {
+    /// Input control mesh (.obj, .off, .ply, .stl).
+    input: PathBuf,
+    /// Output triangle mesh of the offset surface (.obj, .ply, .stl).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Signed offset distance along the outward normal (non-zero, finite).
+    #[arg(long, allow_hyphen_values = true)]
+    distance: f64,
+    #[command(flatten)]
+    options: crate::OptionFlags,
+    /// PN grid size N per quad piece (N × N points, 2..=64).
+    #[arg(long, default_value_t = gbsurf::limits::DEFAULT_OFFSET_GRID)]
+    grid: usize,
+    /// Write the report (JSON).
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Output a closed solid: offset, reversed surface and side walls along open boundaries.
+    #[arg(long)]
+    shell: bool,
+    /// Write the exact rational patches of the offset (degree (11, 11), homogeneous) as JSON.
+    #[arg(long)]
+    export: Option<PathBuf>,
+}
+
+/// Why `gbsurf offset` failed.
+#[derive(Debug, Error)]
+pub enum OffsetRunError {
+    #[error(transparent)]
+    Offset(#[from] gbsurf::api::OffsetError),
+    #[error(transparent)]
+    Convert(#[from] gbsurf::api::ConvertError),
+    #[error(transparent)]
+    Export(#[from] ExportError),
+    #[error(transparent)]
+    Paths(#[from] OutputPathError),
+}
+
+pub fn offset(args: &OffsetArgs) -> std::result::Result<(), OffsetRunError> {
+    use gbsurf::api::{self, OffsetOptions};
+    let options = args.options.apply(api::ConvertOptions::default());
+    options.validate().map_err(api::ConvertError::from)?;
+    let format = export::MeshFormat::of(&args.output)?;
+    let outputs: Vec<FlagPath<'_>> = std::iter::once(FlagPath::new("-o", &args.output))
+        .chain(args.report.as_deref().map(|p| FlagPath::new("--report", p)))
+        .chain(args.export.as_deref().map(|p| FlagPath::new("--export", p)))
+        .collect();
+    export::check_output_paths(&[FlagPath::new("input", &args.input)], &outputs)?;
+    let off = OffsetOptions { distance: args.distance, grid: args.grid, shell: args.shell };
+    let mesh = api::read_mesh(&args.input)?;
+    let result = api::offset(&mesh, &options, &off)?;
+    let tri = gbsurf::mesh::TriMesh { positions: result.positions.clone(), normals: Vec::new(), triangles: result.triangles.clone() };
+    let mut files = export::AtomicFiles::new();
+    files.add_with(&args.output, |w| export::WriteMesh::write_format(&tri, format, w))?;
+    if let Some(path) = &args.report {
+        files.add(path, serde_json::to_string_pretty(&result.report).unwrap_or_default().as_bytes())?;
+    }
+    if let Some(path) = &args.export {
+        let patches: Vec<Value> = result
+            .rational_patches()?
+            .iter()
+            .map(|(patch, piece, i, j, r)| with(rational_json(r), "piece", json!({ "patch": patch, "piece": piece, "cell": [i, j] })))
+            .collect();
+        let v = json!({ "distance": args.distance, "grid": args.grid, "patches": patches });
+        files.add(path, serde_json::to_string_pretty(&v).unwrap_or_default().as_bytes())?;
+    }
+    files.commit()?;
+    Ok(())
+}

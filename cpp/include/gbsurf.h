@@ -291,6 +291,32 @@ typedef struct {
   int32_t eta2;
 } GbsurfPh5Measures;
 
+// The numbers of `gbsurf::api::OffsetReport` (docs/math/pn.md §11), filled by `gbsurf_offset`.
+typedef struct {
+  // Quad pieces (Σ n over the patches) and those whose PN fit was singular (their offset is
+  // the GB surface's own x + d·n).
+  uint64_t pieces;
+  uint64_t singular_pieces;
+  // Largest distance between the PN pieces and the GB surface at dense samples.
+  double max_fit_error;
+  // Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces.
+  double max_normal_residual;
+  // Largest deviation of the offset from distance |d| (and of its tangents from ⟂ n) away from
+  // cusps.
+  double max_offset_error;
+  // Largest gap between two pieces' evaluations of a shared sample, and the same between PN
+  // pieces sharing their data and frame.
+  double max_gap;
+  double max_gap_pn;
+  // Shared grid points whose derivative rays could not be matched (valence ≠ 4).
+  uint64_t unmatched_points;
+  // Samples where |d| reaches the local radius of curvature on the concave side.
+  uint64_t cusps;
+  uint32_t closed;
+  uint32_t two_manifold;
+  double seconds;
+} GbsurfOffsetReport;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -980,6 +1006,30 @@ uint32_t gbsurf_pn_rational(const GbsurfPn *pn,
                             double *homogeneous,
                             size_t capacity,
                             size_t *written);
+
+// The offset at signed distance `distance` of the GB surface of a polygon mesh (arrays as in
+// `gbsurf_convert`), through PN pieces on a `grid` × `grid` grid each (2..=64; 0 for the
+// default 4); `shell` ≠ 0 makes a closed solid. The mesh goes to `out` (a result handle: read it
+// with the `gbsurf_mesh_*` accessors, free it with `gbsurf_result_free`; it has no patches),
+// the figures to `report` (may be NULL).
+//
+// Errors: as `gbsurf_convert`, plus `GBSURF_ERR_NAN` (non-finite distance) and
+// `GBSURF_ERR_INVALID_OPTION` (distance 0, grid out of range, a subdivision method).
+//
+// # Safety
+// As `gbsurf_convert`; `report` is NULL or writable.
+uint32_t gbsurf_offset(const double *positions,
+                       size_t positions_len,
+                       const uint32_t *face_sizes,
+                       size_t face_count,
+                       const uint32_t *face_indices,
+                       size_t face_indices_len,
+                       const GbsurfOptions *options,
+                       double distance,
+                       size_t grid,
+                       uint32_t shell,
+                       GbsurfOffsetReport *report,
+                       GbsurfResult **out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -355,6 +355,19 @@ inline result convert(const std::vector<double>& positions, const std::vector<ui
                    face_indices.data(), face_indices.size(), opt, progress);
 }
 
+/// The offset at signed distance `distance` of the GB surface of a polygon mesh, through PN
+/// pieces of `grid` x `grid` points (0: the default 4); `shell` makes a closed solid (see
+/// gbsurf_offset). The figures go to `*report` when given.
+inline result offset(const std::vector<double>& positions, const std::vector<uint32_t>& face_sizes,
+                     const std::vector<uint32_t>& face_indices, double distance, const options& opt = options(),
+                     std::size_t grid = 0, bool shell = false, GbsurfOffsetReport* report = nullptr) {
+    return detail::run({}, [&](GbsurfProgressFn, void*, GbsurfResult** out) {
+        return gbsurf_offset(positions.data(), positions.size(), face_sizes.data(), face_sizes.size(),
+                             face_indices.data(), face_indices.size(), &opt.raw(), distance, grid,
+                             shell ? 1u : 0u, report, out);
+    });
+}
+
 /// Edge and vertex sharpness in [0, 1] (see GbsurfCreases): 0 smooth, 1 infinitely sharp.
 /// Only the topology method builds creases.
 struct creases {

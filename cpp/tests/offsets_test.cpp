@@ -105,6 +105,37 @@ int main() {
     e = error_of([&] { s.point(3, 0, 0.5, 0.5); });
     CHECK(e.first == GBSURF_ERR_INDEX && contains(e.second, "patch [3][0] does not exist"));
 
+    // gbsurf::offset: a closed shell of a torus-like ring of 4 x 4 quads (every patch 4-sided,
+    // every vertex of valence 4): PN pieces sharing data meet without gaps.
+    {
+        std::vector<double> pos;
+        std::vector<uint32_t> sizes, idx;
+        const int nu = 8, nv = 6;
+        for (int i = 0; i < nu; ++i) {
+            for (int j = 0; j < nv; ++j) {
+                double a = 2 * M_PI * i / nu, b = 2 * M_PI * j / nv, r = 2.0 + 0.7 * std::cos(b);
+                pos.insert(pos.end(), {r * std::cos(a), r * std::sin(a), 0.7 * std::sin(b)});
+            }
+        }
+        for (int i = 0; i < nu; ++i) {
+            for (int j = 0; j < nv; ++j) {
+                auto at = [&](int a, int b) { return uint32_t(((a % nu) * nv) + (b % nv)); };
+                sizes.push_back(4);
+                idx.insert(idx.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+        }
+        GbsurfOffsetReport rep{};
+        gbsurf::result o = gbsurf::offset(pos, sizes, idx, 0.1, gbsurf::options().resolution(4), 0, true, &rep);
+        CHECK(o.vertex_count() > 0 && o.triangle_count() > 0);
+        CHECK(rep.closed == 1 && rep.two_manifold == 1);
+        CHECK(rep.pieces == uint64_t(nu * nv * 4));
+        CHECK(rep.max_gap_pn <= 1e-12);
+        e = error_of([&] { gbsurf::offset(pos, sizes, idx, 0.0); });
+        CHECK(e.first == GBSURF_ERR_INVALID_OPTION && contains(e.second, "--distance 0"));
+        e = error_of([&] { gbsurf::offset(pos, sizes, idx, 0.1, gbsurf::options(), 1); });
+        CHECK(e.first == GBSURF_ERR_INVALID_OPTION && contains(e.second, "--grid 1"));
+    }
+
     if (failures) {
         std::cerr << failures << " check(s) failed\n";
         return 1;

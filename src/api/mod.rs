@@ -26,9 +26,11 @@
 //! ```
 
 mod budget;
+mod offset;
 mod scale;
 mod subdivision;
 
+pub use offset::{offset, offset_surface, piece_point as offset_piece_point, CuspSite, Offset, OffsetError, OffsetOptions, OffsetPiece, OffsetReport};
 pub use budget::{estimate_output, OutputEstimate, BASE_BYTES, GB_BYTES_PER_SAMPLE, SUBDIV_BYTES_PER_VERTEX};
 
 pub use crate::options::{ConvertOptions, Method, OptionError, OptionValue, Twist, MAX_LEVELS, MAX_RESOLUTION};
@@ -220,12 +222,7 @@ fn convert_valid(
         normalised = norm.apply(he, mesh);
         (&normalised.0, &normalised.1)
     };
-    type Build = fn(&HalfEdgeMesh, &ConvertOptions, &mut Ticker<'_>) -> Result<Surface, ConstructError>;
-    let build: Option<Build> = match options.method {
-        Method::Dual => Some(crate::construct::build_dual_ticked),
-        Method::Topology => Some(crate::construct::build_topology_ticked),
-        Method::DooSabin | Method::CatmullClark => None,
-    };
+    let build = builder(options.method);
     if he.has_creases() && options.method != Method::Topology {
         warnings.push(format!(
             "creases are ignored by the {} method (only the topology structure builds them)",
@@ -323,6 +320,48 @@ fn convert_valid(
     report.seconds = start.elapsed().as_secs_f64();
     ticker.report(1.0)?;
     Ok(Conversion { mesh: out, surface, report, warnings })
+}
+
+type Build = fn(&HalfEdgeMesh, &ConvertOptions, &mut Ticker<'_>) -> Result<Surface, ConstructError>;
+
+/// The construction step of a GB method (`None` for the subdivision methods).
+fn builder(method: Method) -> Option<Build> {
+    match method {
+        Method::Dual => Some(crate::construct::build_dual_ticked),
+        Method::Topology => Some(crate::construct::build_topology_ticked),
+        Method::DooSabin | Method::CatmullClark => None,
+    }
+}
+
+/// The construction step of [`convert`] alone: option check, mesh validation, scale
+/// normalisation, [`crate::construct::build_dual`] or [`crate::construct::build_topology`] by
+/// `options.method`, and the surface restored to the input's coordinates. For consumers of the
+/// exact surface (e.g. [`offset`]). A subdivision method is an [`ConvertError::InvalidOption`].
+pub fn build_surface(mesh: &PolyMesh, options: &ConvertOptions) -> Result<Surface, ConvertError> {
+    options.validate()?;
+    let Some(build) = builder(options.method) else {
+        return Err(ConvertError::InvalidOption {
+            name: "method",
+            value: options.method.name().to_string(),
+            reason: "an exact surface needs a GB method (dual or topology)".to_string(),
+        });
+    };
+    let he = crate::mesh::HalfEdgeMesh::from_polymesh(mesh)?;
+    let norm = scale::Normalisation::of(he.positions()).map_err(|e| ConvertError::ScaleOutOfRange {
+        extent: e.extent,
+        min: crate::limits::EXTENT_RANGE.0,
+        max: crate::limits::EXTENT_RANGE.1,
+    })?;
+    let mut surface = if norm.is_identity() {
+        build(&he, options, &mut Ticker::none()).map_err(ConvertError::Construct)?
+    } else {
+        let (nhe, _) = norm.apply(&he, mesh);
+        build(&nhe, options, &mut Ticker::none()).map_err(ConvertError::Construct)?
+    };
+    if !norm.is_identity() {
+        norm.restore_surface(&mut surface);
+    }
+    Ok(surface)
 }
 
 /// Reads a mesh file (OBJ, OFF, PLY, STL by extension) and validates it; errors name the element

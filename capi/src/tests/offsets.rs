@@ -214,3 +214,54 @@ fn pn_misuse_has_codes_and_messages() {
         gbsurf_pn_free(null_mut());
     }
 }
+
+/// `gbsurf_offset` gives the library's mesh and figures through the result handle.
+#[test]
+fn offset_gives_the_core_mesh_and_report() {
+    let pm = gbsurf::mesh::generate::torus(12, 8, 2.0, 0.6).unwrap();
+    let p: Vec<f64> = pm.positions.iter().flat_map(|v| v.to_array()).collect();
+    let s: Vec<u32> = pm.faces.iter().map(|f| f.len() as u32).collect();
+    let f: Vec<u32> = pm.faces.iter().flatten().map(|&i| i as u32).collect();
+    let mut opts = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct.
+    assert_eq!(unsafe { gbsurf_options_init(opts.as_mut_ptr()) }, GBSURF_OK);
+    // SAFETY: initialized above.
+    let opts = unsafe { opts.assume_init() };
+    let mut rep = GbsurfOffsetReport::default();
+    let mut out = null_mut();
+    // SAFETY: arrays with their lengths; writable outputs.
+    let code = unsafe {
+        gbsurf_offset(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), &opts, 0.1, 0, 1, &mut rep, &mut out)
+    };
+    assert_eq!(code, GBSURF_OK, "{}", last());
+    let want = gbsurf::api::offset(
+        &pm,
+        &crate::options::read_options(&opts).unwrap(),
+        &gbsurf::api::OffsetOptions { distance: 0.1, grid: 4, shell: true },
+    )
+    .unwrap();
+    let (mut nv, mut nt) = (0usize, 0usize);
+    // SAFETY: live handle.
+    unsafe {
+        assert_eq!(gbsurf_mesh_vertex_count(out, &mut nv), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_triangle_count(out, &mut nt), GBSURF_OK);
+    }
+    assert_eq!((nv, nt), (want.positions.len(), want.triangles.len()));
+    assert_eq!(rep.pieces as usize, want.report.pieces);
+    assert_eq!(rep.max_gap_pn, want.report.max_gap_pn);
+    assert_eq!((rep.closed, rep.two_manifold), (1, 1));
+    // SAFETY: the handle from gbsurf_offset, freed once.
+    unsafe { gbsurf_result_free(out) };
+    // Bad distances and grids: typed codes, no handle.
+    for (d, grid, code) in [(0.0, 4, GBSURF_ERR_INVALID_OPTION), (f64::NAN, 4, GBSURF_ERR_NAN), (0.1, 1, GBSURF_ERR_INVALID_OPTION), (0.1, 65, GBSURF_ERR_INVALID_OPTION)] {
+        let mut out = 1usize as *mut GbsurfResult;
+        // SAFETY: as above.
+        let c = unsafe { gbsurf_offset(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), d, grid, 0, null_mut(), &mut out) };
+        assert_eq!(c, code, "{d} {grid}: {}", last());
+        assert!(out.is_null());
+        assert!(last().contains("--distance") || last().contains("--grid"), "{}", last());
+    }
+    // SAFETY: NULL out.
+    let c = unsafe { gbsurf_offset(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), 0.1, 4, 0, null_mut(), null_mut()) };
+    assert_eq!(c, GBSURF_ERR_NULL);
+}
