@@ -105,7 +105,7 @@ def test_ph_offset_of_a_bezier_circle():
     np.testing.assert_allclose(co[:, :2], om.nurbs_quintic_points(segs), atol=1e-6)
     assert (co[:, 3] == 1).all()
     # Blender's evaluation of that NURBS lies on the PH spline (wrong knots would not).
-    dense = np.vstack([on.bezier_eval(c, np.linspace(0, 1, 4001)) for c in cps])
+    dense = np.vstack([on.bezier_eval(c, np.linspace(0, 1, 1001)) for c in cps])
     ev = ph.evaluated_get(bpy.context.evaluated_depsgraph_get())
     mesh = ev.to_mesh()
     try:
@@ -115,8 +115,12 @@ def test_ph_offset_of_a_bezier_circle():
         ev.to_mesh_clear()
     vco = vco.reshape(-1, 3)[:, :2].astype(np.float64)
     assert len(vco) >= 4 * len(segs)
-    nearest = np.min(np.linalg.norm(vco[:, None, :] - dense[None, :, :], axis=2), axis=1)
-    assert nearest.max() < 2e-3 * 2.0, nearest.max()
+    # Distance to the dense polyline (chord error < 1e-6 at 1000 samples per quarter circle).
+    a, b = dense[:-1], dense[1:]
+    ab = b - a
+    u = np.clip(np.einsum("vsk,sk->vs", vco[:, None, :] - a[None], ab) / np.einsum("sk,sk->s", ab, ab), 0, 1)
+    near = np.linalg.norm(vco[:, None, :] - (a[None] + u[..., None] * ab[None]), axis=2).min(axis=1)
+    assert near.max() < 1e-5, near.max()
 
     # (b) The offset poly curve: exact rational points at distance |d| from the PH spline.
     osp = off.data.splines[0]
@@ -143,17 +147,26 @@ def test_ph_offset_of_a_bezier_circle():
 
 
 def test_ph_offset_reports_cusps():
-    # Offsetting a radius-1 circle inward by more than its radius: cusps, reported not hidden.
+    # An ellipse (semi-axes 2, 1: radii of curvature 0.5 .. 4) offset inward by 1: the offset
+    # has cusps where the radius of curvature equals 1; they are reported, never hidden.
     bpy.ops.curve.primitive_bezier_circle_add(radius=1.0)
     src = bpy.context.active_object
-    for d in (1.5, -1.5):
+    for bp in src.data.splines[0].bezier_points:
+        bp.handle_left_type = bp.handle_right_type = 'FREE'
+        bp.co.x, bp.handle_left.x, bp.handle_right.x = 2 * bp.co.x, 2 * bp.handle_left.x, 2 * bp.handle_right.x
+    counts = []
+    for d in (1.0, -1.0):
+        helpers.select_only(src)
         assert bpy.ops.curve.gbsurf_ph_offset(distance=d, density=8) == {'FINISHED'}
         _, off = ph_objects(src)
         record = json.loads(off[offset_module().PH_OFFSET_PROPERTY])
-        if record["cusps"]:
-            return
+        counts.append(len(record["cusps"]))
+        assert all(0.0 <= t <= 1.0 for _, t in record["cusps"])
         bpy.data.objects.remove(off)
-    pytest.fail("no cusps reported for an offset beyond the radius of curvature")
+        bpy.data.objects.remove(bpy.data.objects[src.name + ".PH"])
+        bpy.context.view_layer.update()
+    # Only the inward side reaches the radius of curvature.
+    assert min(counts) == 0 and max(counts) >= 2, counts
 
 
 def test_ph_offset_bad_input():
