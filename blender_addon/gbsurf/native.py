@@ -141,6 +141,8 @@ class _Result(Structure):
 ProgressFn = ctypes.CFUNCTYPE(c_bool, c_float, c_void_p)
 
 _R = POINTER(_Result)
+_Ph5 = type("_Ph5", (Structure,), {"__doc__": "Opaque GbsurfPh5."})
+_P5 = POINTER(_Ph5)
 _PD = POINTER(POINTER(c_double))
 _PU = POINTER(POINTER(c_uint32))
 _PB = POINTER(POINTER(c_uint8))
@@ -204,14 +206,14 @@ _SIGNATURES = {
     "gbsurf_warning_count": (c_uint32, [_R, _S]),
     "gbsurf_warning_message": (c_uint32, [_R, c_size_t, POINTER(c_char_p)]),
     "gbsurf_result_report": (c_uint32, [_R, POINTER(Report)]),
-    # Exact offsets (wrapped in offset_native.py); GbsurfPh5 handles are void pointers here.
+    # Exact offsets (wrapped in offset_native.py).
     "gbsurf_offset": (c_uint32, [POINTER(c_double), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32),
                                  c_size_t, POINTER(Options), c_double, c_size_t, c_uint32, POINTER(OffsetReport), POINTER(_R)]),
-    "gbsurf_ph5_hermite": (c_uint32, [POINTER(c_double)] * 4 + [POINTER(c_void_p)]),
-    "gbsurf_ph5_free": (None, [c_void_p]),
-    "gbsurf_ph5_solutions": (c_uint32, [c_void_p, _S, _S]),
-    "gbsurf_ph5_control_points": (c_uint32, [c_void_p, c_size_t, POINTER(c_double)]),
-    "gbsurf_ph5_offset": (c_uint32, [c_void_p, c_size_t, c_double, POINTER(c_double), POINTER(c_double),
+    "gbsurf_ph5_hermite": (c_uint32, [POINTER(c_double)] * 4 + [POINTER(_P5)]),
+    "gbsurf_ph5_free": (None, [_P5]),
+    "gbsurf_ph5_solutions": (c_uint32, [_P5, _S, _S]),
+    "gbsurf_ph5_control_points": (c_uint32, [_P5, c_size_t, POINTER(c_double)]),
+    "gbsurf_ph5_offset": (c_uint32, [_P5, c_size_t, c_double, POINTER(c_double), POINTER(c_double),
                                      POINTER(c_double), c_size_t, _S]),
 }
 

@@ -6,7 +6,7 @@ The signatures are declared in `native._SIGNATURES`; status codes become `native
 """
 
 import ctypes
-from ctypes import POINTER, c_double, c_size_t, c_uint32, c_void_p
+from ctypes import POINTER, c_double, c_size_t, c_uint32
 
 import numpy as np
 
@@ -50,7 +50,7 @@ class Ph5Segment:
     def __init__(self, p0, d0, p1, d1):
         lib = native.load()
         args = [np.ascontiguousarray(v, dtype=np.float64).reshape(2) for v in (p0, d0, p1, d1)]
-        handle = c_void_p()
+        handle = native._P5()
         native._check(lib, lib.gbsurf_ph5_hermite(*(_dp(a) for a in args), ctypes.byref(handle)))
         self._lib, self._handle = lib, handle
         try:
@@ -77,7 +77,7 @@ class Ph5Segment:
     def free(self):
         if self._handle:
             self._lib.gbsurf_ph5_free(self._handle)
-            self._handle = c_void_p()
+            self._handle = native._P5()
 
     def __enter__(self):
         return self
