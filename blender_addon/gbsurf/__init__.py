@@ -2,12 +2,13 @@
 
 This module only registers; the work is in `operators` (Convert, Update), `props` (settings stored
 on the result object), `ui` (menu entry and Object properties panel), `handlers` (live mode),
+`offset_ops` (exact offsets of surfaces and curves),
 `native` (ctypes loader of libgbsurf) and `mesh_io` (numpy transfer of mesh data).
 """
 
-from . import handlers, operators, props, ui
+from . import handlers, offset_ops, operators, props, ui
 
-_modules = (props, operators, ui, handlers)
+_modules = (props, operators, offset_ops, ui, handlers)
 
 
 def register():

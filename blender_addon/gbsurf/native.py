@@ -113,6 +113,14 @@ class Report(Structure):
     ]
 
 
+class OffsetReport(Structure):
+    """GbsurfOffsetReport (figures of `gbsurf_offset`; see offset_native.py)."""
+
+    _fields_ = [(n, c_uint64) for n in ("pieces", "singular_pieces")] + [
+        (n, c_double) for n in ("max_fit_error", "max_normal_residual", "max_offset_error", "max_gap", "max_gap_pn")] + [
+        ("unmatched_points", c_uint64), ("cusps", c_uint64), ("closed", c_uint32), ("two_manifold", c_uint32), ("seconds", c_double)]
+
+
 class Creases(Structure):
     """GbsurfCreases: edge pairs with sharpness and corner vertices with sharpness, in [0, 1]."""
 
@@ -133,6 +141,8 @@ class _Result(Structure):
 ProgressFn = ctypes.CFUNCTYPE(c_bool, c_float, c_void_p)
 
 _R = POINTER(_Result)
+_Ph5 = type("_Ph5", (Structure,), {"__doc__": "Opaque GbsurfPh5."})
+_P5 = POINTER(_Ph5)
 _PD = POINTER(POINTER(c_double))
 _PU = POINTER(POINTER(c_uint32))
 _PB = POINTER(POINTER(c_uint8))
@@ -196,6 +206,15 @@ _SIGNATURES = {
     "gbsurf_warning_count": (c_uint32, [_R, _S]),
     "gbsurf_warning_message": (c_uint32, [_R, c_size_t, POINTER(c_char_p)]),
     "gbsurf_result_report": (c_uint32, [_R, POINTER(Report)]),
+    # Exact offsets (wrapped in offset_native.py).
+    "gbsurf_offset": (c_uint32, [POINTER(c_double), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32),
+                                 c_size_t, POINTER(Options), c_double, c_size_t, c_uint32, POINTER(OffsetReport), POINTER(_R)]),
+    "gbsurf_ph5_hermite": (c_uint32, [POINTER(c_double)] * 4 + [POINTER(_P5)]),
+    "gbsurf_ph5_free": (None, [_P5]),
+    "gbsurf_ph5_solutions": (c_uint32, [_P5, _S, _S]),
+    "gbsurf_ph5_control_points": (c_uint32, [_P5, c_size_t, POINTER(c_double)]),
+    "gbsurf_ph5_offset": (c_uint32, [_P5, c_size_t, c_double, POINTER(c_double), POINTER(c_double),
+                                     POINTER(c_double), c_size_t, _S]),
 }
 
 _lib = None

@@ -131,6 +131,19 @@ class ConvertOptionsMixin:
         sub.prop(self, "want_control_net")
 
 
+class OffsetOptionsMixin:
+    """The exact offset's settings (operator `object.gbsurf_offset` and offset objects)."""
+
+    offset_distance: FloatProperty(
+        name="Distance", description="Signed offset distance (negative: inward)", default=0.1,
+        soft_min=-10.0, soft_max=10.0, subtype='DISTANCE', precision=4)
+    offset_shell: BoolProperty(
+        name="Solid Shell", description="Close the surface and its offset into a solid", default=False)
+    offset_grid: IntProperty(
+        name="Grid", description="PN pieces per patch side are a Grid x Grid grid (0: the library's default)",
+        min=0, max=64, default=0)
+
+
 def _display_changed(self, context):
     from . import core
     if self.id_data is not None and self.id_data.type == 'MESH':
@@ -148,10 +161,12 @@ def _poll_mesh(self, obj):
     return obj.type == 'MESH' and not core.is_result_part(obj)
 
 
-class GbsurfSettings(ConvertOptionsMixin, bpy.types.PropertyGroup):
+class GbsurfSettings(ConvertOptionsMixin, OffsetOptionsMixin, bpy.types.PropertyGroup):
     """Stored on every result object: what it was made from and how."""
 
     is_result: BoolProperty(name="GB Surface", default=False)
+    # An exact offset surface (offset_ops.py): its source and options are the fields below.
+    is_offset: BoolProperty(name="GB Offset Surface", default=False)
     source: PointerProperty(
         name="Source", type=bpy.types.Object, poll=_poll_mesh,
         description="The control mesh this surface is made from", update=_settings_changed)

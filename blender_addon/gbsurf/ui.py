@@ -10,6 +10,8 @@ from .props import DISPLAY_ATTRIBUTE
 
 def menu_convert(self, context):
     self.layout.operator(OBJECT_OT_gbsurf_convert.bl_idname, text="GB Surface")
+    self.layout.operator("object.gbsurf_offset", text="GB Offset Surface")
+    self.layout.operator("curve.gbsurf_ph_offset", text="Exact Offset (PH)")
 
 
 class OBJECT_PT_gbsurf(bpy.types.Panel):

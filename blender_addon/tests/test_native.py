@@ -52,6 +52,7 @@ def _ctype(n, decl):
             "float": ctypes.c_float, "size_t": ctypes.c_size_t, "bool": ctypes.c_bool, "void": None,
             "GbsurfResult": n._Result, "GbsurfOptions": n.Options, "GbsurfReport": n.Report,
             "GbsurfProgressFn": n.ProgressFn, "GbsurfCreases": n.Creases,
+            "GbsurfOffsetReport": n.OffsetReport, "GbsurfPh5": n._Ph5,
         }[base[0]]
     for _ in range(stars):
         t = ctypes.POINTER(t)
@@ -62,7 +63,8 @@ def test_ctypes_structs_match_the_header():
     """The ctypes structs are hand copies of the generated header's: same fields, types, order."""
     n = native()
     structs = {name: body for body, name in re.findall(r"typedef struct \{(.*?)\} (\w+);", _header(), re.S)}
-    for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report), ("GbsurfCreases", n.Creases)):
+    for name, cls in (("GbsurfOptions", n.Options), ("GbsurfReport", n.Report), ("GbsurfCreases", n.Creases),
+                      ("GbsurfOffsetReport", n.OffsetReport)):
         fields = re.findall(r"([\w ]+?\s*\**)\s*(\w+);", structs[name])
         assert [(f, _ctype(n, t)) for t, f in fields] == list(cls._fields_), name
 

@@ -3,7 +3,7 @@
 //! points with normals, evaluated exactly with their offsets (`GbsurfPn`).
 
 use super::*;
-use gbsurf::offset::ph::{HermiteSolutions, PhError, PlanarPhQuintic};
+use gbsurf::offset::ph::{HermiteSolutions, OpenEnds, PhError, PlanarPhQuintic, PlanarPhSpline};
 use gbsurf::offset::pn::{PnError, PnGrid, PnOptions, PnSurface};
 use glam::{DVec2, DVec3};
 
@@ -216,11 +216,187 @@ pub unsafe extern "C" fn gbsurf_ph5_offset(
 ) -> u32 {
     boundary("gbsurf_ph5_offset", || {
         let c = solution(self::ph5(ph5)?, index)?;
-        let o = c.offset(d).map_err(ph_err)?;
-        let flat: Vec<f64> = o.points.iter().flat_map(|p| p.to_array()).collect();
-        write_doubles(points, "points", &flat)?;
-        write_doubles(weights, "weights", &o.weights)?;
-        copy_out(&o.cusps, cusps, cusps_capacity, cusp_count)
+        write_offset(c, d, points, weights, cusps, cusps_capacity, cusp_count)
+    })
+}
+
+/// The rational offset of `c` at `d` into the outputs of `gbsurf_ph5_offset`.
+fn write_offset(
+    c: &PlanarPhQuintic,
+    d: f64,
+    points: *mut f64,
+    weights: *mut f64,
+    cusps: *mut f64,
+    cusps_capacity: usize,
+    cusp_count: *mut usize,
+) -> FfiResult {
+    let o = c.offset(d).map_err(ph_err)?;
+    let flat: Vec<f64> = o.points.iter().flat_map(|p| p.to_array()).collect();
+    write_doubles(points, "points", &flat)?;
+    write_doubles(weights, "weights", &o.weights)?;
+    copy_out(&o.cusps, cusps, cusps_capacity, cusp_count)
+}
+
+/// A planar PH quintic spline (`gbsurf::offset::ph::PlanarPhSpline`, opaque; free with
+/// `gbsurf_ph_spline_free`): segment i runs from point i to point i + 1 (closed: the last one
+/// back to point 0).
+pub struct GbsurfPhSpline {
+    spline: PlanarPhSpline,
+}
+
+fn ph_spline<'a>(h: *const GbsurfPhSpline) -> FfiResult<&'a GbsurfPhSpline> {
+    let h = non_null(h, "spline")?;
+    // SAFETY: a live handle from gbsurf_ph_spline_hermite / _c2 (contract).
+    Ok(unsafe { &*h })
+}
+
+fn spline_segment(h: &GbsurfPhSpline, index: usize) -> FfiResult<&PlanarPhQuintic> {
+    let n = h.spline.segments.len();
+    h.spline.segments.get(index).ok_or_else(|| {
+        FfiError::new(GBSURF_ERR_INDEX, format!("segment {index} does not exist; there are {n}"))
+    })
+}
+
+/// `len` doubles as x y pairs.
+fn vec2s(flat: &[f64], arg: &str) -> FfiResult<Vec<DVec2>> {
+    if flat.len() % 2 != 0 {
+        return Err(FfiError::new(GBSURF_ERR_COUNT, format!("{arg} has {} values; x y pairs need an even number", flat.len())));
+    }
+    Ok(flat.chunks_exact(2).map(|p| DVec2::new(p[0], p[1])).collect())
+}
+
+/// Stores a new spline handle in `out` (checked non-null by the caller).
+fn put_spline(out: *mut *mut GbsurfPhSpline, spline: PlanarPhSpline) {
+    // SAFETY: checked non-null and writable by the caller.
+    unsafe { *out = Box::into_raw(Box::new(GbsurfPhSpline { spline })) };
+}
+
+/// Segment-wise PH quintic Hermite spline through `points` with derivatives `tangents` (each
+/// `2 * count` doubles x y, `points_len` = `tangents_len` ≥ 4): segment i is the chosen (least
+/// absolute rotation index) interpolant of points i, i + 1 with tangents i, i + 1; C¹.
+/// `*out` receives the handle (NULL first). Errors: `_COUNT` (fewer than 2 points, lengths
+/// differ or odd), `_NAN` (naming the element), `_DEGENERATE` (a zero tangent, coincident
+/// consecutive points), `_NULL`.
+///
+/// # Safety
+/// `points` / `tangents` point to `points_len` / `tangents_len` readable doubles; `out` to a
+/// writable pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_hermite(
+    points: *const f64,
+    points_len: usize,
+    tangents: *const f64,
+    tangents_len: usize,
+    out: *mut *mut GbsurfPhSpline,
+) -> u32 {
+    boundary("gbsurf_ph_spline_hermite", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: pointer/length pairs per the contract.
+        let (p, t) = unsafe { (slice_arg(points, points_len, "points")?, slice_arg(tangents, tangents_len, "tangents")?) };
+        let spline = PlanarPhSpline::hermite(&vec2s(p, "points")?, &vec2s(t, "tangents")?).map_err(ph_err)?;
+        put_spline(out, spline);
+        Ok(())
+    })
+}
+
+/// C² PH quintic spline through `points` (`points_len` = 2 × count doubles x y): `closed` ≠ 0
+/// closes it (at least 3 points, the first not repeated), else an open spline with cubic end
+/// spans (at least 3 points). `*out` receives the handle (NULL first). Errors as
+/// `gbsurf_ph_spline_hermite` (and `_DEGENERATE` when the Newton iteration fails).
+///
+/// # Safety
+/// `points` points to `points_len` readable doubles; `out` to a writable pointer.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_c2(
+    points: *const f64,
+    points_len: usize,
+    closed: u32,
+    out: *mut *mut GbsurfPhSpline,
+) -> u32 {
+    boundary("gbsurf_ph_spline_c2", || {
+        let out = non_null_mut(out, "out")?;
+        // SAFETY: non-null, writable (contract).
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: pointer/length pair per the contract.
+        let p = vec2s(unsafe { slice_arg(points, points_len, "points")? }, "points")?;
+        let spline = if closed != 0 {
+            PlanarPhSpline::c2_closed(&p)
+        } else {
+            PlanarPhSpline::c2_open(&p, OpenEnds::CubicEndSpans)
+        }
+        .map_err(ph_err)?;
+        put_spline(out, spline);
+        Ok(())
+    })
+}
+
+/// Frees a PH spline handle. NULL is a no-op.
+///
+/// # Safety
+/// `spline` is NULL or a handle from `gbsurf_ph_spline_hermite` / `_c2` not freed before.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_free(spline: *mut GbsurfPhSpline) {
+    if spline.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: from Box::into_raw in put_spline, not freed before (contract).
+        drop(unsafe { Box::from_raw(spline) });
+    }));
+}
+
+/// Number of segments and whether the spline is closed (either output may be NULL).
+///
+/// # Safety
+/// `spline` is a live handle; the outputs are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_segment_count(spline: *const GbsurfPhSpline, count: *mut usize, closed: *mut u32) -> u32 {
+    boundary("gbsurf_ph_spline_segment_count", || {
+        let h = ph_spline(spline)?;
+        if !count.is_null() {
+            put(count, "count", h.spline.segments.len())?;
+        }
+        if !closed.is_null() {
+            put(closed, "closed", u32::from(h.spline.closed))?;
+        }
+        Ok(())
+    })
+}
+
+/// The 6 Bézier control points of segment `index` as 12 doubles x y into `points`.
+///
+/// # Safety
+/// `spline` is a live handle; `points` has room for 12 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_control_points(spline: *const GbsurfPhSpline, index: usize, points: *mut f64) -> u32 {
+    boundary("gbsurf_ph_spline_control_points", || {
+        let c = spline_segment(ph_spline(spline)?, index)?;
+        let flat: Vec<f64> = c.control_points().iter().flat_map(|p| p.to_array()).collect();
+        write_doubles(points, "points", &flat)
+    })
+}
+
+/// The exact offset of segment `index` at signed distance `d`, as `gbsurf_ph5_offset` (a rational
+/// Bézier curve of degree 9: 20 doubles of points, 10 weights, the cusp parameters).
+///
+/// # Safety
+/// As `gbsurf_ph5_offset`, with `spline` a live spline handle.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_ph_spline_offset(
+    spline: *const GbsurfPhSpline,
+    index: usize,
+    d: f64,
+    points: *mut f64,
+    weights: *mut f64,
+    cusps: *mut f64,
+    cusps_capacity: usize,
+    cusp_count: *mut usize,
+) -> u32 {
+    boundary("gbsurf_ph_spline_offset", || {
+        let c = spline_segment(ph_spline(spline)?, index)?;
+        write_offset(c, d, points, weights, cusps, cusps_capacity, cusp_count)
     })
 }
 

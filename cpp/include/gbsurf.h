@@ -129,6 +129,11 @@
 // `gbsurf_ph5_free`).
 typedef struct GbsurfPh5 GbsurfPh5;
 
+// A planar PH quintic spline (`gbsurf::offset::ph::PlanarPhSpline`, opaque; free with
+// `gbsurf_ph_spline_free`): segment i runs from point i to point i + 1 (closed: the last one
+// back to point 0).
+typedef struct GbsurfPhSpline GbsurfPhSpline;
+
 // A PN surface interpolating a grid of points with normals (opaque; free with `gbsurf_pn_free`).
 typedef struct GbsurfPn GbsurfPn;
 
@@ -931,6 +936,70 @@ uint32_t gbsurf_ph5_offset(const GbsurfPh5 *ph5,
                            double *cusps,
                            size_t cusps_capacity,
                            size_t *cusp_count);
+
+// Segment-wise PH quintic Hermite spline through `points` with derivatives `tangents` (each
+// `2 * count` doubles x y, `points_len` = `tangents_len` ≥ 4): segment i is the chosen (least
+// absolute rotation index) interpolant of points i, i + 1 with tangents i, i + 1; C¹.
+// `*out` receives the handle (NULL first). Errors: `_COUNT` (fewer than 2 points, lengths
+// differ or odd), `_NAN` (naming the element), `_DEGENERATE` (a zero tangent, coincident
+// consecutive points), `_NULL`.
+//
+// # Safety
+// `points` / `tangents` point to `points_len` / `tangents_len` readable doubles; `out` to a
+// writable pointer.
+uint32_t gbsurf_ph_spline_hermite(const double *points,
+                                  size_t points_len,
+                                  const double *tangents,
+                                  size_t tangents_len,
+                                  GbsurfPhSpline **out);
+
+// C² PH quintic spline through `points` (`points_len` = 2 × count doubles x y): `closed` ≠ 0
+// closes it (at least 3 points, the first not repeated), else an open spline with cubic end
+// spans (at least 3 points). `*out` receives the handle (NULL first). Errors as
+// `gbsurf_ph_spline_hermite` (and `_DEGENERATE` when the Newton iteration fails).
+//
+// # Safety
+// `points` points to `points_len` readable doubles; `out` to a writable pointer.
+uint32_t gbsurf_ph_spline_c2(const double *points,
+                             size_t points_len,
+                             uint32_t closed,
+                             GbsurfPhSpline **out);
+
+// Frees a PH spline handle. NULL is a no-op.
+//
+// # Safety
+// `spline` is NULL or a handle from `gbsurf_ph_spline_hermite` / `_c2` not freed before.
+void gbsurf_ph_spline_free(GbsurfPhSpline *spline);
+
+// Number of segments and whether the spline is closed (either output may be NULL).
+//
+// # Safety
+// `spline` is a live handle; the outputs are NULL or writable.
+uint32_t gbsurf_ph_spline_segment_count(const GbsurfPhSpline *spline,
+                                        size_t *count,
+                                        uint32_t *closed);
+
+// The 6 Bézier control points of segment `index` as 12 doubles x y into `points`.
+//
+// # Safety
+// `spline` is a live handle; `points` has room for 12 doubles.
+uint32_t gbsurf_ph_spline_control_points(const GbsurfPhSpline *spline,
+                                         size_t index,
+                                         double *points);
+
+// The exact offset of segment `index` at signed distance `d`, as `gbsurf_ph5_offset` (a rational
+// Bézier curve of degree 9: 20 doubles of points, 10 weights, the cusp parameters).
+//
+// # Safety
+// As `gbsurf_ph5_offset`, with `spline` a live spline handle.
+uint32_t gbsurf_ph_spline_offset(const GbsurfPhSpline *spline,
+                                 size_t index,
+                                 double d,
+                                 double *points,
+                                 double *weights,
+                                 double *cusps,
+                                 size_t cusps_capacity,
+                                 size_t *cusp_count);
 
 // Interpolates a `rows` × `cols` grid (both ≥ 2) of points with normals by a G1 PN surface of
 // (rows − 1) × (cols − 1) patches (docs/math/pn.md). `points` and `normals` hold

@@ -74,6 +74,8 @@ fn header_declares_every_status_code_and_entry_point() {
         "GBSURF_ERR_DEGENERATE",
         "gbsurf_ph5_hermite(",
         "gbsurf_ph5_offset(",
+        "gbsurf_ph_spline_hermite(",
+        "gbsurf_ph_spline_offset(",
         "gbsurf_pn_interpolate(",
         "gbsurf_pn_rational(",
         "typedef struct GbsurfPh5 GbsurfPh5",

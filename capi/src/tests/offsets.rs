@@ -2,7 +2,7 @@
 //! and a message naming the argument, handles are freed.
 
 use crate::*;
-use gbsurf::offset::ph::PlanarPhQuintic;
+use gbsurf::offset::ph::{OpenEnds, PlanarPhQuintic, PlanarPhSpline};
 use gbsurf::offset::pn::{PnGrid, PnOptions, PnSurface};
 use glam::{DVec2, DVec3};
 use std::ffi::CStr;
@@ -264,4 +264,85 @@ fn offset_gives_the_core_mesh_and_report() {
     // SAFETY: NULL out.
     let c = unsafe { gbsurf_offset(p.as_ptr(), p.len(), s.as_ptr(), s.len(), f.as_ptr(), f.len(), null(), 0.1, 4, 0, null_mut(), null_mut()) };
     assert_eq!(c, GBSURF_ERR_NULL);
+}
+
+/// The control points and offsets of every segment of `h` equal the core spline's, bit for bit.
+fn same_as_core(h: *mut GbsurfPhSpline, want: &PlanarPhSpline, d: f64) {
+    let (mut n, mut closed) = (0usize, 9u32);
+    // SAFETY: live handle, writable outputs.
+    assert_eq!(unsafe { gbsurf_ph_spline_segment_count(h, &mut n, &mut closed) }, GBSURF_OK);
+    assert_eq!((n, closed), (want.segments.len(), u32::from(want.closed)));
+    for (k, seg) in want.segments.iter().enumerate() {
+        let mut pts = [0.0; 12];
+        // SAFETY: room for 12 doubles.
+        assert_eq!(unsafe { gbsurf_ph_spline_control_points(h, k, pts.as_mut_ptr()) }, GBSURF_OK);
+        let cp: Vec<f64> = seg.control_points().iter().flat_map(|p| p.to_array()).collect();
+        assert_eq!(pts.to_vec(), cp);
+        let (mut op, mut ow, mut cusps, mut nc) = ([0.0; 20], [0.0; 10], [0.0; 8], 99usize);
+        // SAFETY: room per the contract.
+        let code = unsafe { gbsurf_ph_spline_offset(h, k, d, op.as_mut_ptr(), ow.as_mut_ptr(), cusps.as_mut_ptr(), 8, &mut nc) };
+        assert_eq!(code, GBSURF_OK, "{}", last());
+        let o = seg.offset(d).unwrap();
+        assert_eq!(op.to_vec(), o.points.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>());
+        assert_eq!(ow.to_vec(), o.weights);
+        assert_eq!(&cusps[..nc], &o.cusps[..]);
+    }
+    let (mut op, mut ow, mut nc) = ([0.0; 20], [0.0; 10], 0usize);
+    // SAFETY: as above; segment n does not exist.
+    let code = unsafe { gbsurf_ph_spline_offset(h, n, d, op.as_mut_ptr(), ow.as_mut_ptr(), null_mut(), 0, &mut nc) };
+    assert_eq!(code, GBSURF_ERR_INDEX);
+    assert!(last().contains(&format!("segment {n} does not exist")), "{}", last());
+}
+
+#[test]
+fn ph_spline_gives_the_core_numbers() {
+    let pts = [0.0, 0.0, 1.0, 1.0, 2.0, 0.0, 3.0, 1.0];
+    let tans = [1.0, 1.0, 1.0, 0.0, 1.0, -1.0, 1.0, 1.0];
+    let v = |f: &[f64]| f.chunks(2).map(|p| DVec2::new(p[0], p[1])).collect::<Vec<_>>();
+    let mut h = null_mut();
+    // SAFETY: pointer/length pairs, writable out.
+    assert_eq!(unsafe { gbsurf_ph_spline_hermite(pts.as_ptr(), 8, tans.as_ptr(), 8, &mut h) }, GBSURF_OK);
+    same_as_core(h, &PlanarPhSpline::hermite(&v(&pts), &v(&tans)).unwrap(), 0.1);
+    // SAFETY: handle from gbsurf_ph_spline_hermite.
+    unsafe { gbsurf_ph_spline_free(h) };
+    for closed in [0u32, 1] {
+        let mut h = null_mut();
+        // SAFETY: as above.
+        assert_eq!(unsafe { gbsurf_ph_spline_c2(pts.as_ptr(), 8, closed, &mut h) }, GBSURF_OK, "{}", last());
+        let want = if closed == 1 {
+            PlanarPhSpline::c2_closed(&v(&pts))
+        } else {
+            PlanarPhSpline::c2_open(&v(&pts), OpenEnds::CubicEndSpans)
+        };
+        same_as_core(h, &want.unwrap(), -0.05);
+        // SAFETY: handle from gbsurf_ph_spline_c2.
+        unsafe { gbsurf_ph_spline_free(h) };
+    }
+}
+
+#[test]
+fn ph_spline_misuse_has_codes_and_messages() {
+    let pts = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+    let tans = [1.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+    let mut h = 1usize as *mut GbsurfPhSpline;
+    // SAFETY: pointer/length pairs, writable out; every call fails and leaves `h` NULL.
+    unsafe {
+        let distinct = [0.0, 0.0, 1.0, 1.0, 2.0, 0.0];
+        assert_eq!(gbsurf_ph_spline_hermite(distinct.as_ptr(), 6, tans.as_ptr(), 4, &mut h), GBSURF_ERR_COUNT);
+        assert!(h.is_null());
+        assert!(last().contains("gbsurf_ph_spline_hermite"), "{}", last());
+        assert_eq!(gbsurf_ph_spline_hermite(pts.as_ptr(), 5, tans.as_ptr(), 5, &mut h), GBSURF_ERR_COUNT);
+        assert_eq!(gbsurf_ph_spline_hermite(pts.as_ptr(), 4, tans.as_ptr(), 4, &mut h), GBSURF_OK);
+        gbsurf_ph_spline_free(h);
+        assert_eq!(gbsurf_ph_spline_hermite(pts.as_ptr(), 6, tans.as_ptr(), 6, &mut h), GBSURF_ERR_DEGENERATE);
+        assert!(h.is_null());
+        assert_eq!(gbsurf_ph_spline_c2(pts.as_ptr(), 6, 0, &mut h), GBSURF_ERR_DEGENERATE);
+        assert_eq!(gbsurf_ph_spline_c2(pts.as_ptr(), 4, 1, &mut h), GBSURF_ERR_COUNT);
+        let nan = [0.0, f64::NAN, 1.0, 0.0, 2.0, 1.0];
+        assert_eq!(gbsurf_ph_spline_c2(nan.as_ptr(), 6, 0, &mut h), GBSURF_ERR_NAN);
+        assert_eq!(gbsurf_ph_spline_c2(null(), 6, 0, &mut h), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_ph_spline_c2(pts.as_ptr(), 6, 0, null_mut()), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_ph_spline_segment_count(null(), null_mut(), null_mut()), GBSURF_ERR_NULL);
+        gbsurf_ph_spline_free(null_mut());
+    }
 }
