@@ -4,7 +4,7 @@
 //! `-- --resolution R` changes the resolution (default 4), `-- --grid N` the PN grid (default 4).
 //! Prints wall seconds (best of 3), the ratio offset/convert and the report's figures.
 //! Under `cargo test --all-targets` (no `--bench` argument: the test profile) it runs once on a
-//! 400-quad torus at resolution 2, as a smoke test of the harness.
+//! 128-quad torus at resolution 2, as a smoke test of the harness.
 
 use gbsurf::api::{convert, offset, ConvertOptions, Method, OffsetOptions};
 use gbsurf::mesh::generate::torus;
@@ -29,7 +29,7 @@ fn main() {
     let runs = if !bench || args.iter().any(|a| a == "--quick") { 1 } else { 3 };
     let resolution = arg("--resolution", if bench { 4 } else { 2 });
     let grid = arg("--grid", gbsurf::limits::DEFAULT_OFFSET_GRID);
-    let mesh = if bench { torus(125, 80, 10.0, 3.0) } else { torus(25, 16, 10.0, 3.0) }.expect("torus");
+    let mesh = if bench { torus(125, 80, 10.0, 3.0) } else { torus(16, 8, 10.0, 3.0) }.expect("torus");
     for method in [Method::Topology, Method::Dual] {
         let opts = ConvertOptions { method, resolution, ..Default::default() };
         let (tc, c) = best_of(runs, || convert(&mesh, &opts, None).expect("convert"));
