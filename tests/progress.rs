@@ -188,3 +188,71 @@ proptest! {
         prop_assert!(seen.iter().all(|f| (0.0..=1.0).contains(f)));
     }
 }
+
+/// `n` separate planar L-shaped hexagons (one reflex corner each), every face its own vertices.
+fn l_shapes(n: usize) -> PolyMesh {
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for i in 0..n {
+        let o = glam::DVec3::new((i % 100) as f64 * 3.0, (i / 100) as f64 * 3.0, 0.0);
+        let base = positions.len() as u32;
+        for (x, y) in [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)] {
+            positions.push(o + glam::DVec3::new(x, y, 0.0));
+        }
+        faces.push((base..base + 6).collect());
+    }
+    PolyMesh::new(positions, faces)
+}
+
+#[test]
+fn convexify_ticks_cancels_and_keeps_the_per_face_order() {
+    use gbsurf::mesh::geometry::{convex_split, convexify, convexify_ticked};
+    let mesh = l_shapes(5000);
+    let mut seen = Vec::new();
+    let mut cb = |f: f32| {
+        seen.push(f);
+        true
+    };
+    let (split, origin) = convexify_ticked(&mesh, &mut Ticker::new(Some(&mut cb))).unwrap();
+    assert!(seen.len() >= 20 && seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+    assert!(seen[seen.len() - 1] > 1.0 - 2.0 * gbsurf::progress::STEP, "{seen:?}");
+    // The reference: each face's pieces in face order.
+    let (mut faces, mut from) = (Vec::new(), Vec::new());
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let pts: Vec<glam::DVec3> = face.iter().map(|&i| mesh.positions[i as usize]).collect();
+        for piece in convex_split(&pts, face) {
+            faces.push(piece.iter().map(|&k| face[k]).collect::<Vec<u32>>());
+            from.push(f as u32);
+        }
+    }
+    assert_eq!(split.faces.len(), 2 * mesh.faces.len());
+    assert_eq!((&split.faces, &origin), (&faces, &from));
+    assert_eq!(convexify(&mesh), (split, origin));
+    let mut calls = 0;
+    let mut stop = |_: f32| {
+        calls += 1;
+        calls < 3
+    };
+    assert_eq!(convexify_ticked(&mesh, &mut Ticker::new(Some(&mut stop))), Err(Cancelled));
+    assert_eq!(calls, 3, "called again after it returned false");
+}
+
+#[test]
+fn check_mesh_ticks_through_the_per_vertex_pass_and_cancels() {
+    use gbsurf::quality::{check_mesh, check_mesh_ticked};
+    let quads = torus(200, 100, 10.0, 3.0).unwrap();
+    let tris: Vec<[u32; 3]> = quads.faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).collect();
+    let mut seen = Vec::new();
+    let mut cb = |f: f32| {
+        seen.push(f);
+        true
+    };
+    let c = check_mesh_ticked(&quads.positions, &tris, &mut Ticker::new(Some(&mut cb))).unwrap();
+    assert_eq!(c, check_mesh(&quads.positions, &tris));
+    assert!(c.is_clean_closed() && c.euler_characteristic == 0, "{c:?}");
+    // The per-vertex pass is [3/6, 5/6] of the range: many reports inside it.
+    let inside = seen.iter().filter(|&&f| f > 0.5 + 1e-6 && f < 5.0 / 6.0 - 1e-6).count();
+    assert!(inside >= 10, "{seen:?}");
+    let mut stop = |f: f32| f < 0.6;
+    assert_eq!(check_mesh_ticked(&quads.positions, &tris, &mut Ticker::new(Some(&mut stop))), Err(Cancelled));
+}

@@ -37,8 +37,7 @@ pub(super) fn subdivision_mesh(
             SubdivError::Cancelled => ConvertError::Cancelled,
             e => ConvertError::Subdiv(e.to_string()),
         })?;
-    let (convex, piece_face) = crate::mesh::geometry::convexify(&current);
-    ticker.at_part(0.0, s_convex, 1, 1)?;
+    let (convex, piece_face) = ticker.within(s_subdivided, s_convex, |t| crate::mesh::geometry::convexify_ticked(&current, t))?;
     let nv = current.positions.len();
     let oom = |what: &'static str, bytes: usize| ConvertError::OutOfMemory { what, bytes: bytes as u64 };
     let nt: usize = convex.faces.iter().map(|f| f.len().saturating_sub(2)).sum();

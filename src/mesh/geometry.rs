@@ -20,6 +20,7 @@ pub fn newell_normal(pts: &[DVec3]) -> DVec3 {
 }
 
 use super::PolyMesh;
+use crate::progress::{par_map, Cancelled, Ticker};
 use glam::DVec2;
 use std::f64::consts::TAU;
 
@@ -280,21 +281,46 @@ fn split_rec(p: &[DVec2], keys: &[u32], poly: Vec<usize>, tol: f64, out: &mut Ve
 /// Faces that are already convex are kept unchanged (same corner order). Diagonals join existing
 /// vertices only, so a closed mesh stays closed and `V − E + F` is unchanged.
 pub fn convexify(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>) {
-    let mut faces = Vec::with_capacity(mesh.faces.len());
-    let mut origin = Vec::with_capacity(mesh.faces.len());
-    for (f, face) in mesh.faces.iter().enumerate() {
+    match convexify_ticked(mesh, &mut Ticker::none()) {
+        Ok(r) => r,
+        // A ticker without callback never cancels.
+        Err(Cancelled) => (mesh.clone(), (0..mesh.faces.len() as u32).collect()),
+    }
+}
+
+/// Most faces per chunk of [`convexify_ticked`].
+const CONVEXIFY_CHUNK: usize = 1 << 14;
+
+/// [`convexify`] in parallel over the faces (rayon, chunks of faces; the same result), ticking
+/// `ticker` between chunks (see [`crate::progress`]).
+pub fn convexify_ticked(mesh: &PolyMesh, ticker: &mut Ticker<'_>) -> Result<(PolyMesh, Vec<u32>), Cancelled> {
+    // Per face: None when it is kept unchanged, else its pieces (corner indices into the face).
+    let split = par_map(ticker, mesh.faces.len(), CONVEXIFY_CHUNK, |f| {
+        let face = &mesh.faces[f];
         let pts: Vec<DVec3> = face.iter().map(|&i| mesh.positions.get(i as usize).copied().unwrap_or(DVec3::NAN)).collect();
         if face.len() <= 3 || pts.iter().any(|p| !p.is_finite()) {
-            faces.push(face.clone());
-            origin.push(f as u32);
-            continue;
+            return None;
         }
-        for piece in convex_split(&pts, face) {
-            faces.push(piece.iter().map(|&k| face[k]).collect());
-            origin.push(f as u32);
+        Some(convex_split(&pts, face))
+    })?;
+    let n: usize = split.iter().map(|s| s.as_ref().map_or(1, Vec::len)).sum();
+    let mut faces = Vec::with_capacity(n);
+    let mut origin = Vec::with_capacity(n);
+    for (f, (face, pieces)) in mesh.faces.iter().zip(split).enumerate() {
+        match pieces {
+            None => {
+                faces.push(face.clone());
+                origin.push(f as u32);
+            }
+            Some(pieces) => {
+                for piece in pieces {
+                    faces.push(piece.iter().map(|&k| face[k]).collect());
+                    origin.push(f as u32);
+                }
+            }
         }
     }
-    (PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone(), holes: Vec::new() }, origin)
+    Ok((PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone(), holes: Vec::new() }, origin))
 }
 
 /// Area-weighted vertex normals of a triangle mesh (unit, zero for unused vertices).

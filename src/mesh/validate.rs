@@ -29,6 +29,7 @@ use super::halfedge::HalfEdgeMesh;
 use super::PolyMesh;
 use crate::limits::MIN_RELATIVE_EXTENT;
 use glam::DVec3;
+use rayon::prelude::*;
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -151,58 +152,32 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         return Err(MeshError::Empty);
     }
     check_creases(&mesh.creases, mesh.positions.len())?;
-    for (v, p) in mesh.positions.iter().enumerate() {
+    // Per vertex and per face in parallel; the error of the first offending element (as the
+    // sequential loops found it).
+    let coordinate_error = |(v, p): (usize, &DVec3)| -> Option<MeshError> {
         for axis in 0..3 {
             let x = p[axis];
             if !x.is_finite() {
-                return Err(MeshError::NonFiniteCoordinate { vertex: v, axis, value: x, line: None });
+                return Some(MeshError::NonFiniteCoordinate { vertex: v, axis, value: x, line: None });
             }
             if x.abs() > COORDINATE_LIMIT {
-                return Err(MeshError::CoordinateRange {
-                    vertex: v,
-                    axis,
-                    value: x,
-                    limit: COORDINATE_LIMIT,
-                    line: None,
-                });
+                return Some(MeshError::CoordinateRange { vertex: v, axis, value: x, limit: COORDINATE_LIMIT, line: None });
             }
         }
+        None
+    };
+    if let Some(e) = mesh.positions.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(coordinate_error) {
+        return Err(e);
     }
-    let nv = mesh.positions.len();
-    let mut seen: FxHashMap<u32, ()> = fx_map(8);
-    for (f, face) in mesh.faces.iter().enumerate() {
-        if face.len() < 3 {
-            return Err(MeshError::FaceTooSmall { face: f, len: face.len(), line: None });
-        }
-        for (c, &i) in face.iter().enumerate() {
-            if i as usize >= nv {
-                return Err(MeshError::IndexOutOfRange {
-                    face: f,
-                    corner: c,
-                    index: i as i64,
-                    n_vertices: nv,
-                    line: None,
-                });
-            }
-        }
-        seen.clear();
-        for &i in face {
-            if seen.insert(i, ()).is_some() {
-                return Err(MeshError::RepeatedIndex { face: f, vertex: i as usize, line: None });
-            }
-        }
-        let pts: Vec<DVec3> = face.iter().map(|&i| mesh.positions[i as usize]).collect();
-        let (area, h) = scaled_area(&pts);
-        // relative to d² with d = 2h the largest extent: area/4 ≤ ZERO_AREA_REL
-        if area * 0.25 <= ZERO_AREA_REL {
-            return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
-        }
+    if let Some(e) = mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(|(f, face)| face_error(mesh, f, face).err()) {
+        return Err(e);
     }
     check_extent(mesh)?;
     // 4. duplicates with the same orientation; 7. with the opposite one.
     let mut cycles: FxHashMap<Vec<u32>, usize> = fx_map(mesh.faces.len());
-    for (f, face) in mesh.faces.iter().enumerate() {
-        match cycles.entry(canonical_cycle(face)) {
+    let canonical: Vec<Vec<u32>> = mesh.faces.par_iter().with_min_len(PAR_MIN).map(|f| canonical_cycle(f)).collect();
+    for (f, cycle) in canonical.into_iter().enumerate() {
+        match cycles.entry(cycle) {
             Entry::Occupied(e) => return Err(MeshError::DuplicateFace { face: f, first: *e.get(), line: None }),
             Entry::Vacant(e) => {
                 e.insert(f);
@@ -249,13 +224,47 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         }
     }
     // 7.
-    for (f, face) in mesh.faces.iter().enumerate() {
+    let opposite = |(f, face): (usize, &Vec<u32>)| {
         let rev: Vec<u32> = face.iter().rev().copied().collect();
-        if let Some(&first) = cycles.get(&canonical_cycle(&rev)) {
-            if first < f {
-                return Err(MeshError::DuplicateFace { face: f, first, line: None });
-            }
+        let first = *cycles.get(&canonical_cycle(&rev))?;
+        (first < f).then_some(MeshError::DuplicateFace { face: f, first, line: None })
+    };
+    match mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(opposite) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Least items per parallel task of [`check_polymesh`]'s per-element passes.
+const PAR_MIN: usize = 1024;
+
+/// The checks of one face `f` of [`check_polymesh`] that need nothing else: at least three
+/// corners, indices in range, no repeated index (named at its second use), area above zero.
+fn face_error(mesh: &PolyMesh, f: usize, face: &[u32]) -> Result<(), MeshError> {
+    let nv = mesh.positions.len();
+    if face.len() < 3 {
+        return Err(MeshError::FaceTooSmall { face: f, len: face.len(), line: None });
+    }
+    for (c, &i) in face.iter().enumerate() {
+        if i as usize >= nv {
+            return Err(MeshError::IndexOutOfRange { face: f, corner: c, index: i as i64, n_vertices: nv, line: None });
         }
+    }
+    // Small faces by a quadratic scan, large ones through a hash set: the same first repeat.
+    let repeated = if face.len() <= 16 {
+        (1..face.len()).find(|&c| face[..c].contains(&face[c]))
+    } else {
+        let mut seen: FxHashMap<u32, ()> = fx_map(face.len());
+        face.iter().position(|&i| seen.insert(i, ()).is_some())
+    };
+    if let Some(c) = repeated {
+        return Err(MeshError::RepeatedIndex { face: f, vertex: face[c] as usize, line: None });
+    }
+    let pts: Vec<DVec3> = face.iter().map(|&i| mesh.positions[i as usize]).collect();
+    let (area, h) = scaled_area(&pts);
+    // relative to d² with d = 2h the largest extent: area/4 ≤ ZERO_AREA_REL
+    if area * 0.25 <= ZERO_AREA_REL {
+        return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
     }
     Ok(())
 }

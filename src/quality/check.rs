@@ -1,6 +1,6 @@
 //! Topology and sanity checks of a triangle mesh (positions + CCW triangles), linear time.
 
-use crate::progress::{Cancelled, Ticker};
+use crate::progress::{chunk_size, Cancelled, Ticker};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -47,6 +47,10 @@ impl MeshCheck {
 
 /// Relative area threshold of [`MeshCheck::zero_area_triangles`].
 pub const ZERO_AREA_REL: f64 = 1e-14;
+
+/// Most vertices per chunk of the per-vertex pass of [`check_mesh_ticked`] (a few tens of
+/// milliseconds on two cores), so progress ticks and a cancel take effect between chunks.
+const VERTEX_CHUNK: usize = 1 << 15;
 
 /// Checks a triangle mesh; see [`MeshCheck`]. Linear time without hashing: the triangles'
 /// corners are bucketed per vertex (compressed rows), edges and vertex fans are checked on those
@@ -108,10 +112,8 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
     // and once as an incoming edge (at y's corner), so the counts of u → w and w → u are both
     // read from u's list.
     // Tally: [inconsistent, undirected, boundary, non-manifold edges, non-manifold vertices, used].
-    let tally = (0..nv)
-        .into_par_iter()
-        .with_min_len(1024)
-        .map(|u| {
+    // In chunks of vertices, ticking between them (integer sums: the chunking changes nothing).
+    let per_vertex = |u: usize| {
             let mut t = [0usize; 6];
             let packed = &links[start[u] as usize..start[u + 1] as usize];
             let (mut stack, heap): ([(u32, u32); 16], Vec<(u32, u32)>);
@@ -191,8 +193,17 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
                 }
             }
             t
-        })
-        .reduce(|| [0usize; 6], |a, b| std::array::from_fn(|i| a[i] + b[i]));
+        };
+    let add = |a: [usize; 6], b: [usize; 6]| -> [usize; 6] { std::array::from_fn(|i| a[i] + b[i]) };
+    let chunk = chunk_size(nv, VERTEX_CHUNK);
+    let mut tally = [0usize; 6];
+    let mut done = 0;
+    while done < nv {
+        let end = (done + chunk).min(nv);
+        tally = add(tally, (done..end).into_par_iter().with_min_len(1024).map(per_vertex).reduce(|| [0usize; 6], add));
+        done = end;
+        ticker.at_part(3.0 / 6.0, 5.0 / 6.0, done, nv)?;
+    }
     ticker.at(5, 6)?;
     let [inconsistent, undirected, boundary, nm_edges, nm_vertices, used] = tally;
     c.inconsistent_edges = inconsistent;

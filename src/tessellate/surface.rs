@@ -179,22 +179,27 @@ pub(crate) fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
 }
 
 /// `len` copies of `value`, reserved with `try_reserve_exact`: an allocation failure is the typed
-/// [`TessellateError::OutOfMemory`] naming `what`, never an abort of the host process.
-pub(crate) fn try_filled<T: Clone>(len: usize, value: T, what: &'static str) -> Result<Vec<T>, TessellateError> {
+/// [`TessellateError::OutOfMemory`] naming `what`, never an abort of the host process. Filled in
+/// parallel (as [`zeroed`]: the first touch of the fresh pages runs on all threads).
+pub(crate) fn try_filled<T: Clone + Send + Sync>(len: usize, value: T, what: &'static str) -> Result<Vec<T>, TessellateError> {
     let mut v = Vec::new();
     v.try_reserve_exact(len).map_err(|_| TessellateError::OutOfMemory {
         what,
         bytes: (len as u64).saturating_mul(std::mem::size_of::<T>() as u64),
     })?;
-    v.resize(len, value);
+    v.par_extend(rayon::iter::repeat_n(value, len).with_min_len(1 << 14));
     Ok(v)
 }
 
 /// Patches evaluated per progress step.
 const CHUNK: usize = 512;
 
-/// The patch evaluation's share of the progress of [`tessellate_checked`] (then welding and
-/// normals).
+/// The end of the setup's share of the progress of [`tessellate_checked`] (layouts, welding map,
+/// allocation).
+const SETUP: f32 = 0.1;
+
+/// The end of the patch evaluation's share of the progress of [`tessellate_checked`] (then
+/// welding and normals).
 const EVALUATION: f32 = 0.9;
 
 /// Calls `progress` (if any) with `f`; [`TessellateError::Cancelled`] when it returns false.
@@ -250,6 +255,7 @@ fn partition<'a>(
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
     boundary: &'a mut BoundarySamples,
+    tick: &mut dyn FnMut(u8) -> Result<(), TessellateError>,
 ) -> Result<Vec<PatchOut<'a>>, TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
@@ -269,8 +275,11 @@ fn partition<'a>(
     quad_start.push(nq);
     face_start.push(nf);
     mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
+    tick(1)?;
     mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
+    tick(2)?;
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
+    tick(3)?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
@@ -389,40 +398,64 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     folds: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
+    // The setup's steps tick at SETUP · k / 8 (k = 1..8, the allocations finer), so a cancel
+    // takes effect between them.
+    let setup = |k: u8| SETUP * f32::from(k) / 8.0;
     check_adjacency(surface)?;
+    tick(&mut progress, setup(1))?;
     let np = surface.patches.len();
     let sampling: Sampling = r.into();
     let layouts = layouts_of(surface, sampling, evaluator)?;
+    tick(&mut progress, setup(2))?;
     // Boundary steps per side, the same for every n: what welding and measuring count in.
     let r = sampling.per_side();
     let map = WeldMap::new(surface, &layouts, r)?;
+    tick(&mut progress, setup(3))?;
     let with_sectors: HashMap<usize, (SampleLayout, Sectors, Vec<u32>)> = layouts
-        .iter()
+        .par_iter()
         .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv), l.face_corners())))
         .collect();
+    tick(&mut progress, setup(4))?;
     let nv = map.vertex_count;
+    // The output arrays, ticking between them (each is a large first touch).
+    let positions = try_filled(nv, DVec3::ZERO, "output positions")?;
+    tick(&mut progress, setup(4) + SETUP / 32.0)?;
+    let normals = try_filled(nv, DVec3::ZERO, "output normals")?;
+    tick(&mut progress, setup(4) + SETUP / 16.0)?;
+    let patch = try_filled(nv, 0, "output patch indices")?;
+    let mean_curvature = try_filled(nv, 0.0, "output mean curvature")?;
+    tick(&mut progress, setup(4) + 3.0 * SETUP / 32.0)?;
+    let gaussian_curvature = try_filled(nv, 0.0, "output Gaussian curvature")?;
+    let g1_deviation_deg = try_filled(nv, 0.0, "output G1 deviation")?;
+    let fold = try_filled(nv, 0, "output fold flags")?;
     let mut mesh = SurfaceMesh {
-        positions: try_filled(nv, DVec3::ZERO, "output positions")?,
-        normals: try_filled(nv, DVec3::ZERO, "output normals")?,
+        positions,
+        normals,
         triangles: Vec::new(),
         quads: Vec::new(),
         face_corner: Vec::new(),
-        patch: try_filled(nv, 0, "output patch indices")?,
+        patch,
         triangle_patch: Vec::new(),
-        mean_curvature: try_filled(nv, 0.0, "output mean curvature")?,
-        gaussian_curvature: try_filled(nv, 0.0, "output Gaussian curvature")?,
-        g1_deviation_deg: try_filled(nv, 0.0, "output G1 deviation")?,
-        fold: try_filled(nv, 0, "output fold flags")?,
+        mean_curvature,
+        gaussian_curvature,
+        g1_deviation_deg,
+        fold,
         patch_folds: Vec::new(),
         flipped_triangles: Vec::new(),
-        patch_loops: PatchLoops::new(surface, &layouts, &map, r),
+        patch_loops: PatchLoops::default(),
     };
+    tick(&mut progress, setup(5))?;
+    mesh.patch_loops = PatchLoops::new(surface, &layouts, &map, r);
+    tick(&mut progress, setup(6))?;
     let mut boundary = BoundarySamples::new(surface, &layouts, r);
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
+    tick(&mut progress, setup(7))?;
     let folded: Vec<u32> = {
-        let mut outs = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary)?;
-        tick(&mut progress, 0.0)?;
+        let mut outs = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary, &mut |k| {
+            tick(&mut progress, setup(7) + SETUP / 8.0 * k as f32 / 4.0)
+        })?;
+        tick(&mut progress, setup(8))?;
         let mut done = 0usize;
         while done < np {
             let end = (done + crate::progress::chunk_size(np, CHUNK)).min(np);
@@ -430,7 +463,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
                 .par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
             done = end;
-            tick(&mut progress, EVALUATION * done as f32 / np.max(1) as f32)?;
+            tick(&mut progress, SETUP + (EVALUATION - SETUP) * done as f32 / np.max(1) as f32)?;
         }
         outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)).collect()
     };
