@@ -116,8 +116,9 @@ pub struct Surface {
     pub creases: Vec<Vec<f64>>,
     /// `cage[p][i]`: the cage corner the sector of corner i of patch p lies in (see
     /// [`CageSector`], filled by [`super::build_topology`] and [`super::build_dual`]); empty for
-    /// hand-built surfaces. Not serialized when empty.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// hand-built surfaces. Not serialized (derived from the control mesh, like `sources`'
+    /// numbering; a deserialized surface has none): the serialized surfaces stay as they were.
+    #[serde(skip)]
     pub cage: Vec<Vec<CageSector>>,
 }
 
