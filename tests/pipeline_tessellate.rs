@@ -50,6 +50,7 @@ fn pillow(n: usize) -> Surface {
         curves: Vec::new(),
         warnings: Vec::new(),
         creases: Vec::new(),
+        cage: Vec::new(),
     }
 }
 
@@ -96,6 +97,7 @@ fn single_patch_stays_open() {
             curves: Vec::new(),
             warnings: Vec::new(),
             creases: Vec::new(),
+            cage: Vec::new(),
         };
         let r = 4;
         let (m, stats) = tessellate_surface(&one, r, WeightForm::Squared, None).unwrap();

@@ -86,6 +86,9 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
             want_control_net=patch_method and outputs.get("want_control_net", False),
         )
         conv.source_digest = source_digest(data)
+        # Per cage face and corner: materials and UV maps, carried over by fill_surface.
+        conv.source_faces = getattr(data, "faces", None)
+        conv.source_face_sizes = sizes
         return conv
     except native.Cancelled:
         raise ConvertError(f"{name}: cancelled") from None
@@ -158,6 +161,8 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     mesh_io.set_point_attribute(
         mesh, "gb_patch_color", 'FLOAT_COLOR', mesh_io.index_colors(conv.patch_index))
     set_display(mesh, display)
+    mesh_io.carry_cage_data(mesh, getattr(conv, "cage_corner", ()), getattr(conv, "cage_coords", ()),
+                            getattr(conv, "source_face_sizes", ()), getattr(conv, "source_faces", None))
     for mat in (materials if materials else [surface_material(created)]):
         mesh.materials.append(mat)
     return mesh
@@ -376,7 +381,9 @@ def build_result(src, conv, lib_options, outputs, collection=None):
         name = src.name + ".GB"
         mesh = bpy.data.meshes.new(name)
         created.append(mesh)
-        fill_surface(mesh, conv, created=created)
+        # The source's material slots (material index per face carried over), else the colour one.
+        src_mats = list(src.data.materials) if src.type == 'MESH' and any(src.data.materials) else None
+        fill_surface(mesh, conv, created=created, materials=src_mats)
         obj = bpy.data.objects.new(name, mesh)
         created.append(obj)
         _link_like(obj, src, collection)

@@ -151,7 +151,102 @@ def read_mesh(mesh):
         corner_verts.astype(np.uint32),
     ))
     data.creases = read_creases(mesh)
+    data.faces = read_face_data(mesh, None if nf == 0 or np.array_equal(starts, expected) else order, int(sizes.sum()))
     return data
+
+
+class FaceData:
+    """What a result carries over from its cage per face and face corner (see `carry_cage_data`):
+    material_index (F,) int32, uv_maps: {name: (sum sizes, 2) float32 in face-corner order},
+    uv_active: the active UV map's name or None."""
+
+    def __init__(self, material_index, uv_maps, uv_active):
+        self.material_index = material_index
+        self.uv_maps = uv_maps
+        self.uv_active = uv_active
+
+
+def read_face_data(mesh, order, n_corners):
+    """The per-face material indices and every UV map of `mesh` (corners gathered by `order`
+    like the corner vertices, None when in order), numpy only."""
+    nf = len(mesh.polygons)
+    mi = np.zeros(nf, dtype=np.int32)
+    if nf:
+        mesh.polygons.foreach_get("material_index", mi)
+    uv_maps = {}
+    nl = len(mesh.loops)
+    for layer in mesh.uv_layers:
+        uv = np.empty(nl * 2, dtype=np.float32)
+        if hasattr(layer, "uv"):
+            layer.uv.foreach_get("vector", uv)
+        else:
+            layer.data.foreach_get("uv", uv)
+        uv = uv.reshape(-1, 2)
+        uv_maps[layer.name] = uv[order] if order is not None else uv[:n_corners]
+    active = mesh.uv_layers.active
+    return FaceData(mi, uv_maps, active.name if active is not None else None)
+
+
+def cage_loop_values(values, face_sizes, cage_corner, cage_coords):
+    """Per output face corner, a cage attribute given per cage face corner (`values` (sum sizes,
+    k) in face-corner order) interpolated like Subdivision Surface's "keep corners"
+    (docs/math.md#cage-corners): bilinear between the corner's value, the two adjacent edge
+    midpoints' values and the face centre's (the mean over the face's corners), at the loop's
+    cage coordinates. `cage_corner` (F,2), `cage_coords` (m·F,2), m corners per output face.
+    Faces with an unknown cage corner get 0. numpy only."""
+    values = np.asarray(values, dtype=np.float64)
+    sizes = np.asarray(face_sizes, dtype=np.int64)
+    cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
+    st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
+    nf, nq = len(sizes), len(cage_corner)
+    if nf == 0 or nq == 0 or len(st) % nq:
+        return np.zeros((len(st), values.shape[1]), dtype=np.float64)
+    starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+    centre = np.add.reduceat(values, starts, axis=0) / sizes[:, None]
+    f, c = cage_corner[:, 0], cage_corner[:, 1]
+    valid = (f >= 0) & (f < nf)
+    f = np.where(valid, f, 0)
+    n = sizes[f]
+    valid &= (c >= 0) & (c < n)
+    c = np.where(valid, c, 0)
+    k = len(st) // nq
+    here, nxt, prv = starts[f] + c, starts[f] + (c + 1) % n, starts[f] + (c + n - 1) % n
+    rep = lambda a: np.repeat(a, k, axis=0)  # noqa: E731
+    a = values[rep(here)]
+    b = 0.5 * (a + values[rep(nxt)])
+    p = 0.5 * (a + values[rep(prv)])
+    m = centre[rep(f)]
+    s, t = st[:, :1], st[:, 1:]
+    out = (1 - s) * (1 - t) * a + s * (1 - t) * b + s * t * m + (1 - s) * t * p
+    out[~rep(valid)] = 0.0
+    return out
+
+
+def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces):
+    """Carries a cage's `faces` (FaceData) over to a result mesh built from the conversion's
+    faces: each face's material index is its cage face's; every UV map is interpolated per face
+    corner with `cage_loop_values` (quad layout only: the other layouts give no coordinates)."""
+    if faces is None:
+        return
+    cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
+    if len(cage_corner) == len(mesh.polygons) and len(faces.material_index):
+        f = cage_corner[:, 0]
+        valid = f < len(faces.material_index)
+        set_face_materials(mesh, np.where(valid, faces.material_index[np.where(valid, f, 0)], 0))
+    if len(cage_coords) != len(mesh.loops) or len(cage_coords) == 0:
+        return
+    for name, uv in faces.uv_maps.items():
+        layer = mesh.uv_layers.new(name=name)
+        if layer is None:  # Blender's limit on UV maps
+            break
+        vals = cage_loop_values(uv, face_sizes, cage_corner, cage_coords).astype(np.float32).reshape(-1)
+        if hasattr(layer, "uv"):
+            layer.uv.foreach_set("vector", vals)
+        else:
+            layer.data.foreach_set("uv", vals)
+    if faces.uv_active is not None and faces.uv_active in mesh.uv_layers:
+        mesh.uv_layers.active = mesh.uv_layers[faces.uv_active]
+        mesh.uv_layers[faces.uv_active].active_render = True
 
 
 def read_object(obj, depsgraph=None):

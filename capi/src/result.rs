@@ -812,6 +812,40 @@ pub unsafe extern "C" fn gbsurf_mesh_face_corner(
     view_array("gbsurf_mesh_face_corner", result, |r| Ok(&r.mesh.face_corner[..]), data, len)
 }
 
+/// View of the per-output-face cage corner (2 values per face: the face of the control mesh and
+/// the position of the vertex in its vertex list as given; one pair per quad, or per triangle in
+/// the triangle layout and for the subdivision methods, whose corner is `UINT32_MAX`): the cage
+/// corner the output face lies in (docs/math.md#cage-corners). `*len` is the number of values;
+/// `*data` is valid until the handle is freed.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_cage_corner(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_cage_corner", result, |r| Ok(r.mesh.cage_corner.as_flattened()), data, len)
+}
+
+/// View of the cage coordinates of the quad corners (quad layout only, else empty): 2 doubles
+/// (σ, τ) per corner of every quad, in the order of `gbsurf_mesh_quads` (8 per quad): the bilinear
+/// coordinates in the quad's cage corner, (0,0) the cage vertex, (1,0) the midpoint of the edge to
+/// the next vertex, (0,1) the midpoint of the edge from the previous vertex, (1,1) the face
+/// centre (docs/math.md#cage-corners). `*data` is valid until the handle is freed.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_cage_coords(
+    result: *const GbsurfResult,
+    data: *mut *const f64,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_cage_coords", result, |r| Ok(r.mesh.cage_coords.as_flattened()), data, len)
+}
+
 /// View of the per-triangle patch index (patch methods: the patch it was sampled from;
 /// subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
 /// `*data` is valid until the handle is freed.

@@ -532,6 +532,26 @@ uint32_t gbsurf_mesh_copy_quads(const GbsurfResult *result,
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
 uint32_t gbsurf_mesh_face_corner(const GbsurfResult *result, const uint32_t **data, size_t *len);
 
+// View of the per-output-face cage corner (2 values per face: the face of the control mesh and
+// the position of the vertex in its vertex list as given; one pair per quad, or per triangle in
+// the triangle layout and for the subdivision methods, whose corner is `UINT32_MAX`): the cage
+// corner the output face lies in (docs/math.md#cage-corners). `*len` is the number of values;
+// `*data` is valid until the handle is freed.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_cage_corner(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// View of the cage coordinates of the quad corners (quad layout only, else empty): 2 doubles
+// (σ, τ) per corner of every quad, in the order of `gbsurf_mesh_quads` (8 per quad): the bilinear
+// coordinates in the quad's cage corner, (0,0) the cage vertex, (1,0) the midpoint of the edge to
+// the next vertex, (0,1) the midpoint of the edge from the previous vertex, (1,1) the face
+// centre (docs/math.md#cage-corners). `*data` is valid until the handle is freed.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_cage_coords(const GbsurfResult *result, const double **data, size_t *len);
+
 // View of the per-triangle patch index (patch methods: the patch it was sampled from;
 // subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
 // `*data` is valid until the handle is freed.

@@ -46,6 +46,7 @@ pub(super) fn subdivision_mesh(
     out.positions.extend_from_slice(&current.positions);
     out.triangles.try_reserve_exact(nt).map_err(|_| oom("output triangles", nt * 12))?;
     out.triangle_patch.try_reserve_exact(nt).map_err(|_| oom("output triangle patches", nt * 4))?;
+    out.cage_corner.try_reserve_exact(nt).map_err(|_| oom("output cage corners", nt * 8))?;
     out.patch.try_reserve_exact(nv).map_err(|_| oom("output patch indices", nv * 4))?;
     out.patch.resize(nv, u32::MAX);
     out.fold.try_reserve_exact(nv).map_err(|_| oom("output fold flags", nv))?;
@@ -57,6 +58,7 @@ pub(super) fn subdivision_mesh(
         for i in 1..f.len().saturating_sub(1) {
             out.triangles.push([f[0], f[i], f[i + 1]]);
             out.triangle_patch.push(anc);
+            out.cage_corner.push([anc, u32::MAX]);
         }
         for &v in f {
             let slot = &mut out.patch[v as usize];

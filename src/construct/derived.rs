@@ -151,6 +151,7 @@ mod tests {
             curves,
             warnings: Vec::new(),
             creases: Vec::new(),
+            cage: Vec::new(),
         }
     }
 

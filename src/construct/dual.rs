@@ -228,6 +228,9 @@ pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mu
     let prep = ticker.within(0.0, PREPARE, |_| super::prepare(mesh))?;
     let net = ticker.within(PREPARE, NETWORK, |_| dual_network(&prep.mesh, opts)).map_err(|e| prep.error(e, true))?;
     let mut s = ticker.within(NETWORK, 1.0, |t| super::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?;
+    if s.patches.len() == prep.mesh.n_vertices() {
+        s.cage = prep.cage_dual(mesh);
+    }
     for src in &mut s.sources {
         *src = prep.source(*src);
     }

@@ -287,6 +287,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         sources,
         curves: net.curves.iter().map(|c| c.to_vec()).collect(),
         warnings: Vec::new(),
+        cage: Vec::new(),
     })
 }
 

@@ -18,7 +18,8 @@
 
 use super::surface::PatchSource;
 use super::ConstructError;
-use crate::mesh::HalfEdgeMesh;
+use super::surface::{CageSector, SectorMap};
+use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -42,6 +43,56 @@ impl Prepared<'_> {
             PatchSource::Vertex(v) => PatchSource::Vertex(self.vertex_origin[v]),
             PatchSource::Face(f) => PatchSource::Face(self.face_origin[f]),
         }
+    }
+
+    /// The cage corner (input numbering) of vertex `v` in face `f` of the prepared mesh, with
+    /// `map`; `input` is the mesh the preparation started from. A face split into convex pieces
+    /// maps to its input face, the corner to the position of the vertex in its vertex list.
+    fn cage_corner(&self, input: &HalfEdgeMesh, f: FaceId, v: VertexId, map: SectorMap) -> CageSector {
+        let face = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
+        let vertex = self.vertex_origin.get(v.idx()).copied().unwrap_or(v.idx());
+        let corner = if face < input.n_faces() {
+            input.face_halfedges(FaceId(face as u32)).position(|h| input.origin(h).idx() == vertex)
+        } else {
+            None
+        };
+        CageSector { face: face as u32, corner: corner.map_or(u32::MAX, |c| c as u32), map }
+    }
+
+    /// Topology structure: per patch (face of the prepared mesh) and corner i (the origin of the
+    /// face's i-th half-edge), its cage corner.
+    pub fn cage_topology(&self, input: &HalfEdgeMesh) -> Vec<Vec<CageSector>> {
+        let m = &*self.mesh;
+        m.faces()
+            .map(|f| m.face_halfedges(f).map(|h| self.cage_corner(input, f, m.origin(h), SectorMap::Face)).collect())
+            .collect()
+    }
+
+    /// Dual structure: per patch (vertex of the prepared mesh) and corner i (the i-th face around
+    /// it in `vertex_outgoing` order), its cage corner. A boundary vertex with n outgoing
+    /// half-edges has n + 1 corners: corner 0 (on the first boundary edge) maps to the first
+    /// face, flattened ([`SectorMap::OpenStart`]); corners 1..n−1 to the faces; corner n (on the
+    /// last boundary edge) to the last face ([`SectorMap::OpenEnd`]).
+    pub fn cage_dual(&self, input: &HalfEdgeMesh) -> Vec<Vec<CageSector>> {
+        let m = &*self.mesh;
+        m.vertices()
+            .map(|v| {
+                let out: Vec<HalfedgeId> = m.vertex_outgoing(v).collect();
+                let n = out.len();
+                let at = |h: HalfedgeId, map| m.face(h).map(|f| self.cage_corner(input, f, v, map));
+                let unknown = CageSector { face: u32::MAX, corner: u32::MAX, map: SectorMap::Vertex };
+                if !m.is_boundary_vertex(v) || n < 2 {
+                    return out.iter().map(|&h| at(h, SectorMap::Vertex).unwrap_or(unknown)).collect();
+                }
+                // g_k = out[k + 1]: g_0 .. g_{n−2} have faces, g_{n−1} is the boundary half-edge.
+                let g = |k: usize| out[(k + 1) % n];
+                let mut c = Vec::with_capacity(n + 1);
+                c.push(at(g(0), SectorMap::OpenStart).unwrap_or(unknown));
+                c.extend((1..n).map(|j| at(g(j - 1), SectorMap::Vertex).unwrap_or(unknown)));
+                c.push(at(g(n - 2), SectorMap::OpenEnd).unwrap_or(unknown));
+                c
+            })
+            .collect()
     }
 
     /// An error of the construction on the prepared mesh in the input numbering (vertex and face

@@ -50,6 +50,47 @@ pub enum PatchSource {
     Face(usize),
 }
 
+/// How the bilinear coordinates (s, t) of a quad-layout sector (`SampleLayout::sector_index`:
+/// (0,0) the patch centre, (1,0) the midpoint of side i, (1,1) corner i, (0,1) the midpoint of
+/// side i+1) map to the coordinates (σ, τ) of its cage corner: (0,0) the cage vertex, (1,0) the
+/// midpoint of the edge to the face's next vertex, (0,1) the midpoint of the edge from its
+/// previous vertex, (1,1) the face centre (docs/math.md#cage-corners).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SectorMap {
+    /// Topology structure: patch = face, corner i = vertex i: (σ, τ) = (1 − s, 1 − t).
+    Face,
+    /// Dual structure: patch = vertex, corner i = a face around it: (σ, τ) = (s, t).
+    Vertex,
+    /// Dual boundary patch, the sector between the open side and the first boundary edge: it
+    /// is flattened onto that edge's half at the vertex: (σ, τ) = (t, 0).
+    OpenStart,
+    /// Dual boundary patch, the sector between the last boundary edge and the open side:
+    /// (σ, τ) = (0, s).
+    OpenEnd,
+}
+
+impl SectorMap {
+    /// The cage-corner coordinates (σ, τ) of sector point (s, t).
+    pub fn cage_coords(self, s: f64, t: f64) -> [f64; 2] {
+        match self {
+            SectorMap::Face => [1.0 - s, 1.0 - t],
+            SectorMap::Vertex => [s, t],
+            SectorMap::OpenStart => [t, 0.0],
+            SectorMap::OpenEnd => [0.0, s],
+        }
+    }
+}
+
+/// The cage corner (face, corner) a patch corner's sector lies in, in the numbering of the mesh
+/// the surface was built from: `corner` is the position of the vertex in the face's vertex list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub struct CageSector {
+    pub face: u32,
+    pub corner: u32,
+    pub map: SectorMap,
+}
+
 /// A patchwork surface: patches, side adjacency and the curve network it interpolates.
 ///
 /// Orientation: each patch's sides run counter-clockwise seen from outside, so the patch normal
@@ -73,6 +114,12 @@ pub struct Surface {
     /// smooth surface serializes as before creases existed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub creases: Vec<Vec<f64>>,
+    /// `cage[p][i]`: the cage corner the sector of corner i of patch p lies in (see
+    /// [`CageSector`], filled by [`super::build_topology`] and [`super::build_dual`]); empty for
+    /// hand-built surfaces. Not serialized (derived from the control mesh, like `sources`'
+    /// numbering; a deserialized surface has none): the serialized surfaces stay as they were.
+    #[serde(skip)]
+    pub cage: Vec<Vec<CageSector>>,
 }
 
 impl Surface {

@@ -456,6 +456,9 @@ pub fn build_topology_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker:
     let prep = ticker.within(0.0, PREPARE, |_| super::prepare(mesh))?;
     let net = ticker.within(PREPARE, NETWORK, |_| topology_network(&prep.mesh, opts)).map_err(|e| prep.error(e, false))?;
     let mut s = ticker.within(NETWORK, 1.0, |t| super::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, false))?;
+    if s.patches.len() == prep.mesh.n_faces() {
+        s.cage = prep.cage_topology(mesh);
+    }
     for src in &mut s.sources {
         *src = prep.source(*src);
     }

@@ -53,6 +53,17 @@ pub struct SurfaceMesh {
     /// sector holds it (domain vertex i, the end of side i; [`SampleLayout::face_corners`]).
     /// Empty for the subdivision methods.
     pub face_corner: Vec<u32>,
+    /// Per output face: the cage corner `[face, corner]` it lies in ([`Surface::cage`]: the
+    /// face of the control mesh and the position of the vertex in its vertex list;
+    /// docs/math.md#cage-corners). Triangle layout: the corner of [`Self::face_corner`]'s
+    /// sector. Subdivision methods: `[input face, u32::MAX]` per triangle. `[u32::MAX; 2]` when
+    /// the surface has no cage map (hand-built surfaces).
+    pub cage_corner: Vec<[u32; 2]>,
+    /// Quad layout only (else empty): per quad corner (4 per quad, in the order of
+    /// [`Self::quads`]) its bilinear coordinates (σ, τ) ∈ [0,1]² in its cage corner: (0,0) the
+    /// cage vertex, (1,0) the midpoint of the edge to the face's next vertex, (0,1) the midpoint
+    /// of the edge from its previous vertex, (1,1) the face centre ([`crate::construct::SectorMap`]).
+    pub cage_coords: Vec<[f64; 2]>,
     /// Per vertex: the patch that created it (the smallest patch index sharing it). For subdivision
     /// methods: the face of the input mesh it descends from.
     pub patch: Vec<u32>,
@@ -238,6 +249,8 @@ struct PatchOut<'a> {
     tri_patch: &'a mut [u32],
     quads: &'a mut [[u32; 4]],
     corner: &'a mut [u32],
+    cage: &'a mut [[u32; 2]],
+    coords: &'a mut [[f64; 2]],
     bnd: &'a mut [SurfacePoint],
     fold: &'a mut TessellationFolds,
     /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
@@ -281,6 +294,9 @@ fn partition<'a>(
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
     tick(3)?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
+    mesh.cage_corner = try_filled(nf, [u32::MAX; 2], "output cage corners")?;
+    mesh.cage_coords = try_filled(4 * nq, [0.0; 2], "output cage coordinates")?;
+    let coord_start: Vec<usize> = quad_start.iter().map(|&q| 4 * q).collect();
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
     let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
@@ -292,6 +308,8 @@ fn partition<'a>(
     let mut tp = split_by(&mut mesh.triangle_patch, &tri_start).into_iter();
     let mut qu = split_by(&mut mesh.quads, &quad_start).into_iter();
     let mut fc = split_by(&mut mesh.face_corner, &face_start).into_iter();
+    let mut cc = split_by(&mut mesh.cage_corner, &face_start).into_iter();
+    let mut cx = split_by(&mut mesh.cage_coords, &coord_start).into_iter();
     let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
     mesh.patch_folds = vec![TessellationFolds::default(); np];
     // Every split has exactly np pieces; an empty slice is never taken.
@@ -309,11 +327,33 @@ fn partition<'a>(
             tri_patch: tp.next().unwrap_or_default(),
             quads: qu.next().unwrap_or_default(),
             corner: fc.next().unwrap_or_default(),
+            cage: cc.next().unwrap_or_default(),
+            coords: cx.next().unwrap_or_default(),
             bnd: bd.next().unwrap_or_default(),
             fold,
             folded: Vec::new(),
         })
         .collect())
+}
+
+/// The cage corner of every output face of one patch (`cage`: the patch's [`Surface::cage`] row,
+/// `None` when the surface has none) and, for quads, the cage coordinates of their corners.
+fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], out: &mut [[u32; 2]], coords: &mut [[f64; 2]]) {
+    let sector = |i: u32| cage.and_then(|c| c.get(i as usize));
+    for (o, &i) in out.iter_mut().zip(corners) {
+        if let Some(c) = sector(i) {
+            *o = [c.face, c.corner];
+        }
+    }
+    let r = layout.resolution.max(1);
+    let rf = r as f64;
+    for (k, q) in coords.chunks_exact_mut(4).enumerate() {
+        let map = sector((k / (r * r)) as u32).map_or(crate::construct::SectorMap::Vertex, |c| c.map);
+        let (a, b) = ((k % (r * r)) / r, k % r);
+        for (c, (da, db)) in q.iter_mut().zip([(0, 0), (1, 0), (1, 1), (0, 1)]) {
+            *c = map.cage_coords((a + da) as f64 / rf, (b + db) as f64 / rf);
+        }
+    }
 }
 
 /// Evaluates patch `o.p` and writes the samples that create vertices, its boundary samples
@@ -364,6 +404,7 @@ fn evaluate_patch<E: PatchEvaluator>(
         *q = lq.map(|x| ids[x as usize]);
     }
     o.corner.copy_from_slice(corners);
+    write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, o.cage, o.coords);
     if !folds {
         return Ok(());
     }
@@ -434,6 +475,8 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         triangles: Vec::new(),
         quads: Vec::new(),
         face_corner: Vec::new(),
+        cage_corner: Vec::new(),
+        cage_coords: Vec::new(),
         patch,
         triangle_patch: Vec::new(),
         mean_curvature,

@@ -894,6 +894,14 @@ fn quad_layout_views_match_rust() {
         assert_eq!(gbsurf_mesh_face_corner(r, &mut u, &mut len), GBSURF_OK);
         assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.face_corner[..]);
         assert_eq!(len, 96);
+        assert_eq!(gbsurf_mesh_cage_corner(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, len), conv.mesh.cage_corner.as_flattened());
+        assert_eq!(len, 2 * 96);
+        let (mut c, mut clen) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_cage_coords(r, &mut c, &mut clen), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(c, clen), conv.mesh.cage_coords.as_flattened());
+        assert_eq!(clen, 8 * 96);
+        assert_eq!(gbsurf_mesh_cage_coords(r, null_mut(), &mut clen), GBSURF_ERR_NULL);
         assert_eq!(gbsurf_mesh_triangle_patch(r, &mut u, &mut len), GBSURF_OK);
         assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.triangle_patch[..]);
         gbsurf_result_free(r);

@@ -1,0 +1,101 @@
+"""Cage data carried over to a result (docs/math.md#cage-corners): the material index of every
+output face is its cage face's, the source's materials are linked, and every UV map is
+interpolated like Subdivision Surface's "keep corners": equal to the source's UV at the cage
+corners, the mean of the face's UVs at its centre, continuous within every cage face."""
+
+import bpy
+import numpy as np
+import pytest
+
+import helpers
+
+STRUCTURES = ["DUAL", "TOPOLOGY"]
+
+
+def mod():
+    return helpers.mesh_module()
+
+
+def cube_with_materials_and_checker():
+    """The primitive cube with materials A (faces 0-2) and B (3-5) and a checker UV map: corner
+    k of face f at the unit square's corner k, shifted by (f, parity of f)."""
+    src = helpers.add_primitive("cube")
+    mesh = src.data
+    for name in ("A", "B"):
+        mesh.materials.append(bpy.data.materials.new(name))
+    mesh.polygons.foreach_set("material_index", np.array([0, 0, 0, 1, 1, 1], dtype=np.int32))
+    layer = mesh.uv_layers.new(name="Checker")
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    uv = np.concatenate([square + [f, f % 2] for f in range(6)]).astype(np.float32)
+    layer.uv.foreach_set("vector", uv.reshape(-1))
+    mesh.update()
+    return src
+
+
+def loop_uvs(mesh, name):
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    mesh.uv_layers[name].uv.foreach_get("vector", uv)
+    return uv.reshape(-1, 2)
+
+
+@pytest.mark.parametrize("method", STRUCTURES)
+def test_materials_and_uvs_follow_the_cage(method):
+    src = cube_with_materials_and_checker()
+    assert bpy.ops.object.gbsurf_convert(method=method, resolution=2) == {'FINISHED'}
+    out = bpy.context.active_object
+    mesh = out.data
+    # The source's materials, per face from its cage face.
+    assert [m.name for m in mesh.materials] == ["A", "B"]
+    lib_options, outputs = mod().core.split_options({"method": method, "resolution": 2})
+    conv = mod().core.compute(src, lib_options, outputs)
+    nq = len(conv.quads)
+    assert len(mesh.polygons) == nq == 6 * 4 * 4
+    cage_face = conv.cage_corner[:, 0].astype(np.int64)
+    mi = np.empty(nq, dtype=np.int32)
+    mesh.polygons.foreach_get("material_index", mi)
+    src_mi = np.array([0, 0, 0, 1, 1, 1])
+    assert (mi == src_mi[cage_face]).all()
+    assert (mi == 1).sum() == (mi == 0).sum() == 3 * 16
+    # Every source UV map, the active one kept.
+    names = [layer.name for layer in src.data.uv_layers]
+    assert [layer.name for layer in mesh.uv_layers] == names
+    assert mesh.uv_layers.active.name == src.data.uv_layers.active.name
+    uv = loop_uvs(mesh, "Checker")
+    src_uv = loop_uvs(src.data, "Checker")
+    st = conv.cage_coords
+    corner = conv.cage_corner[:, 1].astype(np.int64)
+    loop_face, loop_corner = np.repeat(cage_face, 4), np.repeat(corner, 4)
+    # At the cage corners: the source's corner UV (faces are quads, 4 corners each).
+    at = (st == 0).all(axis=1)
+    assert at.sum() == 24
+    assert np.allclose(uv[at], src_uv[4 * loop_face[at] + loop_corner[at]], atol=1e-6)
+    # At the face centres: the mean of the face's UVs.
+    at = (st == 1).all(axis=1)
+    centres = src_uv.reshape(6, 4, 2).mean(axis=1)
+    assert np.allclose(uv[at], centres[loop_face[at]], atol=1e-6)
+    # Continuous within each cage face: one UV per (output vertex, cage face).
+    verts = np.asarray(conv.quads, dtype=np.int64).reshape(-1)
+    seen = {}
+    for v, f, u in zip(verts.tolist(), loop_face.tolist(), uv.tolist()):
+        prev = seen.setdefault((v, f), u)
+        assert np.allclose(prev, u, atol=1e-6), (v, f, prev, u)
+    # Within each cage face the UVs stay in that face's square.
+    lo = np.array([[f, f % 2] for f in range(6)], dtype=np.float32)[loop_face]
+    assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
+
+
+def test_source_without_materials_keeps_the_colour_material():
+    helpers.add_primitive("cube")
+    assert bpy.ops.object.gbsurf_convert(method='TOPOLOGY', resolution=2) == {'FINISHED'}
+    out = bpy.context.active_object
+    assert [m.name for m in out.data.materials] == [mod().core.MATERIAL_NAME]
+
+
+def test_cage_loop_values_is_the_keep_corners_rule():
+    # One quad face with corner values 0, 1, 2, 3: corner, edge midpoints, centre.
+    values = np.array([[0.0], [1.0], [2.0], [3.0]])
+    corner = np.array([[0, 1], [0, 7], [5, 0]], dtype=np.uint32)
+    coords = np.array([[0, 0], [1, 0], [1, 1], [0, 1]] * 3, dtype=np.float64)
+    out = mod().mesh_io.cage_loop_values(values, [4], corner, coords)
+    assert out[:4, 0].tolist() == [1.0, 1.5, 1.5, 0.5]
+    assert out[4:, 0].tolist() == [0.0] * 8  # unknown corner, unknown face
