@@ -203,31 +203,6 @@ class OBJECT_OT_gbsurf_offset_update(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class OBJECT_PT_gbsurf_offset(bpy.types.Panel):
-    """Settings of an exact offset surface: edit them, then Update."""
-
-    bl_label = "GB Offset Surface"
-    bl_space_type = 'PROPERTIES'
-    bl_region_type = 'WINDOW'
-    bl_context = "object"
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.object
-        return obj is not None and obj.gbsurf.is_offset
-
-    def draw(self, context):
-        s = context.object.gbsurf
-        layout = self.layout
-        layout.use_property_split = True
-        layout.prop(s, "source")
-        for name in ("offset_distance", "offset_shell", "offset_grid", "method", "resolution"):
-            layout.prop(s, name)
-        if s.info:
-            layout.label(text=s.info, icon='INFO')
-        layout.operator(OBJECT_OT_gbsurf_offset_update.bl_idname, text="Update", icon='FILE_REFRESH')
-
-
 # --- PH offset of a planar Bezier curve ------------------------------------------------------------
 
 def bezier_hermite_data(spline):
@@ -395,7 +370,7 @@ class CURVE_OT_gbsurf_ph_offset(bpy.types.Operator):
         return {'FINISHED'}
 
 
-classes = (OBJECT_OT_gbsurf_offset, OBJECT_OT_gbsurf_offset_update, OBJECT_PT_gbsurf_offset,
+classes = (OBJECT_OT_gbsurf_offset, OBJECT_OT_gbsurf_offset_update,
            CURVE_OT_gbsurf_ph_offset)
 
 

@@ -4,6 +4,7 @@
 import bpy
 
 from .core import live_source
+from .offset_ops import OBJECT_OT_gbsurf_offset_update
 from .operators import OBJECT_OT_gbsurf_convert, OBJECT_OT_gbsurf_update
 from .props import DISPLAY_ATTRIBUTE
 
@@ -47,7 +48,32 @@ class OBJECT_PT_gbsurf(bpy.types.Panel):
         row.prop(s, "live", toggle=True, icon='REC' if s.live else 'PLAY')
 
 
-classes = (OBJECT_PT_gbsurf,)
+class OBJECT_PT_gbsurf_offset(bpy.types.Panel):
+    """Settings of an exact offset surface: edit them, then Update."""
+
+    bl_label = "GB Offset Surface"
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return obj is not None and obj.gbsurf.is_offset
+
+    def draw(self, context):
+        s = context.object.gbsurf
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "source")
+        for name in ("offset_distance", "offset_shell", "offset_grid", "method", "resolution"):
+            layout.prop(s, name)
+        if s.info:
+            layout.label(text=s.info, icon='INFO')
+        layout.operator(OBJECT_OT_gbsurf_offset_update.bl_idname, text="Update", icon='FILE_REFRESH')
+
+
+classes = (OBJECT_PT_gbsurf, OBJECT_PT_gbsurf_offset)
 
 
 def register():
