@@ -96,7 +96,16 @@ def test_panel_and_menu_draw():
     assert ("prop", "levels") in log and ("prop", "resolution") not in log
     log.clear()
     mod.ui.menu_convert(_Self(RecordingLayout(log)), bpy.context)
-    assert log == [("operator", "object.gbsurf_convert")]
+    assert log == [("operator", "object.gbsurf_convert"), ("operator", "object.gbsurf_offset"),
+                   ("operator", "curve.gbsurf_ph_offset")]
+    # The offset settings panel (in ui.py with the other panel) shows only on offset objects.
+    assert not mod.ui.OBJECT_PT_gbsurf_offset.poll(bpy.context)
+    obj.gbsurf.is_offset = True
+    assert mod.ui.OBJECT_PT_gbsurf_offset.poll(bpy.context)
+    log.clear()
+    mod.ui.OBJECT_PT_gbsurf_offset.draw(_Self(RecordingLayout(log)), bpy.context)
+    assert ("operator", "object.gbsurf_offset_update") in log and ("prop", "offset_distance") in log
+    obj.gbsurf.is_offset = False
     # The operator's redo panel (Adjust Last Operation) draws the same options.
     log.clear()
     mod.props.ConvertOptionsMixin.draw_options(obj.gbsurf, RecordingLayout(log))
