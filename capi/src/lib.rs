@@ -211,6 +211,21 @@ pub(crate) fn boundary(name: &str, f: impl FnOnce() -> FfiResult) -> u32 {
     }
 }
 
+/// The body of every `gbsurf_*_free`: NULL is a no-op, otherwise the box is dropped inside a
+/// panic guard (a destructor never unwinds into the host).
+///
+/// # Safety
+/// `handle` is NULL or came from `Box::into_raw` of a `Box<T>` and is not freed before.
+pub(crate) unsafe fn free_handle<T>(handle: *mut T) {
+    if handle.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: from Box::into_raw, not freed before (contract).
+        drop(unsafe { Box::from_raw(handle) });
+    }));
+}
+
 /// NULL and alignment check of a pointer argument (dereferencing or slicing a misaligned
 /// pointer is undefined behaviour even where the hardware tolerates it).
 fn check_ptr<T>(p: *const T, what: &str, arg: &str) -> FfiResult {

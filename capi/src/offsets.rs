@@ -129,13 +129,8 @@ pub unsafe extern "C" fn gbsurf_ph5_hermite(
 /// `ph5` is NULL or a handle from `gbsurf_ph5_hermite` not freed before.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_ph5_free(ph5: *mut GbsurfPh5) {
-    if ph5.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: from Box::into_raw in gbsurf_ph5_hermite, not freed before (contract).
-        drop(unsafe { Box::from_raw(ph5) });
-    }));
+    // SAFETY: NULL or a live handle of this type (contract).
+    unsafe { free_handle(ph5) }
 }
 
 /// Number of solutions (always 4) and the index of the chosen one (least absolute rotation
@@ -338,13 +333,8 @@ pub unsafe extern "C" fn gbsurf_ph_spline_c2(
 /// `spline` is NULL or a handle from `gbsurf_ph_spline_hermite` / `_c2` not freed before.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_ph_spline_free(spline: *mut GbsurfPhSpline) {
-    if spline.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: from Box::into_raw in put_spline, not freed before (contract).
-        drop(unsafe { Box::from_raw(spline) });
-    }));
+    // SAFETY: NULL or a live handle of this type (contract).
+    unsafe { free_handle(spline) }
 }
 
 /// Number of segments and whether the spline is closed (either output may be NULL).
@@ -468,13 +458,8 @@ pub unsafe extern "C" fn gbsurf_pn_interpolate(
 /// `pn` is NULL or a handle from `gbsurf_pn_interpolate` not freed before.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_pn_free(pn: *mut GbsurfPn) {
-    if pn.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: from Box::into_raw in gbsurf_pn_interpolate, not freed before (contract).
-        drop(unsafe { Box::from_raw(pn) });
-    }));
+    // SAFETY: NULL or a live handle of this type (contract).
+    unsafe { free_handle(pn) }
 }
 
 /// The number of patches: `*rows` = grid rows − 1, `*cols` = grid columns − 1.
@@ -614,14 +599,7 @@ pub unsafe extern "C" fn gbsurf_offset(
         // SAFETY: non-null, writable (contract).
         unsafe { *out = std::ptr::null_mut() };
         // SAFETY: pointer/length pairs per the contract.
-        let (p, s, i) = unsafe {
-            (
-                slice_arg(positions, positions_len, "positions")?,
-                slice_arg(face_sizes, face_count, "face_sizes")?,
-                slice_arg(face_indices, face_indices_len, "face_indices")?,
-            )
-        };
-        let mesh = crate::result::build_mesh(p, s, i)?;
+        let mesh = unsafe { crate::result::mesh_arg((positions, positions_len, face_sizes, face_count, face_indices, face_indices_len))? };
         let opts = crate::options::read_options(options)?;
         let grid = if grid == 0 { gbsurf::limits::DEFAULT_OFFSET_GRID } else { grid };
         let off = OffsetOptions { distance, grid, shell: shell != 0 };

@@ -303,6 +303,25 @@ pub unsafe extern "C" fn gbsurf_convert(
     }
 }
 
+/// The polygon mesh of the flat array arguments of every entry taking a mesh (positions, face
+/// sizes, face indices; see `gbsurf_convert`), checked and built by [`build_mesh`].
+///
+/// # Safety
+/// Each pointer is NULL with length 0 or points to its stated number of readable elements.
+pub(crate) unsafe fn mesh_arg(
+    (positions, positions_len, face_sizes, face_count, face_indices, face_indices_len): (*const f64, usize, *const u32, usize, *const u32, usize),
+) -> FfiResult<PolyMesh> {
+    // SAFETY: pointer/length pairs (contract).
+    let (p, s, i) = unsafe {
+        (
+            slice_arg(positions, positions_len, "positions")?,
+            slice_arg(face_sizes, face_count, "face_sizes")?,
+            slice_arg(face_indices, face_indices_len, "face_indices")?,
+        )
+    };
+    build_mesh(p, s, i)
+}
+
 /// The one body of `gbsurf_convert`, `gbsurf_convert_creased` and `gbsurf_convert_holed`
 /// (`creases` and `holes` may be NULL), behind the panic boundary named `name`.
 ///
@@ -331,14 +350,7 @@ unsafe fn convert_arrays(
         // SAFETY: non-null, writable (contract).
         unsafe { *out = std::ptr::null_mut() };
         // SAFETY: pointer/length pairs per the contract of the callers.
-        let (p, s, i) = unsafe {
-            (
-                slice_arg(positions, positions_len, "positions")?,
-                slice_arg(face_sizes, face_count, "face_sizes")?,
-                slice_arg(face_indices, face_indices_len, "face_indices")?,
-            )
-        };
-        let mut mesh = build_mesh(p, s, i)?;
+        let mut mesh = unsafe { mesh_arg((positions, positions_len, face_sizes, face_count, face_indices, face_indices_len))? };
         // SAFETY: NULL or a readable struct (contract of the callers).
         unsafe { read_creases(creases, &mut mesh)? };
         // SAFETY: NULL or a readable struct (contract of the callers).
@@ -592,13 +604,8 @@ pub unsafe extern "C" fn gbsurf_convert_file(
 /// `result` must be NULL or a handle from `gbsurf_convert*` not freed before.
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_result_free(result: *mut GbsurfResult) {
-    if result.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: created by Box::into_raw in write_out and not freed before (contract).
-        drop(unsafe { Box::from_raw(result) });
-    }));
+    // SAFETY: NULL or a live handle of this type (contract).
+    unsafe { free_handle(result) }
 }
 
 // ---------------------------------------------------------------------------------------------
