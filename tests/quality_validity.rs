@@ -643,3 +643,75 @@ fn every_folded_patch_gets_a_site() {
         assert!(s.u.is_finite() && s.v.is_finite() && s.u.hypot(s.v) <= 1.0 + 1e-12, "{s:?}");
     }
 }
+
+/// Closed star-shaped outputs (cube, cone, prism, both structures) are certified by central
+/// projection, and their count (0) is the brute-force count; a torus and an open surface are not.
+#[test]
+fn closed_star_shaped_shells_are_certified_others_are_not() {
+    use gbsurf::mesh::generate::{cone, prism, torus};
+    use gbsurf::quality::certify::star_shaped_shells;
+    let one_shell = |m: &gbsurf::tessellate::SurfaceMesh| star_shaped_shells(&m.positions, &m.triangles, &vec![0; m.triangles.len()]);
+    for method in [Method::Dual, Method::Topology] {
+        let opts = ConvertOptions { method, ..ConvertOptions::default() };
+        for (name, mesh) in [("cube", cube(None)), ("cone", cone(12).unwrap()), ("prism", prism(9).unwrap())] {
+            let m = convert(&mesh, &opts, None).unwrap().mesh;
+            assert!(one_shell(&m).iter().all(|&x| x), "{method} {name}");
+            assert_eq!(brute_force(&m.positions, &m.triangles), 0, "{method} {name}");
+            assert_eq!(mesh_self_intersections(&m), 0);
+        }
+        let t = convert(&torus(8, 6, 3.0, 1.0).unwrap(), &opts, None).unwrap().mesh;
+        assert!(one_shell(&t).iter().all(|&x| !x), "{method} torus");
+        // The cube without its top face: open.
+        let mut open = cube(None);
+        open.faces.pop();
+        let o = convert(&open, &opts, None).unwrap().mesh;
+        assert!(one_shell(&o).iter().all(|&x| !x), "{method} open cube");
+    }
+}
+
+/// A closed surface winding twice around its centre (degree 2: total solid angle 8π, every
+/// triangle positively oriented) is not certified, and the count equals brute force.
+#[test]
+fn a_closed_surface_winding_twice_around_its_centre_is_not_certified() {
+    use gbsurf::quality::certify::star_shaped_shells;
+    let m = 7u32; // equator points; angle step 4π/7 < π, one loop around twice
+    let mut pos: Vec<DVec3> = (0..m)
+        .map(|k| {
+            let a = 4.0 * std::f64::consts::PI * k as f64 / m as f64;
+            let r = if k % 2 == 0 { 1.0 } else { 1.6 };
+            DVec3::new(r * a.cos(), r * a.sin(), 0.1 * k as f64 - 0.3)
+        })
+        .collect();
+    pos.push(DVec3::new(0.0, 0.0, 2.0));
+    pos.push(DVec3::new(0.0, 0.0, -2.0));
+    let (north, south) = (m, m + 1);
+    let mut tris = Vec::new();
+    for k in 0..m {
+        let j = (k + 1) % m;
+        tris.push([k, j, north]);
+        tris.push([j, k, south]);
+    }
+    let cert = star_shaped_shells(&pos, &tris, &vec![0; tris.len()]);
+    assert!(cert.iter().all(|&x| !x));
+    let brute = brute_force(&pos, &tris);
+    assert!(brute > 0);
+    assert_eq!(self_intersections(&pos, &tris), brute);
+}
+
+/// Around a node of valence 100 whose patches turn by more than 90° (the cap of an open prism of
+/// 100 sides in the dual structure) the star is not certified but its core is; the count is the
+/// same as without any certificate.
+#[test]
+fn high_valence_stars_get_certified_cores() {
+    use gbsurf::mesh::generate::prism;
+    let mut p = prism(100).unwrap();
+    p.faces.remove(100); // the bottom cap: open, so no shell certificate applies
+    for method in [Method::Dual, Method::Topology] {
+        let m = convert(&p, &ConvertOptions { method, ..ConvertOptions::default() }, None).unwrap().mesh;
+        let cert = Certified::of_mesh(&m);
+        assert!(cert.certified_core_sectors() >= 100 || method == Method::Topology, "{method}: {}", cert.certified_core_sectors());
+        let with = self_intersections_certified(&m.positions, &m.triangles, &cert);
+        assert_eq!(with, self_intersections(&m.positions, &m.triangles), "{method}");
+        assert_eq!(with, mesh_self_intersections(&m));
+    }
+}

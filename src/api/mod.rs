@@ -281,7 +281,7 @@ fn convert_valid(
     report.input_closed = he.is_closed();
     if checks {
         ticker.stage(self_start, cage_start)?;
-        report.self_intersections = crate::quality::mesh_self_intersections_ticked(&out, ticker)?;
+        report.self_intersections = crate::quality::validity::mesh_self_intersections_checked(&out, report.closed, ticker)?;
         ticker.stage(cage_start, cage_end)?;
         // A face with holes is checked as its split pieces (the outer loop alone covers the holes).
         let split;

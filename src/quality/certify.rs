@@ -51,6 +51,18 @@
 //! ([`PatchLoops`], made by the tessellation): their directed edges, those appearing reversed in
 //! another patch of the star cancelled. Every pair of patches sharing a vertex or a side lies in
 //! one star, so on smooth closed surfaces all neighbouring pairs are certified.
+//!
+//! Cores (quad layout): a star of many patches that is not certified — around a node of high
+//! valence whose patches turn by more than 90° further out, like the sliver patches around the
+//! cap of a prism of 1000 sides — is tried with R the sectors at q of its patches only (the
+//! quads of each patch's sector around corner q), q the node, a the normalised sum of R's
+//! triangle normals. Pairs of triangles of one certified core are skipped; the search then
+//! keeps chunks within one sector for the patches of a core.
+//!
+//! Single patches: a patch in no certified star (around a node of high valence, or a patch of
+//! many sides) is tried alone, R its triangles, q its interior vertex nearest the middle of its
+//! projected loop, a its cone axis. A planar 1000-gon or a cone's cap of 1000 sides then skips
+//! its ~10⁶ pairs of overlapping sliver boxes around the centre.
 
 use crate::progress::{Cancelled, Ticker};
 use crate::tessellate::{PatchLoops, SurfaceMesh};
@@ -76,6 +88,11 @@ pub struct Certified {
     /// ascending.
     star_start: Vec<usize>,
     stars: Vec<u32>,
+    /// Certified cores of node stars (see the module doc, "Cores"): (patch, sector, region),
+    /// ascending; empty when none.
+    cores: Vec<(u32, u32, u32)>,
+    /// Per triangle its sector (the patch corner of its output face), when `cores` is not empty.
+    sector: Vec<u32>,
 }
 
 /// Normal cone of a patch: unit axis and the cosine of the largest angle between the axis and a
@@ -212,6 +229,35 @@ fn certify_star(positions: &[DVec3], loops: &PatchLoops, cones: &[Option<(DVec3,
     single_loop(edges).is_some_and(|lp| star_shaped(positions, &lp, q, a))
 }
 
+/// A patch alone as a region (see the module doc, "Regions"): conditions (1) and (2) for its
+/// triangles, with q its interior vertex nearest the middle of its projected boundary loop
+/// (the domain centre's sample in both layouts).
+fn certify_patch(positions: &[DVec3], triangles: &[[u32; 3]], lp: &[u32], cone: Option<(DVec3, f64)>) -> bool {
+    let Some((axis, cos)) = cone else { return false };
+    if !(cos.clamp(-1.0, 1.0).acos() < std::f64::consts::FRAC_PI_2 - CONE_MARGIN) || lp.is_empty() {
+        return false;
+    }
+    let mut on_loop = lp.to_vec();
+    on_loop.sort_unstable();
+    let middle = lp.iter().filter_map(|&v| positions.get(v as usize)).sum::<DVec3>() / lp.len() as f64;
+    let flat = |p: DVec3| {
+        let d = p - middle;
+        d - axis * d.dot(axis)
+    };
+    let q = triangles
+        .iter()
+        .flatten()
+        .filter(|&&v| on_loop.binary_search(&v).is_err())
+        .filter_map(|&v| positions.get(v as usize).map(|&p| (flat(p).length_squared(), v)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    q.is_some_and(|(_, q)| certify_region(positions, triangles, q))
+}
+
+/// Stars of more patches than this that are not certified get their cores tried (a core
+/// avoids the quadratic number of overlapping sliver pairs around a node of high valence; for
+/// small stars it would cost more than it saves).
+pub const CORE_MIN_PATCHES: usize = 8;
+
 /// Stars certified per progress tick.
 const STARS_PER_TICK: usize = 2048;
 
@@ -224,7 +270,7 @@ impl Certified {
     /// The certified stars of the nodes of a tessellation (see the module doc); none for a mesh
     /// without patch loops (subdivision methods) or whose loops do not match its triangles.
     pub fn of_mesh(mesh: &SurfaceMesh) -> Certified {
-        Certified::of_patches(&mesh.positions, &mesh.triangles, &mesh.patch_loops)
+        Certified::of_mesh_ticked(mesh, &mut Ticker::none()).unwrap_or_else(|_| Certified::none())
     }
 
     /// The certified stars of the nodes of `loops` over the mesh (`positions`, `triangles`).
@@ -232,9 +278,93 @@ impl Certified {
         Certified::of_patches_ticked(positions, triangles, loops, &mut Ticker::none()).unwrap_or_else(|_| Certified::none())
     }
 
-    /// [`Certified::of_mesh`] reporting progress to `ticker` (see [`crate::progress`]).
+    /// [`Certified::of_mesh`] reporting progress to `ticker` (see [`crate::progress`]). In the
+    /// quad layout, the stars of more than [`CORE_MIN_PATCHES`] patches that are not certified
+    /// get their cores tried (see the module doc).
     pub fn of_mesh_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<Certified, Cancelled> {
-        Certified::of_patches_ticked(&mesh.positions, &mesh.triangles, &mesh.patch_loops, ticker)
+        let mut c = Certified::of_patches_ticked(&mesh.positions, &mesh.triangles, &mesh.patch_loops, ticker)?;
+        if !mesh.quads.is_empty() && mesh.face_corner.len() == mesh.quads.len() && 2 * mesh.quads.len() == mesh.triangles.len() {
+            let sector: Vec<u32> = (0..mesh.triangles.len()).map(|t| mesh.face_corner[t / 2]).collect();
+            c.add_cores(&mesh.positions, &mesh.triangles, &mesh.patch_loops, sector);
+        }
+        Ok(c)
+    }
+
+    /// Tries the cores of the uncertified stars of more than [`CORE_MIN_PATCHES`] patches
+    /// (`sector[t]`: the patch corner whose sector holds triangle t).
+    fn add_cores(&mut self, positions: &[DVec3], triangles: &[[u32; 3]], loops: &PatchLoops, sector: Vec<u32>) {
+        let np = self.patches();
+        if np == 0 || sector.len() != triangles.len() {
+            return;
+        }
+        // Nodes with their patches, as in the stars.
+        let mut corners: Vec<(u32, u32)> = (0..np).flat_map(|p| loops.corners(p).map(move |v| (v, p as u32))).collect();
+        corners.par_sort_unstable();
+        corners.dedup();
+        let mut groups: Vec<(usize, usize)> = Vec::new();
+        let mut k = 0;
+        while k < corners.len() {
+            let s = k;
+            while k < corners.len() && corners[k].0 == corners[s].0 {
+                k += 1;
+            }
+            if k - s > CORE_MIN_PATCHES {
+                groups.push((s, k));
+            }
+        }
+        let tri_start = &self.tri_start;
+        let found: Vec<Vec<(u32, u32)>> = groups
+            .par_iter()
+            .filter_map(|&(s, e)| {
+                let q = corners[s].0;
+                let ps: Vec<u32> = corners[s..e].iter().map(|c| c.1).collect();
+                // Skip stars already certified (all their pairs are skipped anyway).
+                let shared = ps.iter().skip(1).fold(self.stars_of(ps[0] as usize).to_vec(), |mut acc, &p| {
+                    let st = self.stars_of(p as usize);
+                    acc.retain(|x| st.binary_search(x).is_ok());
+                    acc
+                });
+                if !shared.is_empty() {
+                    return None;
+                }
+                // The sector of each patch at q: that of a triangle of it with vertex q.
+                let mut members = Vec::with_capacity(ps.len());
+                let mut region: Vec<[u32; 3]> = Vec::new();
+                for &p in &ps {
+                    let range = tri_start[p as usize]..tri_start[p as usize + 1];
+                    let i = range.clone().find(|&t| triangles[t].contains(&q)).map(|t| sector[t])?;
+                    region.extend(range.filter(|&t| sector[t] == i).map(|t| triangles[t]));
+                    members.push((p, i));
+                }
+                certify_region(positions, &region, q).then_some(members)
+            })
+            .collect();
+        let first = (self.stars.iter().copied().max().map_or(0, |m| m + 1)).max((np + corners.len()) as u32);
+        let mut cores: Vec<(u32, u32, u32)> = Vec::new();
+        for (r, members) in found.into_iter().enumerate() {
+            cores.extend(members.into_iter().map(|(p, i)| (p, i, first + r as u32)));
+        }
+        cores.sort_unstable();
+        if !cores.is_empty() {
+            self.cores = cores;
+            self.sector = sector;
+        }
+    }
+
+    /// Number of (patch, sector) pieces lying in a certified core.
+    pub fn certified_core_sectors(&self) -> usize {
+        self.cores.len()
+    }
+
+    /// Patch `p` has sectors in a certified core (its chunks must not span two sectors).
+    pub(crate) fn has_cores(&self, p: usize) -> bool {
+        let i = self.cores.partition_point(|c| (c.0 as usize) < p);
+        self.cores.get(i).is_some_and(|c| c.0 as usize == p)
+    }
+
+    /// The sector of triangle t (when cores exist).
+    pub(crate) fn sector_of(&self, t: usize) -> Option<u32> {
+        self.sector.get(t).copied()
     }
 
     /// [`Certified::of_patches`] reporting progress to `ticker` (per chunk of stars).
@@ -287,6 +417,24 @@ impl Certified {
                 member.extend(corners[s..e].iter().map(|c| (c.1, g as u32)));
             }
         }
+        // Patches in no certified star (around a node of high valence, or a patch of many
+        // sides whose stars span more than a half-space): the patch alone as a region, with id
+        // groups + p. Its interior pairs are then skipped too (a 1000-sided patch has ~10⁶
+        // overlapping boxes around its centre).
+        let mut in_star = vec![false; np];
+        for m in &member {
+            in_star[m.0 as usize] = true;
+        }
+        let lonely: Vec<usize> = (0..np).filter(|&p| !in_star[p] && loops.triangles[p + 1] > loops.triangles[p]).collect();
+        let alone: Vec<bool> = lonely
+            .par_iter()
+            .map(|&p| {
+                let tris = &triangles[loops.triangles[p]..loops.triangles[p + 1]];
+                certify_patch(positions, tris, loops.of(p), cones[p])
+            })
+            .collect();
+        member.extend(lonely.iter().zip(&alone).filter(|x| *x.1).map(|(&p, _)| (p as u32, (groups.len() + p) as u32)));
+        ticker.at(1, 1)?;
         member.par_sort_unstable();
         let mut star_start = Vec::with_capacity(np + 1);
         let mut k = 0;
@@ -297,7 +445,7 @@ impl Certified {
             }
         }
         star_start.push(member.len());
-        Ok(Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect() })
+        Ok(Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect(), cores: Vec::new(), sector: Vec::new() })
     }
 
     /// Number of patches lying in at least one certified star.
@@ -329,6 +477,18 @@ impl Certified {
     pub(crate) fn stars_of_range(&self, first: usize, last: usize) -> Vec<u32> {
         let (Some(p0), Some(p1)) = (self.patch_of(first), self.patch_of(last)) else { return Vec::new() };
         let mut common = self.stars_of(p0).to_vec();
+        // A chunk inside one sector of a core: that core too (its id is above every star's).
+        if p0 == p1 && !self.cores.is_empty() {
+            let (a, b) = (self.sector_of(first), self.sector_of(last));
+            if a == b && (first..=last).all(|t| self.sector_of(t) == a) {
+                if let Some(i) = a {
+                    let k = self.cores.partition_point(|c| (c.0 as usize, c.1) < (p0, i));
+                    if let Some(c) = self.cores.get(k).filter(|c| c.0 as usize == p0 && c.1 == i) {
+                        common.push(c.2);
+                    }
+                }
+            }
+        }
         for p in p0 + 1..=p1 {
             if common.is_empty() {
                 break;
@@ -351,4 +511,130 @@ pub(crate) fn share(a: &[u32], b: &[u32]) -> bool {
         }
     }
     false
+}
+
+/// Relative margin of the orientation test of [`star_shaped_shells`]: (a − o)·((b − a) × (c − a))
+/// must exceed this times |a − o|·|b − a|·|c − a|, far above its rounding (a few ulps of that
+/// product), so the exact orientation is positive too.
+pub const SHELL_MARGIN: f64 = 1e-9;
+
+/// Shells proven free of self-intersections by central projection. Per triangle: true when its
+/// shell (`shell[t]`, any id below `positions.len()`) is certified.
+///
+/// # The certificate
+///
+/// Let S be a shell whose triangles form a closed surface (every undirected edge used exactly
+/// twice, once in each direction), o the mean of its triangles' vertices, and suppose
+/// 1. every triangle (a, b, c) of S is positively oriented seen from o:
+///    (a − o)·((b − a) × (c − a)) > 0 (with the margin [`SHELL_MARGIN`]);
+/// 2. the signed solid angles Ω_t of its triangles from o (Van Oosterom–Strackee:
+///    tan(Ω/2) = det(A, B, C) / (|A||B||C| + (A·B)|C| + (A·C)|B| + (B·C)|A|), A = a − o, …) sum to
+///    4π within 1 (the sum is 4π·k for an integer k, the degree of the central projection
+///    x ↦ (x − o)/|x − o| onto the unit sphere).
+///
+/// Then no two triangles of S that share no vertex meet. Proof: the central projection is a
+/// continuous map from the closed oriented surface S to the sphere, orientation-preserving on every
+/// triangle (1), so every direction off the images of the edges has exactly k = 1 preimages (2).
+/// If two triangles met at a point x, every direction near that of x would have a preimage near x
+/// in each of them (a triangle, or a triangle and the one across its edge or around its vertex,
+/// covers a neighbourhood of the direction of each of its points, because every triangle around
+/// it is positively oriented), that is two preimages: a contradiction. ∎
+///
+/// Star-shaped closed surfaces pass: spheres, cubes, cones, prisms, most single convex parts;
+/// their self-intersection search then costs O(triangles). A shell failing either test goes
+/// through the search as before. Cost: one pass, plus a sort of the edges of the shells passing
+/// the orientation test.
+pub fn star_shaped_shells(positions: &[DVec3], triangles: &[[u32; 3]], shell: &[u32]) -> Vec<bool> {
+    star_shaped_shells_ticked(positions, triangles, shell, false, &mut Ticker::none()).unwrap_or_else(|_| vec![false; triangles.len()])
+}
+
+/// Triangles per progress tick of [`star_shaped_shells_ticked`].
+const SHELL_TRIANGLES_PER_TICK: usize = 1 << 16;
+
+/// [`star_shaped_shells`] reporting progress to `ticker` (per chunk of triangles). With
+/// `closed` the caller has checked that the whole mesh is a closed two-manifold (every edge in
+/// two triangles, in opposite directions), and the edge sort is skipped.
+pub fn star_shaped_shells_ticked(positions: &[DVec3], triangles: &[[u32; 3]], shell: &[u32], closed: bool, ticker: &mut Ticker<'_>) -> Result<Vec<bool>, Cancelled> {
+    let nv = positions.len();
+    if shell.len() != triangles.len() || triangles.iter().flatten().any(|&v| v as usize >= nv) || shell.iter().any(|&s| s as usize >= nv) {
+        return Ok(vec![false; triangles.len()]);
+    }
+    // Centres: the mean of each shell's triangle vertices.
+    let mut sum = vec![DVec3::ZERO; nv];
+    let mut count = vec![0u64; nv];
+    for (t, &s) in triangles.iter().zip(shell) {
+        sum[s as usize] += positions[t[0] as usize] + positions[t[1] as usize] + positions[t[2] as usize];
+        count[s as usize] += 3;
+    }
+    let centre: Vec<DVec3> = sum.iter().zip(&count).map(|(&x, &k)| if k > 0 { x / k as f64 } else { DVec3::ZERO }).collect();
+    // Orientation and solid angle per triangle, in parallel, in chunks (a tick each).
+    let per_tick = crate::progress::chunk_size(triangles.len(), SHELL_TRIANGLES_PER_TICK);
+    let mut per: Vec<Option<f64>> = Vec::with_capacity(triangles.len());
+    for (k, (part, sh)) in triangles.chunks(per_tick).zip(shell.chunks(per_tick)).enumerate() {
+    per.par_extend(part
+        .par_iter()
+        .zip(sh.par_iter())
+        .with_min_len(1 << 12)
+        .map(|(t, &s)| {
+            let o = centre[s as usize];
+            let [a, b, c] = t.map(|v| positions[v as usize] - o);
+            let det = a.dot((b - a).cross(c - a));
+            let scale = a.length() * (b - a).length() * (c - a).length();
+            if !(det > SHELL_MARGIN * scale) || !scale.is_finite() {
+                return None;
+            }
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+            Some(2.0 * det.atan2(den))
+        }));
+        ticker.at_part(0.0, if closed { 1.0 } else { 0.7 }, (k + 1) * per_tick, triangles.len())?;
+    }
+    let mut ok = vec![true; nv];
+    let mut total = vec![0.0f64; nv];
+    for (&s, w) in shell.iter().zip(&per) {
+        match w {
+            Some(w) => total[s as usize] += w,
+            None => ok[s as usize] = false,
+        }
+    }
+    for s in 0..nv {
+        ok[s] = ok[s] && count[s] > 0 && (total[s] - 4.0 * std::f64::consts::PI).abs() < 1.0;
+    }
+    if closed {
+        return Ok(shell.iter().map(|&s| ok[s as usize]).collect());
+    }
+    // Closed: every undirected edge of a passing shell exactly twice, in opposite directions.
+    let mut edges: Vec<(u32, u32, u32, bool)> = triangles
+        .iter()
+        .zip(shell)
+        .filter(|(_, &s)| ok[s as usize])
+        .flat_map(|(t, &s)| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (s, a.min(b), a.max(b), a < b)))
+        .collect();
+    edges.par_sort_unstable();
+    let mut k = 0;
+    while k < edges.len() {
+        let e = edges[k];
+        let mut j = k;
+        while j < edges.len() && (edges[j].0, edges[j].1, edges[j].2) == (e.0, e.1, e.2) {
+            j += 1;
+        }
+        if j - k != 2 || edges[k].3 == edges[k + 1].3 || e.1 == e.2 {
+            ok[e.0 as usize] = false;
+        }
+        k = j;
+    }
+    Ok(shell.iter().map(|&s| ok[s as usize]).collect())
+}
+
+/// A quick guess whether [`star_shaped_shells`] will certify every triangle: the orientation
+/// test on every 64th triangle against the mean of the sampled vertices (for sharing progress
+/// shares only; never used as a certificate).
+pub fn likely_star_shaped(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
+    let get = |v: u32| positions.get(v as usize).copied();
+    let sample: Vec<[DVec3; 3]> = triangles.iter().step_by(64).filter_map(|t| Some([get(t[0])?, get(t[1])?, get(t[2])?])).collect();
+    if sample.is_empty() {
+        return false;
+    }
+    let o = sample.iter().map(|t| t[0] + t[1] + t[2]).sum::<DVec3>() / (3 * sample.len()) as f64;
+    sample.iter().all(|[a, b, c]| (*a - o).dot((*b - *a).cross(*c - *a)) > 0.0)
 }

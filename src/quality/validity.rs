@@ -22,9 +22,10 @@
 //!   segment in that plane is tested in 2D). Pairs inside regions certified free of
 //!   self-intersections (stars of the patches' nodes, [`super::certify`], with the proof) are
 //!   skipped by [`self_intersections_certified`]; every conversion uses it
-//!   ([`mesh_self_intersections`]).
+//!   ([`mesh_self_intersections`]). Closed shells that are star-shaped around their centre
+//!   ([`super::certify::star_shaped_shells`], with the proof) leave the search altogether.
 
-use super::certify::{share, Certified};
+use super::certify::{likely_star_shaped, share, star_shaped_shells, star_shaped_shells_ticked, Certified};
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
@@ -418,6 +419,7 @@ fn intersecting_pairs(
     triangles: &[[u32; 3]],
     group: Option<&[u32]>,
     certified: &Certified,
+    free: Option<&[bool]>,
     ticker: &mut Ticker<'_>,
 ) -> Result<Vec<(u32, u32)>, Cancelled> {
     let nv = positions.len();
@@ -433,6 +435,21 @@ fn intersecting_pairs(
         return Ok(Vec::new());
     }
     ticker.at(1, 20)?;
+    // Shells proven free of self-intersections by central projection ([`star_shaped_shells`])
+    // leave the search: only pairs within one shell count. `free` (per triangle) when the
+    // caller has it ([`free_shells`]).
+    let kept: Vec<u32> = match free {
+        Some(f) if f.len() == triangles.len() => kept.into_iter().filter(|&i| !f[i as usize]).collect(),
+        _ => {
+            let tris: Vec<[u32; 3]> = kept.iter().map(|&i| triangles[i as usize]).collect();
+            let shell = shells(nv, &tris);
+            let free = star_shaped_shells(positions, &tris, &shell);
+            kept.into_iter().zip(free).filter(|x| !x.1).map(|x| x.0).collect()
+        }
+    };
+    if kept.len() < 2 {
+        return Ok(Vec::new());
+    }
     let kept_tris: Vec<[u32; 3]> = kept.par_iter().with_min_len(1 << 12).map(|&i| triangles[i as usize]).collect();
     let to_aabb = |lo: DVec3, hi: DVec3| Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z));
     // The box of a triangle, computed where needed when certified regions are skipped (most
@@ -572,9 +589,15 @@ fn chunk_layout(positions: &[DVec3], kept: &[u32], kept_tris: &[[u32; 3]], certi
     let n = kept.len();
     if certified.patches() > 0 {
         let mut start = vec![0];
-        let mut patch = certified.patch_of(kept[0] as usize);
+        // Chunks of a patch with certified core sectors also break at every sector change.
+        let piece = |t: usize| {
+            let p = certified.patch_of(t);
+            let sector = p.filter(|&p| certified.has_cores(p)).and_then(|_| certified.sector_of(t));
+            (p, sector)
+        };
+        let mut patch = piece(kept[0] as usize);
         for (slot, &t) in kept.iter().enumerate().skip(1) {
-            let p = certified.patch_of(t as usize);
+            let p = piece(t as usize);
             if p != patch || slot - start[start.len() - 1] == CHUNK {
                 start.push(slot);
                 patch = p;
@@ -622,13 +645,13 @@ const PAIRS_PER_TICK: usize = 256;
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None, &Certified::none(), &mut Ticker::none()).map_or(0, |p| p.len())
+    intersecting_pairs(positions, triangles, None, &Certified::none(), None, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
 /// self-intersections, see [`super::certify`]): the same count, faster on smooth surfaces.
 pub fn self_intersections_certified(positions: &[DVec3], triangles: &[[u32; 3]], certified: &Certified) -> usize {
-    intersecting_pairs(positions, triangles, None, certified, &mut Ticker::none()).map_or(0, |p| p.len())
+    intersecting_pairs(positions, triangles, None, certified, None, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections_certified`] of a tessellation with the certified stars of its nodes
@@ -640,10 +663,52 @@ pub fn mesh_self_intersections(mesh: &SurfaceMesh) -> usize {
 /// [`mesh_self_intersections`] reporting progress to `ticker` (its current range: the
 /// certificates, then the search in chunks; see [`crate::progress`]).
 pub fn mesh_self_intersections_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+    let free = free_shells(&mesh.positions, &mesh.triangles);
+    mesh_self_intersections_free(mesh, &free, ticker)
+}
+
+/// [`mesh_self_intersections_ticked`] with the shells certified by central projection already
+/// known (`free`, per triangle, from [`free_shells`]): 0 at once when every shell is, else the
+/// certificates of the nodes and the search over the other shells.
+fn mesh_self_intersections_free(mesh: &SurfaceMesh, free: &[bool], ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+    if free.len() == mesh.triangles.len() && free.iter().all(|&f| f) {
+        return Ok(0);
+    }
     // Meshes without patch loops (subdivision methods) have no certificates to compute.
     let share = if mesh.patch_loops.is_empty() { 0.0 } else { CERTIFY };
     let certified = ticker.within(0.0, share, |t| Certified::of_mesh_ticked(mesh, t))?;
-    ticker.within(share, 1.0, |t| intersecting_pairs(&mesh.positions, &mesh.triangles, None, &certified, t)).map(|p| p.len())
+    ticker.within(share, 1.0, |t| intersecting_pairs(&mesh.positions, &mesh.triangles, None, &certified, Some(free), t)).map(|p| p.len())
+}
+
+/// [`mesh_self_intersections_ticked`] for a mesh the caller has checked (`closed`: a closed
+/// two-manifold, so every shell is closed). The central-projection certificate
+/// ([`star_shaped_shells`]) comes first; its share of the progress range is 95 % when a sample
+/// of the triangles suggests every shell passes (the search then has nothing to do), 5 %
+/// otherwise.
+pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, closed: bool, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+    let (positions, triangles) = (&mesh.positions, &mesh.triangles);
+    let count = if closed && !triangles.iter().flatten().any(|&v| v as usize >= positions.len()) {
+        let share = if likely_star_shaped(positions, triangles) { 0.95 } else { 0.05 };
+        let shell = shells(positions.len(), triangles);
+        let free = ticker.within(0.0, share, |t| star_shaped_shells_ticked(positions, triangles, &shell, true, t))?;
+        if free.iter().all(|&f| f) {
+            return Ok(0);
+        }
+        ticker.within(share, 1.0, |t| mesh_self_intersections_free(mesh, &free, t))?
+    } else {
+        mesh_self_intersections_free(mesh, &vec![false; triangles.len()], ticker)?
+    };
+    Ok(count)
+}
+
+/// Per triangle: its shell (connected through shared vertices) is closed and star-shaped around
+/// its centre, so proven free of self-intersections ([`star_shaped_shells`]); all false when a
+/// triangle names a missing vertex.
+pub fn free_shells(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<bool> {
+    if triangles.iter().flatten().any(|&v| v as usize >= positions.len()) {
+        return vec![false; triangles.len()];
+    }
+    star_shaped_shells(positions, triangles, &shells(positions.len(), triangles))
 }
 
 /// The certificates' share of [`mesh_self_intersections_ticked`].
@@ -669,7 +734,7 @@ pub fn cage_self_intersections_ticked(mesh: &PolyMesh, ticker: &mut Ticker<'_>) 
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
     ticker.at(1, 20)?;
-    let mut pairs: Vec<(u32, u32)> = ticker.within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none(), t))?
+    let mut pairs: Vec<(u32, u32)> = ticker.within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none(), None, t))?
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);
