@@ -13,8 +13,10 @@
 //! /proc/self/stat on Linux) and the load average, since the machine may be shared.
 //! Then the large-n cases, once each, in ns per output vertex next to an ordinary torus: a
 //! planar face of 1000 sides, a cone whose apex has valence 1000, a prism with 1000-gon caps
-//! and a 100k-face torus. An n-sided patch costs O(n) per sample (docs/math.md#cost-per-point),
-//! so expect ns/vertex of the 1000-sided patches ≈ 1000/4 × the torus's, not equal to it.
+//! and a 100k-face torus, in both settings. An n-sided patch costs O(n) per sample
+//! (docs/math.md#cost-per-point); patches of more than 64 sides are split into fans
+//! (docs/math.md#high-valence-split), so ns/vertex of the 1000-sided cases should be that of the
+//! torus up to a constant (`examples/large_n_scaling` sweeps n = 125 … 2000).
 
 use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
 use gbsurf::mesh::generate::{cone, polygon, prism, torus};
@@ -136,19 +138,26 @@ fn large_n_cases(resolution: usize) {
         ("prism 1000", prism(1000).expect("prism")),
         ("torus 400x250 (100k faces)", torus(400, 250, 10.0, 3.0).expect("torus")),
     ];
-    for method in [Method::Dual, Method::Topology] {
-        for (name, mesh) in &cases {
-            let opts = ConvertOptions { method, resolution, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..ConvertOptions::triangles_r8() };
-            let t = Instant::now();
-            let c = convert(mesh, &opts, None).expect("conversion");
-            let wall = t.elapsed().as_secs_f64();
-            println!(
-                "{method:>8} {name:<28} {:>8.3} s {:>9} vertices {:>9.0} ns/vertex  (valid {})",
-                wall,
-                c.report.vertices,
-                wall * 1e9 / c.report.vertices.max(1) as f64,
-                c.report.valid,
-            );
+    let settings = [
+        (format!("triangles r={resolution}"), ConvertOptions { resolution, ..ConvertOptions::triangles_r8() }),
+        ("default (quads r=2)".to_string(), ConvertOptions::default()),
+    ];
+    for (setting, base) in &settings {
+        println!("-- large n, {setting}");
+        for method in [Method::Dual, Method::Topology] {
+            for (name, mesh) in &cases {
+                let opts = ConvertOptions { method, max_memory_mb: gbsurf::limits::MAX_MEMORY_MB, ..base.clone() };
+                let t = Instant::now();
+                let c = convert(mesh, &opts, None).expect("conversion");
+                let wall = t.elapsed().as_secs_f64();
+                println!(
+                    "{method:>8} {name:<28} {:>8.3} s {:>9} vertices {:>9.0} ns/vertex  (valid {})",
+                    wall,
+                    c.report.vertices,
+                    wall * 1e9 / c.report.vertices.max(1) as f64,
+                    c.report.valid,
+                );
+            }
         }
     }
 }

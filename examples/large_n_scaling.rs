@@ -22,14 +22,19 @@ fn main() {
                 let r = convert(&mesh, &opts, None);
                 let wall = t.elapsed().as_secs_f64();
                 match r {
-                    Ok(c) => println!(
+                    Ok(c) => {
+                        if std::env::var("CERT").is_ok() {
+                            let cert = gbsurf::quality::Certified::of_mesh(&c.mesh);
+                            println!("  certified patches {} of {}, core sectors {}; fold sites {:?}", cert.certified_patches(), cert.patches(), cert.certified_core_sectors(), c.report.fold_sites.iter().take(3).collect::<Vec<_>>());
+                        }
+                        println!(
                         "{method:>8} {name:<8} n={n:<5} {wall:>8.3} s {:>8} vertices {:>10.0} ns/vertex valid {} folds {} flipped {}",
                         c.report.vertices,
                         wall * 1e9 / c.report.vertices.max(1) as f64,
                         c.report.valid,
                         c.report.folds,
                         c.report.flipped_triangles
-                    ),
+                    )},
                     Err(e) => println!("{method:>8} {name:<8} n={n:<5} error {e}"),
                 }
             }

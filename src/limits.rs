@@ -44,6 +44,19 @@ pub const MAX_MEMORY_MB: u64 = 1 << 20;
 /// Largest weight table built, in bytes (1 GiB).
 pub const MAX_TABLE_BYTES: u128 = 1 << 30;
 
+/// Patches of more sides than this (faces of the topology structure, vertex valences of the dual)
+/// are split into a fan of three-sided patches around a new node
+/// (`construct::network::split_large_patches`, docs/math.md#high-valence-split): one point of an
+/// n-sided patch costs O(n), so without the split a 1000-gon costs 1000/4 times a quad per
+/// output vertex. 64 keeps every patch of the shared models, Blender's primitives and the
+/// valence-64 tests as it was.
+pub const MAX_UNSPLIT_SIDES: usize = 64;
+
+/// Corners of a face with holes, its outer loop and inner loops together. Its checks compare
+/// every pair of loop edges and its split tests every triangle of its constrained Delaunay
+/// triangulation against every loop, O(corners²): 4096 corners stay well under a second.
+pub const MAX_HOLED_FACE_CORNERS: usize = 4096;
+
 /// Above this size a tessellation builds no weight table: the weights are evaluated directly at
 /// every sample (a table this large would be used for one conversion only).
 pub const MAX_TESSELLATION_TABLE_BYTES: u128 = 256 << 20;

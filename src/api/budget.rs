@@ -50,7 +50,14 @@ pub struct OutputEstimate {
 pub fn estimate_output(mesh: &HalfEdgeMesh, options: &ConvertOptions) -> OutputEstimate {
     let sat = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
     let sampling = options.sampling();
-    let samples = |n: usize| sampling.sample_count(n) as u128;
+    // A patch of more than MAX_UNSPLIT_SIDES sides becomes n three-sided patches.
+    let samples = |n: usize| {
+        if n > crate::limits::MAX_UNSPLIT_SIDES {
+            n as u128 * sampling.sample_count(3) as u128
+        } else {
+            sampling.sample_count(n) as u128
+        }
+    };
     let vertices: u128 = match options.method {
         Method::Dual => (0..mesh.n_vertices())
             .map(|v| {

@@ -227,14 +227,26 @@ pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface,
 pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mut crate::progress::Ticker<'_>) -> Result<Surface, ConstructError> {
     let prep = ticker.within(0.0, PREPARE, |_| super::prepare(mesh))?;
     let net = ticker.within(PREPARE, NETWORK, |_| dual_network(&prep.mesh, opts)).map_err(|e| prep.error(e, true))?;
-    let mut s = ticker.within(NETWORK, 1.0, |t| super::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?;
-    if s.patches.len() == prep.mesh.n_vertices() {
-        s.cage = prep.cage_dual(mesh);
+    let (mut s, splits) = ticker.within(NETWORK, 1.0, |t| super::network::assemble_split(&net, opts, t)).map_err(|e| prep.error(e, true))?;
+    if net.patches.len() == prep.mesh.n_vertices() {
+        s.cage = super::network::split_cage(prep.cage_dual(mesh), &splits, s.patches.len());
     }
     for src in &mut s.sources {
         *src = prep.source(*src);
     }
     s.warnings = prep.warnings;
+    for sp in &splits {
+        let what = match s.sources.get(sp.patch) {
+            Some(PatchSource::Vertex(v)) => format!("vertex {v} (valence {})", sp.parts.len()),
+            Some(PatchSource::Face(f)) => format!("face {f} ({} sides)", sp.parts.len()),
+            None => continue,
+        };
+        s.warnings.push(format!(
+            "the patch of {what} has more than {} sides: split into {} three-sided patches around a new node (docs/math.md#high-valence-split)",
+            crate::limits::MAX_UNSPLIT_SIDES,
+            sp.parts.len()
+        ));
+    }
     Ok(s)
 }
 

@@ -356,3 +356,151 @@ fn corner_error(net: &CurveNetwork, c: usize, end: usize, xa: DVec3, xb: DVec3, 
         ConstructError::FoldedCorner { curve: c, end, node: net.curve_nodes[c][end] }
     }
 }
+
+/// A patch split by [`split_large_patches`]: its index in the network before the split and the
+/// indices of its parts in the split network (part j stands on side j; part 0 keeps the index).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SplitPatch {
+    pub patch: usize,
+    pub parts: Vec<usize>,
+}
+
+/// Splits every patch of more than `max_sides` sides ([`crate::limits::MAX_UNSPLIT_SIDES`]) into
+/// a fan of three-sided patches around a new node (docs/math.md#high-valence-split): one point
+/// of an n-sided patch costs O(n) (docs/math.md#cost-per-point), three-sided parts O(1), so
+/// large faces and high valences convert in time linear in the output.
+///
+/// For a patch with corners N_0..N_{n−1} (corner i ends side i):
+/// - centre node c: the central control point when the patch has one (the dual structure's mesh
+///   vertex; at the centre of an n-gon the GB patch's central weight is (n−2)(n−4)/n² → 1, so the
+///   unsplit surface passes near it), else the mean of the first-approximation corner twists;
+///   normal: the Newell normal of N_0..N_{n−1};
+/// - spoke i from c to N_i: C0 = c, C1 = c + π_c(N_i − c)/3, C2 = N_i + (|N_i − c|/3)·w_i,
+///   C3 = N_i, π_c the projection onto the tangent plane at c and w_i = unit(n_i × (â + b̂)) the
+///   inward bisector of corner i in its tangent plane (â, b̂ the unit end tangent of side i and
+///   start tangent of side i+1; for a corner of interior angle below 180° it lies strictly inside
+///   the corner, so the parts do not fold there), so every spoke lies in both tangent planes at
+///   its ends;
+/// - part j: sides (side j, spoke j reversed, spoke j−1), CGB (no central point), corner twists
+///   the parallelogram points C_a[2] + C_b[1] − C_a[3] of the two sides meeting there;
+/// - D_{0.5} of spoke i: (D(0) + D(1))/2, D(0), D(1) the blend's end directions from the two
+///   parts' neighbouring sides (eq. 4.7), so the direction blend is linear along the spoke in
+///   both blend kinds.
+///
+/// A patch whose spokes would leave a tangent plane degenerate (a corner straight above or below
+/// c, or no Newell normal) is left unsplit. `None` when nothing is split.
+pub fn split_large_patches(net: &CurveNetwork, max_sides: usize) -> Option<(CurveNetwork, Vec<SplitPatch>)> {
+    if net.patches.iter().all(|p| p.sides.len() <= max_sides) {
+        return None;
+    }
+    let mut out = net.clone();
+    let mut splits = Vec::new();
+    for (p, lay) in net.patches.iter().enumerate() {
+        let n = lay.sides.len();
+        if n <= max_sides {
+            continue;
+        }
+        let pts: Vec<[DVec3; 4]> = lay.sides.iter().map(|&s| side_points(net, s)).collect();
+        let corner_node = |i: usize| {
+            let s = lay.sides[i];
+            net.curve_nodes[s.curve][if s.reversed { 0 } else { 1 }]
+        };
+        let corners: Vec<DVec3> = pts.iter().map(|c| c[3]).collect();
+        let c = lay.center.unwrap_or_else(|| lay.corner_twists.iter().sum::<DVec3>() / n as f64);
+        let nc = crate::mesh::geometry::newell_normal(&corners).normalize_or_zero();
+        let plane = |x: DVec3, normal: DVec3| x - normal * normal.dot(x);
+        let spokes: Vec<[DVec3; 4]> = (0..n)
+            .map(|i| {
+                // Into the corner, halfway between its two sides: n_i × (â + b̂), â the arriving
+                // side's end tangent and b̂ the leaving side's start tangent (unit).
+                let ni = net.node_normals[corner_node(i)];
+                let (a, b) = (pts[i][3] - pts[i][2], pts[(i + 1) % n][1] - pts[(i + 1) % n][0]);
+                let inward = ni.cross(a.normalize_or_zero() + b.normalize_or_zero()).normalize_or_zero();
+                let len = corners[i].distance(c) / 3.0;
+                [c, c + plane(corners[i] - c, nc) / 3.0, corners[i] + len * inward, corners[i]]
+            })
+            .collect();
+        let ok = nc != DVec3::ZERO
+            && c.is_finite()
+            && spokes.iter().all(|s| {
+                let len = s[3].distance(s[0]);
+                s[1].distance(s[0]) > 1e-6 * len && s[2].distance(s[3]) > 1e-6 * len && s.iter().all(|q| q.is_finite())
+            });
+        if !ok {
+            continue;
+        }
+        let centre_node = out.nodes.len();
+        out.nodes.push(c);
+        out.node_normals.push(nc);
+        let first_spoke = out.curves.len();
+        for (i, s) in spokes.iter().enumerate() {
+            // Parts i+1 (forward, A) and i (reversed, B): D(0) from the neighbouring spokes,
+            // D(1) from the sides i+1 and i at N_i (docs/math.md#high-valence-split).
+            let (next, prev) = (&spokes[(i + 1) % n], &spokes[(i + n - 1) % n]);
+            let d0 = 1.5 * (next[1] - prev[1]);
+            let d1 = 1.5 * (pts[(i + 1) % n][1] - pts[i][2]);
+            out.curves.push(*s);
+            out.curve_nodes.push([centre_node, corner_node(i)]);
+            out.mid.push(0.5 * (d0 + d1));
+            if !out.crease.is_empty() {
+                out.crease.push(0.0);
+            }
+        }
+        let spoke = |i: usize, reversed: bool| SideUse { curve: first_spoke + i, reversed };
+        let mut parts = Vec::with_capacity(n);
+        for j in 0..n {
+            let sides = vec![lay.sides[j], spoke(j, true), spoke((j + n - 1) % n, false)];
+            let sp: Vec<[DVec3; 4]> = sides.iter().map(|&s| side_points(&out, s)).collect();
+            let corner_twists = (0..3).map(|k| sp[k][2] + sp[(k + 1) % 3][1] - sp[k][3]).collect();
+            let part = PatchLayout { sides, corner_twists, center: None, source: lay.source };
+            if j == 0 {
+                out.patches[p] = part;
+                parts.push(p);
+            } else {
+                parts.push(out.patches.len());
+                out.patches.push(part);
+            }
+        }
+        splits.push(SplitPatch { patch: p, parts });
+    }
+    (!splits.is_empty()).then_some((out, splits))
+}
+
+/// The cage corners of a split surface (see [`split_large_patches`]) from those of the unsplit
+/// one: part j of patch p takes the sector of corner j of p at its corner 0 (N_j) and at the
+/// centre, and that of corner j−1 at its corner 2 (N_{j−1}). The output faces of a split patch
+/// thus keep their cage face and material; their cage coordinates follow the parts' sectors,
+/// not the unsplit patch's (an approximation: UVs are continuous only within each sector).
+pub fn split_cage(cage: Vec<Vec<super::surface::CageSector>>, splits: &[SplitPatch], patches: usize) -> Vec<Vec<super::surface::CageSector>> {
+    if cage.is_empty() || splits.is_empty() {
+        return cage;
+    }
+    let mut out = cage.clone();
+    out.resize(patches, Vec::new());
+    for s in splits {
+        let Some(row) = cage.get(s.patch) else { continue };
+        let n = row.len();
+        if n != s.parts.len() {
+            continue;
+        }
+        for (j, &q) in s.parts.iter().enumerate() {
+            out[q] = vec![row[j], row[j], row[(j + n - 1) % n]];
+        }
+    }
+    out
+}
+
+/// [`assemble_ticked`] with the patches of more than [`crate::limits::MAX_UNSPLIT_SIDES`] sides
+/// split first ([`split_large_patches`]); when the split network does not assemble (a fan that
+/// folds at its new node), the unsplit one is assembled instead. Returns the surface and the
+/// splits made (empty when none).
+pub fn assemble_split(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<(Surface, Vec<SplitPatch>), ConstructError> {
+    let Some((split, splits)) = split_large_patches(net, crate::limits::MAX_UNSPLIT_SIDES) else {
+        return assemble_ticked(net, opts, ticker).map(|s| (s, Vec::new()));
+    };
+    match assemble_ticked(&split, opts, ticker) {
+        Ok(s) => Ok((s, splits)),
+        Err(ConstructError::Cancelled) => Err(ConstructError::Cancelled),
+        Err(_) => assemble_ticked(net, opts, ticker).map(|s| (s, Vec::new())),
+    }
+}
