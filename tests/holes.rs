@@ -207,6 +207,21 @@ fn bad_holes_are_typed_errors_naming_the_line() {
     // too small
     let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 6 5\n"));
     assert!(matches!(e, MeshError::Hole { defect: HoleDefect::TooSmall { len: 2 }, .. }), "{e}");
+    // more corners than the checks handle (limits::MAX_HOLED_FACE_CORNERS), refused before any
+    // pair of edges is compared
+    let k = gbsurf::limits::MAX_HOLED_FACE_CORNERS;
+    let mut obj = String::from(SQUARE);
+    for i in 0..k {
+        let a = -2.0 * std::f64::consts::PI * i as f64 / k as f64;
+        obj += &format!("v {} {} 0\n", 2.0 + a.cos(), 2.0 + a.sin());
+    }
+    obj += "f 1 2 3 4\n#h 1\nf";
+    for i in 0..k {
+        obj += &format!(" {}", 5 + i);
+    }
+    obj += "\n";
+    let e = hole_error(&obj);
+    assert!(matches!(e, MeshError::Hole { face: 0, hole: 0, defect: HoleDefect::TooManyCorners { corners, max }, .. } if corners == k + 4 && max == k), "{e}");
     // hole on a face that does not exist (API input)
     let mut m = one_hole();
     m.holes[0].face = 99;

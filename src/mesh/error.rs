@@ -131,6 +131,10 @@ pub enum HoleDefect {
     CrossesHole { other: usize },
     #[error("lies inside hole {other} or contains it")]
     Nested { other: usize },
+    /// The face and its holes up to this one have more corners than the checks and the split
+    /// handle ([`crate::limits::MAX_HOLED_FACE_CORNERS`]; their cost grows with its square).
+    #[error("brings the face's loops to {corners} corners; a face with holes may have at most {max} (split it into several faces)")]
+    TooManyCorners { corners: usize, max: usize },
 }
 
 fn obj_range(index: i64, n: usize) -> String {

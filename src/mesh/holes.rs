@@ -95,6 +95,14 @@ fn check_face(mesh: &PolyMesh, f: usize, holes: &[usize]) -> Result<Loops, MeshE
     let outer = &mesh.faces[f];
     let nv = mesh.positions.len();
     let err = |hole: usize, defect: HoleDefect| MeshError::Hole { face: f, hole, defect, line: None };
+    let max = crate::limits::MAX_HOLED_FACE_CORNERS;
+    let mut corners = outer.len();
+    for &h in holes {
+        corners = corners.saturating_add(mesh.holes[h].vertices.len());
+        if corners > max {
+            return Err(err(h, HoleDefect::TooManyCorners { corners, max }));
+        }
+    }
     let mut owner: HashMap<u32, Option<usize>> = outer.iter().map(|&v| (v, None)).collect();
     for &h in holes {
         let lp = &mesh.holes[h].vertices;
