@@ -263,8 +263,8 @@ def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coord
     """Per output vertex, a cage attribute given per cage vertex (`values` (V_cage, k)), by the
     keep-corners rule of `cage_loop_values` with per-vertex data: the corner's vertex value, at
     the edge midpoints the mean of the edge's two vertices, at the centre the mean of the face's
-    vertices. Each output vertex is evaluated at one of its face corners (the rule is continuous,
-    every corner gives the same value). `faces` (F, m) output faces, `n_vertices` their vertex
+    vertices. Each output vertex is evaluated at one of its face corners (the rule is continuous:
+    every corner gives the same value, up to rounding). `faces` (F, m) output faces, `n_vertices` their vertex
     count; vertices of no face, or of a face with no cage coordinates, get 0. numpy only."""
     values = np.asarray(values, dtype=np.float64)
     sizes = np.asarray(face_sizes, dtype=np.int64)
@@ -276,9 +276,11 @@ def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coord
     if len(sizes) == 0 or nq == 0 or len(st) != len(verts) or len(st) % nq:
         return out
     k = len(st) // nq
-    has, lp = np.unique(verts, return_index=True)  # each vertex with its first face corner
-    keep = (has >= 0) & (has < n_vertices)
-    has, lp = has[keep], lp[keep]
+    ok = (verts >= 0) & (verts < n_vertices)
+    loop = np.full(n_vertices, -1, dtype=np.int64)
+    loop[verts[ok]] = np.flatnonzero(ok)  # one face corner per vertex (which one does not matter)
+    has = np.flatnonzero(loop >= 0)
+    lp = loop[has]
     corner_values = values[np.asarray(face_indices, dtype=np.int64)]
     out[has] = _keep_corners(corner_values, sizes, cage_corner[lp // k, 0], cage_corner[lp // k, 1], st[lp])
     return out
