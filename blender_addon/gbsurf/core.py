@@ -23,6 +23,8 @@ class ConvertError(Exception):
 # Library runs started by `compute` in this session (live mode's tests count them).
 conversions = 0
 
+VERTEX_GROUPS_SKIPPED = ("vertex groups not carried over: only the quad layout of Dual or "
+                         "Topology gives the cage coordinates they are interpolated with")
 NO_FACES = "the mesh has no faces: fill it or add faces (F in Edit Mode)"
 EVALUATED_NOTE = (" (element numbers are those of the mesh after its modifiers; disable them in "
                   "the viewport to see the edited mesh's)")
@@ -86,9 +88,14 @@ def compute(obj, lib_options, outputs, progress=None, depsgraph=None, data=None)
             want_control_net=patch_method and outputs.get("want_control_net", False),
         )
         conv.source_digest = source_digest(data)
-        # Per cage face and corner: materials and UV maps, carried over by fill_surface.
+        # Per cage face and corner: materials and UV maps; per cage vertex: vertex groups;
+        # carried over by fill_surface.
         conv.source_faces = getattr(data, "faces", None)
         conv.source_face_sizes = sizes
+        conv.source_face_indices = indices
+        conv.source_vertex_groups = getattr(data, "vertex_groups", None)
+        if conv.source_vertex_groups is not None and len(getattr(conv, "cage_coords", ())) == 0:
+            conv.warnings.append(VERTEX_GROUPS_SKIPPED)
         return conv
     except native.Cancelled:
         raise ConvertError(f"{name}: cancelled") from None
@@ -163,6 +170,10 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     set_display(mesh, display)
     mesh_io.carry_cage_data(mesh, getattr(conv, "cage_corner", ()), getattr(conv, "cage_coords", ()),
                             getattr(conv, "source_face_sizes", ()), getattr(conv, "source_faces", None))
+    mesh_io.carry_vertex_groups(mesh, getattr(conv, "source_vertex_groups", None),
+                                getattr(conv, "source_face_sizes", ()), getattr(conv, "source_face_indices", ()),
+                                getattr(conv, "cage_corner", ()), getattr(conv, "cage_coords", ()),
+                                getattr(conv, "faces", ()))
     for mat in (materials if materials else [surface_material(created)]):
         mesh.materials.append(mat)
     return mesh

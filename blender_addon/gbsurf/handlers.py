@@ -107,7 +107,7 @@ def on_frame_change(scene, depsgraph=None):
             if src is None or core.is_result_part(src):
                 continue
             try:
-                data = mesh_io.read_object(src, depsgraph)
+                data = mesh_io.read_object(src, depsgraph, vertex_groups=False)
             except mesh_io.SourceError as e:
                 obj.gbsurf.info = f"Live update failed: {e}"
                 continue
@@ -115,6 +115,10 @@ def on_frame_change(scene, depsgraph=None):
             if core.source_digest(data) == obj.gbsurf.source_digest:
                 continue
             try:
+                # Read again with the vertex groups (one pass over the vertices in Python,
+                # skipped above for frames whose geometry did not change).
+                if len(src.vertex_groups):
+                    data = mesh_io.read_object(src, depsgraph)
                 core.apply(obj, core.compute(
                     src, obj.gbsurf.library_options(), obj.gbsurf.output_options(), data=data))
             except core.ConvertError as e:

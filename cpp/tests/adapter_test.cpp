@@ -4,6 +4,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <gbsurf/openmesh.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -203,6 +204,110 @@ static void custom_traits_and_deleted_elements(const std::string& dir) {
     }
 }
 
+// The "crease" properties (edge and vertex, float or double) become the creased convert's
+// sharpness: every cube edge at 1 keeps the corners at +-1 (as tests/creases.rs checks); no
+// property (or one of another type) leaves the conversion as it was; bad values name the
+// OpenMesh element.
+static void crease_properties(const std::string& dir) {
+    typedef OpenMesh::PolyMesh_ArrayKernelT<> Mesh;
+    Mesh in;
+    if (!OpenMesh::IO::read_mesh(in, dir + "/cube.obj")) {
+        std::cerr << "cannot read cube.obj\n";
+        ++failures;
+        return;
+    }
+    const auto opt = gbsurf::options().method(gbsurf::method::topology).resolution(4);
+    // The flat arrays the adapter builds (halfedge order), converted without creases.
+    std::vector<double> p;
+    for (auto vh : in.vertices()) for (int k = 0; k < 3; ++k) p.push_back(in.point(vh)[k]);
+    std::vector<uint32_t> s, f;
+    for (auto fh : in.faces()) {
+        uint32_t n = 0;
+        for (auto vh : in.fv_ccw_range(fh)) f.push_back(static_cast<uint32_t>(vh.idx())), ++n;
+        s.push_back(n);
+    }
+    auto max_abs = [](const gbsurf::result& r) {
+        double m = 0.0;
+        for (double x : r.positions()) m = std::max(m, std::abs(x));
+        return m;
+    };
+    auto same = [](const gbsurf::result& a, const gbsurf::result& b) {
+        auto x = a.positions(), y = b.positions();
+        if (x.size() != y.size()) return false;
+        for (std::size_t i = 0; i < x.size(); ++i) if (x[i] != y[i]) return false;
+        return true;
+    };
+    std::string msg;
+    uint32_t code = code_of([&] {
+        const gbsurf::result ref = gbsurf::convert(p, s, f, opt);
+        // Without the property: the plain conversion, bit for bit, and no sharp edge.
+        gbsurf::result plain = gbsurf::openmesh::convert_to_result(in, opt);
+        CHECK(same(plain, ref));
+        CHECK(plain.report().sharp_edges == 0);
+        CHECK(max_abs(plain) < 0.99);  // the smooth cube shrinks inside [-1, 1]^3
+        // A property of another type is not a crease property.
+        OpenMesh::EPropHandleT<int> ih;
+        in.add_property(ih, "crease");
+        for (auto eh : in.edges()) in.property(ih, eh) = 1;
+        CHECK(same(gbsurf::openmesh::convert_to_result(in, opt), ref));
+        in.remove_property(ih);
+
+        // Every edge at 1 (float): the cube itself, corners at +-1.
+        OpenMesh::EPropHandleT<float> eh_f;
+        in.add_property(eh_f, gbsurf::openmesh::crease_property_name());
+        for (auto eh : in.edges()) in.property(eh_f, eh) = 1.0f;
+        gbsurf::result sharp = gbsurf::openmesh::convert_to_result(in, opt);
+        CHECK(sharp.report().sharp_edges == 12);
+        CHECK(std::abs(max_abs(sharp) - 1.0) <= 1e-12);
+        auto pos = sharp.positions();
+        for (auto vh : in.vertices()) {
+            double best = 1e300;
+            for (std::size_t i = 0; 3 * i + 2 < pos.size(); ++i) {
+                double d = 0.0;
+                for (int k = 0; k < 3; ++k) d += std::pow(pos[3 * i + k] - in.point(vh)[k], 2);
+                best = std::min(best, std::sqrt(d));
+            }
+            CHECK(best <= 1e-12);
+        }
+        // The same as double, and all zeros: unchanged.
+        OpenMesh::EPropHandleT<double> eh_d;
+        in.remove_property(eh_f);
+        in.add_property(eh_d, "crease");
+        for (auto eh : in.edges()) in.property(eh_d, eh) = 1.0;
+        CHECK(same(gbsurf::openmesh::convert_to_result(in, opt), sharp));
+        for (auto eh : in.edges()) in.property(eh_d, eh) = 0.0;
+        CHECK(same(gbsurf::openmesh::convert_to_result(in, opt), ref));
+
+        // Out of range on OpenMesh edge 5: the library's error, naming the edge.
+        in.property(eh_d, in.edge_handle(5)) = 2.0;
+        std::string m;
+        CHECK(code_of([&] { gbsurf::openmesh::convert_to_result(in, opt); }, &m) == GBSURF_ERR_INVALID_MESH);
+        CHECK(m.find("edge crease 0") != std::string::npos);
+        CHECK(m.find("(OpenMesh edge 5)") != std::string::npos);
+        in.property(eh_d, in.edge_handle(5)) = 0.0;
+        // A vertex property: corner sharpness; NaN on OpenMesh vertex 3 is named.
+        OpenMesh::VPropHandleT<double> vh_d;
+        in.add_property(vh_d, "crease");
+        for (auto vh : in.vertices()) in.property(vh_d, vh) = 1.0;
+        gbsurf::result corners = gbsurf::openmesh::convert_to_result(in, opt);
+        CHECK(!same(corners, ref));
+        in.property(vh_d, in.vertex_handle(3)) = std::nan("");
+        CHECK(code_of([&] { gbsurf::openmesh::convert_to_result(in, opt); }, &m) == GBSURF_ERR_NAN);
+        CHECK(m.find("vertex crease 3") != std::string::npos);
+        CHECK(m.find("(OpenMesh vertex 3)") != std::string::npos);
+        in.property(vh_d, in.vertex_handle(3)) = -0.5;
+        CHECK(code_of([&] { gbsurf::openmesh::convert_to_result(in, opt); }, &m) == GBSURF_ERR_INVALID_MESH);
+        CHECK(m.find("(OpenMesh vertex 3)") != std::string::npos);
+        in.remove_property(vh_d);
+        in.remove_property(eh_d);
+        CHECK(same(gbsurf::openmesh::convert_to_result(in, opt), ref));
+    }, &msg);
+    if (code != GBSURF_OK) {
+        std::cerr << "crease properties: " << msg << "\n";
+        ++failures;
+    }
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::cerr << "usage: adapter_test MODELS_DIR\n";
@@ -212,6 +317,7 @@ int main(int argc, char** argv) {
     wrapper_errors();
     good_model(argv[1]);
     custom_traits_and_deleted_elements(argv[1]);
+    crease_properties(argv[1]);
     if (failures) {
         std::cerr << failures << " failures\n";
         return 1;

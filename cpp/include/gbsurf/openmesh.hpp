@@ -8,6 +8,14 @@
 // properties "gbsurf:patch" (int), "gbsurf:mean_curvature", "gbsurf:gaussian_curvature",
 // "gbsurf:g1_deviation" (double, degrees). curve_network() and control_nets() give the exact
 // description as OpenMesh meshes (vertices = control points, edges = control polygon lines).
+//
+// Creases: if the input mesh has an edge property "crease" (float or double: sharpness c in
+// [0, 1], Blender's crease meaning: 0 smooth, 1 infinitely sharp) and/or a vertex property
+// "crease" (corner sharpness, same meaning), found by name with get_property_handle, the
+// conversion passes every non-zero value to the creased convert (gbsurf_convert_creased; only
+// the topology method builds creases). A value outside [0, 1], NaN or infinite is refused by
+// the library's validator (GBSURF_ERR_INVALID_MESH or GBSURF_ERR_NAN) with a message that ends
+// with the OpenMesh element, e.g. "(OpenMesh edge 7)". Properties of other types are ignored.
 #ifndef GBSURF_OPENMESH_HPP
 #define GBSURF_OPENMESH_HPP
 
@@ -16,6 +24,8 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -41,6 +51,8 @@ inline const char* gaussian_curvature_property_name() { return "gbsurf:gaussian_
 inline const char* g1_deviation_property_name() { return "gbsurf:g1_deviation"; }
 /// On curve network meshes: the curve index of each vertex.
 inline const char* curve_property_name() { return "gbsurf:curve"; }
+/// The edge and vertex properties (float or double) read as sharpness by convert_to_result.
+inline const char* crease_property_name() { return "crease"; }
 
 namespace detail {
 template <class T, class Mesh>
@@ -56,6 +68,80 @@ OpenMesh::VPropHandleT<T> existing_vprop(const Mesh& mesh, const char* name) {
         throw error(GBSURF_ERR_KIND, std::string("the mesh has no vertex property ") + name);
     }
     return h;
+}
+
+/// The value of property `name` (float or double) of element `h`, through handle type H<T>.
+template <template <class> class H, class Mesh>
+struct crease_reader {
+    H<float> f;
+    H<double> d;
+    bool has_f = false, has_d = false;
+    crease_reader(const Mesh& m, const char* name) {
+        has_f = m.get_property_handle(f, name);
+        has_d = !has_f && m.get_property_handle(d, name);
+    }
+    bool present() const { return has_f || has_d; }
+    template <class Handle>
+    double operator()(const Mesh& m, Handle h) const {
+        return has_f ? static_cast<double>(m.property(f, h)) : m.property(d, h);
+    }
+};
+
+/// The input mesh's "crease" properties as gbsurf::creases (compact vertex numbers `index`),
+/// with the OpenMesh edge / vertex index of every entry; false when the mesh has neither.
+template <class InMesh>
+bool read_creases(const InMesh& in, const std::vector<uint32_t>& index, creases& cr,
+                  std::vector<int>& edge_of, std::vector<int>& vertex_of) {
+    crease_reader<OpenMesh::EPropHandleT, InMesh> ec(in, crease_property_name());
+    crease_reader<OpenMesh::VPropHandleT, InMesh> vc(in, crease_property_name());
+    if (!ec.present() && !vc.present()) return false;
+    if (ec.present()) {
+        for (auto eh : in.edges()) {
+            const double c = ec(in, eh);
+            if (c == 0.0) continue;  // smooth (NaN is kept: the library names it)
+            auto h = in.halfedge_handle(eh, 0);
+            cr.edge(index[in.from_vertex_handle(h).idx()], index[in.to_vertex_handle(h).idx()], c);
+            edge_of.push_back(eh.idx());
+        }
+    }
+    if (vc.present()) {
+        for (auto vh : in.vertices()) {
+            const double c = vc(in, vh);
+            if (c == 0.0) continue;
+            cr.corner(index[vh.idx()], c);
+            vertex_of.push_back(vh.idx());
+        }
+    }
+    return true;
+}
+
+/// The crease entry an error message names ("edge crease 3 ..." gives 3 for "edge"), or -1.
+inline long crease_entry(const std::string& message, const char* kind) {
+    const std::string key = std::string(kind) + " crease ";
+    const auto at = message.find(key);
+    if (at == std::string::npos) return -1;
+    const char* p = message.c_str() + at + key.size();
+    char* end = nullptr;
+    const long k = std::strtol(p, &end, 10);
+    return end == p ? -1 : k;
+}
+
+/// Rethrows a library error about crease entry k with the OpenMesh element it came from.
+[[noreturn]] inline void rethrow_with_element(const error& e, const std::vector<int>& edge_of,
+                                              const std::vector<int>& vertex_of) {
+    std::string message = e.what();
+    const std::string prefix = std::string(gbsurf_status_name(e.code())) + ": ";
+    if (message.compare(0, prefix.size(), prefix) == 0) message.erase(0, prefix.size());
+    const long ek = crease_entry(message, "edge");
+    const long vk = crease_entry(message, "vertex");
+    if (ek >= 0 && static_cast<std::size_t>(ek) < edge_of.size()) {
+        message += " (OpenMesh edge " + std::to_string(edge_of[ek]) + ")";
+    } else if (vk >= 0 && static_cast<std::size_t>(vk) < vertex_of.size()) {
+        message += " (OpenMesh vertex " + std::to_string(vertex_of[vk]) + ")";
+    } else {
+        throw e;
+    }
+    throw error(e.code(), message);
 }
 }  // namespace detail
 
@@ -74,7 +160,8 @@ template <class Mesh> OpenMesh::VPropHandleT<double> g1_deviation(const Mesh& m)
 }
 
 /// Converts any OpenMesh polygon mesh (any traits with points; deleted elements skipped) with the
-/// library. Face corners are taken in halfedge order (counter-clockwise).
+/// library. Face corners are taken in halfedge order (counter-clockwise). The "crease" edge and
+/// vertex properties, if present, are passed as sharpness (see the top of this header).
 template <class InMesh>
 result convert_to_result(const InMesh& in, const options& opt = options(), const progress_fn& progress = {}) {
     std::vector<uint32_t> index(in.n_vertices(), 0);
@@ -101,7 +188,17 @@ result convert_to_result(const InMesh& in, const options& opt = options(), const
         } while (h != h0 && n <= in.n_halfedges());
         sizes.push_back(n);
     }
-    return gbsurf::convert(positions, sizes, corners, opt, progress);
+    creases cr;
+    std::vector<int> edge_of, vertex_of;
+    if (!detail::read_creases(in, index, cr, edge_of, vertex_of)) {
+        return gbsurf::convert(positions, sizes, corners, opt, progress);
+    }
+    try {
+        return gbsurf::convert(positions, sizes, corners, cr, opt, progress);
+    } catch (const error& e) {
+        if (e.code() != GBSURF_ERR_NAN && e.code() != GBSURF_ERR_INVALID_MESH && e.code() != GBSURF_ERR_INDEX) throw;
+        detail::rethrow_with_element(e, edge_of, vertex_of);
+    }
 }
 
 /// The output mesh of a result as an OpenMesh TriMesh with normals and the gbsurf properties.
