@@ -167,17 +167,21 @@ impl GbPatch {
         let l = ev.layers();
         let d1 = ev.degree() + 1;
         let mut out = SurfaceDerivs::default();
-        let b0 = ev.for_each_ribbon_weight(uv, form, |idx, w| {
-            let q = idx - 1;
-            let (i, rest) = (q / (l * d1), q % (l * d1));
-            let (k, j) = (rest / d1, rest % d1);
-            if let Some(p) = self
-                .ribbons
-                .get(i)
-                .and_then(|r| r.rows.get(k))
-                .and_then(|row| row.get(j))
-            {
+        // The weights come in flat order (side i, row k, column j): count along instead of
+        // dividing the flat index.
+        let (mut i, mut k, mut j) = (0usize, 0usize, 0usize);
+        let b0 = ev.for_each_ribbon_weight(uv, form, |_, w| {
+            if let Some(p) = self.ribbons.get(i).and_then(|r| r.rows.get(k)).and_then(|row| row.get(j)) {
                 out.add_weighted(&w, *p);
+            }
+            j += 1;
+            if j == d1 {
+                j = 0;
+                k += 1;
+                if k == l {
+                    k = 0;
+                    i += 1;
+                }
             }
         });
         out.add_weighted(&b0, self.center);

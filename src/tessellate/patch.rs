@@ -88,19 +88,28 @@ pub fn tessellate_gb(
     }
     let invalid = |source| TessellateError::InvalidPatch { patch: 0, source };
     patch.validate().map_err(invalid)?;
-    let mut ev = patch.evaluator().map_err(invalid)?;
+    let ev = patch.evaluator().map_err(invalid)?;
     let layout = SampleLayout::for_domain(ev.domain(), resolution)
         .map_err(|source| TessellateError::Layout { patch: 0, source })?;
-    let mut bad = None;
-    let mesh = tessellate_with(&layout, |s, uv| {
-        let p = patch.eval_derivs_with_form(&mut ev, uv, form).p;
-        if !p.is_finite() && bad.is_none() {
-            bad = Some(s);
-        }
-        (p, normal_or_nearby(patch, &mut ev, uv, form))
-    });
-    if let Some(sample) = bad {
+    // One evaluation per sample (the normal from the same derivatives; the nearby fallback only
+    // where they degenerate), samples in parallel: a patch of n sides costs O(n) per sample
+    // (docs/math.md#cost-per-point), so a 1024-sided patch is worth both cores.
+    use rayon::prelude::*;
+    let points: Vec<(DVec3, DVec3)> = layout
+        .uv
+        .par_iter()
+        .with_min_len(64)
+        .map_init(
+            || ev.clone(),
+            |ev, &uv| {
+                let d = patch.eval_derivs_with_form(ev, uv, form);
+                let n = d.normal().unwrap_or_else(|| normal_or_nearby(patch, ev, uv, form));
+                (d.p, n)
+            },
+        )
+        .collect();
+    if let Some(sample) = points.iter().position(|(p, _)| !p.is_finite()) {
         return Err(TessellateError::Evaluation { patch: 0, sample });
     }
-    Ok(mesh)
+    Ok(tessellate_with(&layout, |s, _| points[s]))
 }
