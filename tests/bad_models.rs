@@ -15,9 +15,9 @@ fn err(name: &str) -> MeshError {
 
 #[test]
 fn bowtie_vertex() {
-    // two triangles 1 2 3 and 1 4 5 share only vertex 1 (index 0)
+    // two triangles 1 2 3 and 1 4 5 share only vertex 1 (OBJ numbering, as errors from an OBJ file name it)
     let e = err("bowtie_vertex.obj");
-    assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 0, fans: 2, line: Some(2) }), "{e}");
+    assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 1, fans: 2, line: Some(2) }), "{e}");
 }
 
 #[test]
@@ -36,7 +36,7 @@ fn empty() {
 fn flipped_face() {
     // face 5 "6 8 4 2" runs 5 → 7 like face 1 "5 6 8 7"
     let e = err("flipped_face.obj");
-    assert_eq!(e, MeshError::InconsistentOrientation { edge: (5, 7), faces: (1, 5), line: Some(15) });
+    assert_eq!(e, MeshError::InconsistentOrientation { edge: (6, 8), faces: (1, 5), line: Some(15) });
 }
 
 #[test]
@@ -53,7 +53,7 @@ fn huge_coordinates() {
     let e = err("huge_coordinates.obj");
     match e {
         MeshError::CoordinateRange { vertex, axis, value, limit, line } => {
-            assert_eq!((vertex, axis, line), (0, 0, Some(2)));
+            assert_eq!((vertex, axis, line), (1, 0, Some(2)));
             assert_eq!(limit, COORDINATE_LIMIT);
             assert!(value < -1e299);
         }
@@ -75,7 +75,7 @@ fn index_out_of_range() {
 fn inf() {
     let e = err("inf.obj");
     assert!(
-        matches!(e, MeshError::NonFiniteCoordinate { vertex: 0, axis: 0, value, line: Some(2) } if value == f64::INFINITY),
+        matches!(e, MeshError::NonFiniteCoordinate { vertex: 1, axis: 0, value, line: Some(2) } if value == f64::INFINITY),
         "{e}"
     );
 }
@@ -84,7 +84,7 @@ fn inf() {
 fn nan() {
     let e = err("nan.obj");
     assert!(
-        matches!(e, MeshError::NonFiniteCoordinate { vertex: 0, axis: 0, value, line: Some(2) } if value.is_nan()),
+        matches!(e, MeshError::NonFiniteCoordinate { vertex: 1, axis: 0, value, line: Some(2) } if value.is_nan()),
         "{e}"
     );
 }
@@ -92,7 +92,7 @@ fn nan() {
 #[test]
 fn isolated_vertex_is_dropped_with_warning() {
     let m = read_mesh(format!("{BAD}/isolated_vertex.obj")).unwrap();
-    assert_eq!(m.warnings(), &[MeshWarning::IsolatedVertex { vertex: 8, line: Some(10) }]);
+    assert_eq!(m.warnings(), &[MeshWarning::IsolatedVertex { vertex: 9, line: Some(10) }]);
     assert_eq!((m.n_vertices(), m.n_edges(), m.n_faces()), (8, 12, 6));
     assert_eq!(m.original_vertices(), &[0, 1, 2, 3, 4, 5, 6, 7]);
     assert!(m.positions().iter().all(|p| p.abs().max_element() == 1.0));
@@ -100,16 +100,16 @@ fn isolated_vertex_is_dropped_with_warning() {
 
 #[test]
 fn nonmanifold_edge() {
-    // edge between vertices 1 and 2 (indices 0, 1): cube faces 0 and 2 plus fins 6 and 7
+    // edge between vertices 1 and 2 (OBJ numbering): cube faces 0 and 2 plus fins 6 and 7
     let e = err("nonmanifold_edge.obj");
-    assert_eq!(e, MeshError::NonManifoldEdge { edge: (0, 1), faces: vec![0, 2, 6, 7], line: Some(18) });
+    assert_eq!(e, MeshError::NonManifoldEdge { edge: (1, 2), faces: vec![0, 2, 6, 7], line: Some(18) });
 }
 
 #[test]
 fn repeated_index() {
-    // "f 2 4 4 6": face 5 names vertex index 3 twice
+    // "f 2 4 4 6": face 5 names vertex 4 twice (as the file numbers it)
     let e = err("repeated_index.obj");
-    assert_eq!(e, MeshError::RepeatedIndex { face: 5, vertex: 3, line: Some(15) });
+    assert_eq!(e, MeshError::RepeatedIndex { face: 5, vertex: 4, line: Some(15) });
 }
 
 #[test]
@@ -196,7 +196,7 @@ fn errors_display_the_element() {
     let s = err("index_out_of_range.obj").to_string();
     assert!(s.contains("face 5") && s.contains("line 15") && s.contains("vertex index 42 out of range (1..=8)"), "{s}");
     let s = err("nonmanifold_edge.obj").to_string();
-    assert!(s.contains("edge (0, 1)"), "{s}");
+    assert!(s.contains("edge (1, 2)"), "{s}");
 }
 
 #[test]

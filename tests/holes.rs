@@ -193,7 +193,7 @@ fn bad_holes_are_typed_errors_naming_the_line() {
     assert!(matches!(e, MeshError::Hole { defect: HoleDefect::CrossesOuter { .. }, line: Some(10), .. }), "{e}");
     // sharing a vertex with the outer loop
     let e = hole_error(&format!("{SQUARE}v 1 1 0\nv 2 2 0\nf 1 2 3 4\n#h 1\nf 6 5 1\n"));
-    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::SharedVertex { vertex: 0, other: None }, line: Some(9), .. }), "{e}");
+    assert!(matches!(e, MeshError::Hole { defect: HoleDefect::SharedVertex { vertex: 1, other: None }, line: Some(9), .. }), "{e}");
     // two holes crossing each other
     let e = hole_error(&format!(
         "{SQUARE}v 1 1 0\nv 2 1 0\nv 2 2 0\nv 1.5 1.2 0\nv 3 1.2 0\nv 3 3 0\nf 1 2 3 4\n#h 2\nf 7 6 5\nf 10 9 8\n"

@@ -29,7 +29,7 @@ fn all_eq(name: &str, expected: MeshError) {
 #[test]
 fn bowtie_vertex() {
     for e in err("bowtie_vertex.obj") {
-        assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 0, fans: 2, line: Some(2) }), "{e}");
+        assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 1, fans: 2, line: Some(2) }), "{e}");
     }
 }
 
@@ -45,7 +45,7 @@ fn empty() {
 
 #[test]
 fn flipped_face() {
-    all_eq("flipped_face.obj", MeshError::InconsistentOrientation { edge: (5, 7), faces: (1, 5), line: Some(15) });
+    all_eq("flipped_face.obj", MeshError::InconsistentOrientation { edge: (6, 8), faces: (1, 5), line: Some(15) });
 }
 
 #[test]
@@ -59,7 +59,7 @@ fn garbage() {
 fn huge_coordinates() {
     for e in err("huge_coordinates.obj") {
         assert!(
-            matches!(e, MeshError::CoordinateRange { vertex: 0, axis: 0, limit, line: Some(2), .. } if limit == COORDINATE_LIMIT),
+            matches!(e, MeshError::CoordinateRange { vertex: 1, axis: 0, limit, line: Some(2), .. } if limit == COORDINATE_LIMIT),
             "{e}"
         );
     }
@@ -73,25 +73,25 @@ fn index_out_of_range() {
 #[test]
 fn inf() {
     for e in err("inf.obj") {
-        assert!(matches!(e, MeshError::NonFiniteCoordinate { vertex: 0, axis: 0, value, line: Some(2) } if value == f64::INFINITY), "{e}");
+        assert!(matches!(e, MeshError::NonFiniteCoordinate { vertex: 1, axis: 0, value, line: Some(2) } if value == f64::INFINITY), "{e}");
     }
 }
 
 #[test]
 fn nan() {
     for e in err("nan.obj") {
-        assert!(matches!(e, MeshError::NonFiniteCoordinate { vertex: 0, axis: 0, value, line: Some(2) } if value.is_nan()), "{e}");
+        assert!(matches!(e, MeshError::NonFiniteCoordinate { vertex: 1, axis: 0, value, line: Some(2) } if value.is_nan()), "{e}");
     }
 }
 
 #[test]
 fn nonmanifold_edge() {
-    all_eq("nonmanifold_edge.obj", MeshError::NonManifoldEdge { edge: (0, 1), faces: vec![0, 2, 6, 7], line: Some(18) });
+    all_eq("nonmanifold_edge.obj", MeshError::NonManifoldEdge { edge: (1, 2), faces: vec![0, 2, 6, 7], line: Some(18) });
 }
 
 #[test]
 fn repeated_index() {
-    all_eq("repeated_index.obj", MeshError::RepeatedIndex { face: 5, vertex: 3, line: Some(15) });
+    all_eq("repeated_index.obj", MeshError::RepeatedIndex { face: 5, vertex: 4, line: Some(15) });
 }
 
 #[test]
@@ -106,7 +106,7 @@ fn isolated_vertex_converts_with_a_warning() {
         let opts = ConvertOptions { method, resolution: 3, levels: 2, ..ConvertOptions::triangles_r8() };
         let c = convert_file(format!("{BAD}/isolated_vertex.obj"), &opts, None).unwrap_or_else(|e| panic!("{method}: {e}"));
         assert_eq!(c.warnings.len(), 1, "{method}: {:?}", c.warnings);
-        assert!(c.warnings[0].contains("vertex 8") && c.warnings[0].contains("line 10"), "{}", c.warnings[0]);
+        assert!(c.warnings[0].contains("vertex 9") && c.warnings[0].contains("line 10"), "{}", c.warnings[0]);
         assert_eq!(c.report.warnings, c.warnings);
         assert!(c.report.closed, "{method}");
     }

@@ -48,7 +48,7 @@ fn bad(name: &str) -> String {
 
 #[test]
 fn bad_bowtie_vertex() {
-    fails(&bad("bowtie_vertex.obj"), &[], "vertex 0 (line 2) is non-manifold");
+    fails(&bad("bowtie_vertex.obj"), &[], "vertex 1 (line 2) is non-manifold");
 }
 #[test]
 fn bad_duplicate_face() {
@@ -68,7 +68,7 @@ fn bad_garbage() {
 }
 #[test]
 fn bad_huge_coordinates() {
-    fails(&bad("huge_coordinates.obj"), &[], "vertex 0 (line 2): coordinate 0");
+    fails(&bad("huge_coordinates.obj"), &[], "vertex 1 (line 2): coordinate 0");
 }
 #[test]
 fn bad_index_out_of_range() {
@@ -76,19 +76,19 @@ fn bad_index_out_of_range() {
 }
 #[test]
 fn bad_inf() {
-    fails(&bad("inf.obj"), &[], "vertex 0 (line 2): coordinate 0 is inf");
+    fails(&bad("inf.obj"), &[], "vertex 1 (line 2): coordinate 0 is inf");
 }
 #[test]
 fn bad_nan() {
-    fails(&bad("nan.obj"), &[], "vertex 0 (line 2): coordinate 0 is NaN");
+    fails(&bad("nan.obj"), &[], "vertex 1 (line 2): coordinate 0 is NaN");
 }
 #[test]
 fn bad_nonmanifold_edge() {
-    fails(&bad("nonmanifold_edge.obj"), &[], "edge (0, 1) is shared by 4 faces");
+    fails(&bad("nonmanifold_edge.obj"), &[], "edge (1, 2) is shared by 4 faces");
 }
 #[test]
 fn bad_repeated_index() {
-    fails(&bad("repeated_index.obj"), &[], "face 5 (line 15) names vertex 3 more than once");
+    fails(&bad("repeated_index.obj"), &[], "face 5 (line 15) names vertex 4 more than once");
 }
 #[test]
 fn bad_zero_area() {

@@ -2,7 +2,11 @@
 //!
 //! Conventions: vertex and face indices are 0-based indices into the *input* [`PolyMesh`]
 //! (before isolated vertices are dropped); `line` is the 1-based line of the element in the
-//! source file when the mesh was read from a file (see [`SourceMap`]), `None` otherwise.
+//! source file when the mesh was read from a file (see [`SourceMap`]), `None` otherwise. An
+//! error annotated from a file ([`MeshError::with_source`]) names vertices as the file numbers
+//! them: 1-based for OBJ (its `v` lines count from 1, as its `f` lines name them), 0-based for OFF
+//! and PLY; OpenSubdiv's `t crease` / `t corner` tags are 0-based in OBJ too and keep their
+//! numbers. Faces are 0-based in every format (no format numbers them) with their line.
 //!
 //! [`PolyMesh`]: super::PolyMesh
 
@@ -137,6 +141,19 @@ pub enum HoleDefect {
     TooManyCorners { corners: usize, max: usize },
 }
 
+impl HoleDefect {
+    /// The defect with its vertex indices shifted by `base` (see [`SourceMap::vertex_base`]).
+    fn renumbered(self, base: usize) -> Self {
+        use HoleDefect::*;
+        match self {
+            RepeatedVertex { vertex } => RepeatedVertex { vertex: vertex + base },
+            SharedVertex { vertex, other } => SharedVertex { vertex: vertex + base, other },
+            Outside { vertex } => Outside { vertex: vertex + base },
+            d => d,
+        }
+    }
+}
+
 fn obj_range(index: i64, n: usize) -> String {
     match (index < 0, n) {
         (false, 0) | (true, 0) => "no vertices to name".to_string(),
@@ -177,6 +194,9 @@ pub struct SourceMap {
     pub vertex_crease_lines: Vec<usize>,
     /// Line of each hole loop ([`super::PolyMesh::holes`], the `f` lines after OBJ `#h N`).
     pub hole_lines: Vec<usize>,
+    /// Added to the vertex indices an error or warning names so that they read as the file
+    /// numbers its vertices: 1 for OBJ, 0 for OFF, PLY and STL (see the module doc).
+    pub vertex_base: usize,
     /// What the reader skipped (added to the mesh's warnings by
     /// [`super::HalfEdgeMesh::annotate_warnings`]).
     pub warnings: Vec<MeshWarning>,
@@ -196,32 +216,34 @@ impl MeshError {
     /// face and edge errors: the line of the (last) face named).
     pub fn with_source(self, map: &SourceMap) -> Self {
         use MeshError::*;
+        // Vertex indices as the file numbers them.
+        let b = map.vertex_base;
         match self {
             NonFiniteCoordinate { vertex, axis, value, .. } => {
-                NonFiniteCoordinate { vertex, axis, value, line: map.vl(vertex) }
+                NonFiniteCoordinate { vertex: vertex + b, axis, value, line: map.vl(vertex) }
             }
             CoordinateRange { vertex, axis, value, limit, .. } => {
-                CoordinateRange { vertex, axis, value, limit, line: map.vl(vertex) }
+                CoordinateRange { vertex: vertex + b, axis, value, limit, line: map.vl(vertex) }
             }
             FaceTooSmall { face, len, .. } => FaceTooSmall { face, len, line: map.fl(face) },
             IndexOutOfRange { face, corner, index, n_vertices, .. } => {
                 IndexOutOfRange { face, corner, index, n_vertices, line: map.fl(face) }
             }
-            RepeatedIndex { face, vertex, .. } => RepeatedIndex { face, vertex, line: map.fl(face) },
+            RepeatedIndex { face, vertex, .. } => RepeatedIndex { face, vertex: vertex + b, line: map.fl(face) },
             ZeroAreaFace { face, area, .. } => ZeroAreaFace { face, area, line: map.fl(face) },
             DuplicateFace { face, first, .. } => DuplicateFace { face, first, line: map.fl(face) },
             NonManifoldEdge { edge, faces, .. } => {
                 let line = faces.last().and_then(|&f| map.fl(f));
-                NonManifoldEdge { edge, faces, line }
+                NonManifoldEdge { edge: (edge.0 + b, edge.1 + b), faces, line }
             }
             InconsistentOrientation { edge, faces, .. } => {
-                InconsistentOrientation { edge, faces, line: map.fl(faces.1) }
+                InconsistentOrientation { edge: (edge.0 + b, edge.1 + b), faces, line: map.fl(faces.1) }
             }
             NonManifoldVertex { vertex, fans, .. } => {
-                NonManifoldVertex { vertex, fans, line: map.vl(vertex) }
+                NonManifoldVertex { vertex: vertex + b, fans, line: map.vl(vertex) }
             }
             UnresolvableExtent { extent, magnitude, min_ratio, vertex, .. } => {
-                UnresolvableExtent { extent, magnitude, min_ratio, vertex, line: map.vl(vertex) }
+                UnresolvableExtent { extent, magnitude, min_ratio, vertex: vertex + b, line: map.vl(vertex) }
             }
             EdgeCreaseValue { entry, edge, value, .. } => {
                 EdgeCreaseValue { entry, edge, value, line: map.edge_crease_lines.get(entry).copied() }
@@ -235,7 +257,7 @@ impl MeshError {
             CreaseVertexOutOfRange { entry, vertex, n_vertices, .. } => {
                 CreaseVertexOutOfRange { entry, vertex, n_vertices, line: map.vertex_crease_lines.get(entry).copied() }
             }
-            Hole { face, hole, defect, .. } => Hole { face, hole, defect, line: map.hole_lines.get(hole).copied() },
+            Hole { face, hole, defect, .. } => Hole { face, hole, defect: defect.renumbered(b), line: map.hole_lines.get(hole).copied() },
             HoleFaceOutOfRange { hole, face, n_faces, .. } => {
                 HoleFaceOutOfRange { hole, face, n_faces, line: map.hole_lines.get(hole).copied() }
             }
@@ -267,7 +289,7 @@ impl MeshWarning {
     pub fn with_source(self, map: &SourceMap) -> Self {
         match self {
             MeshWarning::IsolatedVertex { vertex, .. } => {
-                MeshWarning::IsolatedVertex { vertex, line: map.vl(vertex) }
+                MeshWarning::IsolatedVertex { vertex: vertex + map.vertex_base, line: map.vl(vertex) }
             }
             w @ MeshWarning::SkippedStatement { .. } => w,
         }

@@ -134,7 +134,7 @@ pub fn parse_obj(input: impl AsRef<[u8]>) -> Result<(PolyMesh, SourceMap), MeshE
     let mut positions = Vec::new();
     // Per face: the indices as written, the line and the number of vertices above it.
     let mut raw_faces: Vec<(Vec<i64>, usize, usize)> = Vec::new();
-    let mut map = SourceMap::default();
+    let mut map = SourceMap { vertex_base: 1, ..SourceMap::default() };
     let mut skipped = Skipped::default();
     let mut tags: Vec<ObjTag> = Vec::new();
     let mut lines = lines_from(bytes, 1);
