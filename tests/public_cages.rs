@@ -37,6 +37,7 @@ const VALID: &[&str] = &[
     "catmark_hole_test2",
     "catmark_hole_test3",
     "catmark_nonman_bareverts",
+    "catmark_pawn",
     "catmark_pyramid",
     "catmark_toroidal_tet",
     "catmark_torus",
