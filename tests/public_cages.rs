@@ -64,7 +64,7 @@ fn every_stored_cage_is_listed() {
     stored.sort();
     let mut listed: Vec<String> = VALID.iter().map(|s| s.to_string()).collect();
     listed.extend(REFUSED.iter().map(|(s, _)| s.to_string()));
-    listed.extend(["catmark_helmet", "loop_toroidal_tet"].map(String::from));
+    listed.extend(["catmark_helmet", "loop_toroidal_tet", "catmark_rook"].map(String::from));
     listed.sort();
     assert_eq!(stored, listed, "a cage in tests/data/opensubdiv without a test (or a listed one missing)");
 }
@@ -148,35 +148,45 @@ fn helmet_topology_converts_or_names_the_curve() {
     }
 }
 
+/// (cage, structure) pairs whose report shows folds today (the benchmark's table): the report
+/// must keep saying so, with fold sites and per-vertex fold flags at real patches.
+const FOLDED: &[(&str, Method)] =
+    &[("loop_toroidal_tet", Method::Topology), ("catmark_rook", Method::Dual), ("catmark_rook", Method::Topology)];
+
 #[test]
-fn loop_toroidal_tet_reports_its_folds_where_they_are() {
+fn loop_toroidal_tet_dual_is_valid_and_self_intersects_as_topology() {
     let mesh = read("loop_toroidal_tet");
-    // Dual: valid today.
     let dual = run("loop_toroidal_tet", &mesh, Method::Dual).unwrap();
     assert!(dual.report.valid, "{:?}", dual.report.validity_problems());
-    // Topology: folds and self-intersections today (the benchmark's table); the report must say
-    // so, and its fold sites and flags must point at real patches.
-    let c = run("loop_toroidal_tet", &mesh, Method::Topology).unwrap();
-    let r = &c.report;
-    assert!(!r.valid);
-    assert!(r.folds > 0, "topology folds today: {r:?}");
-    assert!(r.self_intersections > r.input_self_intersections);
+    let r = run("loop_toroidal_tet", &mesh, Method::Topology).unwrap().report;
     assert_eq!(r.input_self_intersections, 0);
-    let problems = r.validity_problems().join("; ");
-    assert!(problems.contains("fold"), "{problems}");
-    let surface = c.surface.as_ref().unwrap();
-    assert!(r.folds <= surface.patches.len());
-    assert!(!r.fold_sites.is_empty() && r.fold_sites.len() <= r.folds);
-    let flagged: Vec<usize> = (0..c.mesh.fold.len()).filter(|&v| c.mesh.fold[v] == 1).collect();
-    assert!(!flagged.is_empty(), "folds reported but no vertex flagged");
-    for site in &r.fold_sites {
-        assert!(site.patch < surface.patches.len(), "{site:?}");
-        assert!(site.u.is_finite() && site.v.is_finite() && site.u.abs() <= 1.0 + 1e-9 && site.v.abs() <= 1.0 + 1e-9, "{site:?}");
-        // Some output triangle of the site's patch has a flagged vertex.
-        let hit = c.mesh.triangles.iter().zip(&c.mesh.triangle_patch).any(|(t, &p)| {
-            p as usize == site.patch && t.iter().any(|&v| c.mesh.fold[v as usize] == 1)
-        });
-        assert!(hit, "fold site {site:?} has no flagged vertex in its patch");
+    assert!(r.self_intersections > 0, "topology self-intersects today: {r:?}");
+    assert!(r.validity_problems().join("; ").contains("self-intersecting"), "{:?}", r.validity_problems());
+}
+
+#[test]
+fn folded_cages_report_their_folds_where_they_are() {
+    for &(name, method) in FOLDED {
+        let c = run(name, &read(name), method).unwrap();
+        let r = &c.report;
+        let what = format!("{name} ({})", method.name());
+        assert!(!r.valid, "{what}");
+        assert!(r.folds > 0, "{what} folds today: {r:?}");
+        let problems = r.validity_problems().join("; ");
+        assert!(problems.contains("fold"), "{what}: {problems}");
+        let surface = c.surface.as_ref().unwrap();
+        assert!(r.folds <= surface.patches.len(), "{what}");
+        assert!(!r.fold_sites.is_empty() && r.fold_sites.len() <= r.folds, "{what}");
+        assert!(c.mesh.fold.iter().any(|&f| f == 1), "{what}: folds reported but no vertex flagged");
+        for site in &r.fold_sites {
+            assert!(site.patch < surface.patches.len(), "{what}: {site:?}");
+            assert!(site.u.is_finite() && site.v.is_finite() && site.u.abs() <= 1.0 + 1e-9 && site.v.abs() <= 1.0 + 1e-9, "{what}: {site:?}");
+            // Some output triangle of the site's patch has a flagged vertex.
+            let hit = c.mesh.triangles.iter().zip(&c.mesh.triangle_patch).any(|(t, &p)| {
+                p as usize == site.patch && t.iter().any(|&v| c.mesh.fold[v as usize] == 1)
+            });
+            assert!(hit, "{what}: fold site {site:?} has no flagged vertex in its patch");
+        }
     }
 }
 
