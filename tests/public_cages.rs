@@ -64,7 +64,7 @@ fn every_stored_cage_is_listed() {
     stored.sort();
     let mut listed: Vec<String> = VALID.iter().map(|s| s.to_string()).collect();
     listed.extend(REFUSED.iter().map(|(s, _)| s.to_string()));
-    listed.extend(["catmark_helmet", "loop_toroidal_tet", "catmark_rook"].map(String::from));
+    listed.extend(["catmark_bishop", "catmark_helmet", "catmark_rook", "loop_toroidal_tet"].map(String::from));
     listed.sort();
     assert_eq!(stored, listed, "a cage in tests/data/opensubdiv without a test (or a listed one missing)");
 }
@@ -133,17 +133,21 @@ fn skipped_tags_are_warned_and_creases_read() {
     assert!(c.report.sharp_edges > 0, "{:?}", c.report);
 }
 
+/// (cage, structure) pairs the construction refuses today, naming the node and curve where the
+/// curve network folds (infinitely sharp creases ending inside a quad strip): a valid surface is
+/// the other acceptable answer.
+const CONSTRUCT_REFUSED: &[(&str, Method)] = &[("catmark_helmet", Method::Topology), ("catmark_bishop", Method::Topology)];
+
 #[test]
-fn helmet_topology_converts_or_names_the_curve() {
-    // Today the topology structure of the helmet (infinitely sharp creases ending inside a
-    // quad strip) is refused by the construction naming the node and curve; a valid surface is
-    // the other acceptable answer.
-    match run("catmark_helmet", &read("catmark_helmet"), Method::Topology) {
-        Ok(c) => assert!(c.report.valid, "{:?}", c.report.validity_problems()),
-        Err(e) => {
-            assert!(matches!(e, ConvertError::Construct(_)), "{e:?}");
-            let msg = e.to_string();
-            assert!(msg.contains("node") && msg.contains("curve"), "{msg}");
+fn refused_constructions_name_the_node_and_curve() {
+    for &(name, method) in CONSTRUCT_REFUSED {
+        match run(name, &read(name), method) {
+            Ok(c) => assert!(c.report.valid, "{name}: {:?}", c.report.validity_problems()),
+            Err(e) => {
+                assert!(matches!(e, ConvertError::Construct(_)), "{name}: {e:?}");
+                let msg = e.to_string();
+                assert!(msg.contains("node") && msg.contains("curve"), "{name}: {msg}");
+            }
         }
     }
 }
@@ -151,7 +155,12 @@ fn helmet_topology_converts_or_names_the_curve() {
 /// (cage, structure) pairs whose report shows folds today (the benchmark's table): the report
 /// must keep saying so, with fold sites and per-vertex fold flags at real patches.
 const FOLDED: &[(&str, Method)] =
-    &[("loop_toroidal_tet", Method::Topology), ("catmark_rook", Method::Dual), ("catmark_rook", Method::Topology)];
+    &[
+        ("loop_toroidal_tet", Method::Topology),
+        ("catmark_rook", Method::Dual),
+        ("catmark_rook", Method::Topology),
+        ("catmark_bishop", Method::Dual),
+    ];
 
 #[test]
 fn loop_toroidal_tet_dual_is_valid_and_self_intersects_as_topology() {
