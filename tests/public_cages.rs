@@ -64,7 +64,7 @@ fn every_stored_cage_is_listed() {
     stored.sort();
     let mut listed: Vec<String> = VALID.iter().map(|s| s.to_string()).collect();
     listed.extend(REFUSED.iter().map(|(s, _)| s.to_string()));
-    listed.extend(["catmark_bishop", "catmark_helmet", "catmark_rook", "loop_toroidal_tet"].map(String::from));
+    listed.extend(["catmark_bishop", "catmark_car", "catmark_helmet", "catmark_rook", "loop_toroidal_tet"].map(String::from));
     listed.sort();
     assert_eq!(stored, listed, "a cage in tests/data/opensubdiv without a test (or a listed one missing)");
 }
@@ -160,6 +160,8 @@ const FOLDED: &[(&str, Method)] =
         ("catmark_rook", Method::Dual),
         ("catmark_rook", Method::Topology),
         ("catmark_bishop", Method::Dual),
+        ("catmark_car", Method::Dual),
+        ("catmark_car", Method::Topology),
     ];
 
 #[test]
