@@ -440,3 +440,42 @@ fn gb_tessellation_interpolates_boundary_and_matches_table() {
         })
     );
 }
+
+/// A connected cubic GB patch of n sides over the unit circle with a wavy inner row and a raised
+/// centre, as `.gbp` text.
+fn wavy_gbp(n: usize) -> String {
+    let mut text = format!("{n} 3\n0.1 -0.05 0.6\n");
+    for k in 0..2 {
+        for i in 0..n {
+            for j in k..3 - k {
+                let a = std::f64::consts::TAU * ((i as f64 - 1.0) + j as f64 / 3.0) / n as f64;
+                let (r, z) = if k == 0 { (1.0 + 0.05 * (3.0 * a).sin(), 0.1 * (2.0 * a).cos()) } else { (0.8, 0.3 + 0.05 * (5.0 * a).sin()) };
+                text += &format!("{} {} {}\n", r * a.cos(), r * a.sin(), z);
+            }
+        }
+    }
+    text
+}
+
+/// Patches of more than 64 sides are tessellated through the rotational symmetry of the regular
+/// domain (one basis evaluation per sample of side 0, applied to every rotation): the same points
+/// and normals as evaluating every sample directly.
+#[test]
+fn symmetric_tessellation_of_many_sides_equals_direct_evaluation() {
+    use gbsurf::gb::{gbp::parse_gbp, WeightForm};
+    use gbsurf::tessellate::patch::tessellate_gb;
+    for (n, r) in [(65usize, 3usize), (97, 4)] {
+        let patch = parse_gbp(&wavy_gbp(n)).unwrap();
+        for form in [WeightForm::Squared, WeightForm::Linear] {
+            let mesh = tessellate_gb(&patch, r, form).unwrap();
+            let layout = SampleLayout::regular(n, r).unwrap();
+            assert_eq!(mesh.positions.len(), layout.uv.len());
+            for (s, &uv) in layout.uv.iter().enumerate() {
+                let d = patch.eval_derivs(uv, form);
+                assert!((mesh.positions[s] - d.p).length() < 1e-12, "n {n} sample {s}: {} vs {}", mesh.positions[s], d.p);
+                let nrm = d.normal().unwrap();
+                assert!((mesh.normals[s] - nrm).length() < 1e-9, "n {n} sample {s}: {} vs {nrm}", mesh.normals[s]);
+            }
+        }
+    }
+}

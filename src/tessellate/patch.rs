@@ -95,6 +95,13 @@ pub fn tessellate_gb(
     // where they degenerate), samples in parallel: a patch of n sides costs O(n) per sample
     // (docs/math.md#cost-per-point), so a 1024-sided patch is worth both cores.
     use rayon::prelude::*;
+    if patch.ribbons.len() > crate::limits::MAX_UNSPLIT_SIDES && layout.sampling().layout == crate::gb::Layout::Triangles {
+        let points = symmetric_points(patch, &ev, &layout, form);
+        if let Some(sample) = points.iter().position(|(p, _)| !p.is_finite()) {
+            return Err(TessellateError::Evaluation { patch: 0, sample });
+        }
+        return Ok(tessellate_with(&layout, |s, _| points[s]));
+    }
     let points: Vec<(DVec3, DVec3)> = layout
         .uv
         .par_iter()
@@ -112,4 +119,68 @@ pub fn tessellate_gb(
         return Err(TessellateError::Evaluation { patch: 0, sample });
     }
     Ok(tessellate_with(&layout, |s, _| points[s]))
+}
+
+/// Positions and unit normals of a GB patch of many sides at every sample of the triangle
+/// layout on its regular domain, by rotational symmetry (docs/math.md#cost-per-point).
+///
+/// The regular n-gon domain and the layout are invariant under the rotation R taking domain
+/// vertex i−1 to vertex i: sample t of side i on ring m is R^i applied to sample t of side 0
+/// (layout order: index 1 + n·m(m−1)/2 + i·m + t). Wachspress coordinates rotate with it,
+/// λ_k(R x) = λ_{k−1}(x), and with them every ribbon's local parameters and weights: ribbon j's
+/// weights at R^i x are ribbon (j − i)'s at x. So the basis is evaluated once per sample of side 0
+/// (r(r+1)/2 of them, the costly part: Bernstein jets, corner weights) and applied to all n
+/// rotations (a dot product with the control points). Derivatives taken in the frame of side 0
+/// are those at the rotated point turned by R^i, which leaves S_u × S_v, hence the normal,
+/// unchanged. The centre sample and any sample whose normal degenerates are evaluated directly.
+fn symmetric_points(patch: &GbPatch, ev: &crate::gb::GbBasisEvaluator, layout: &SampleLayout, form: WeightForm) -> Vec<(DVec3, DVec3)> {
+    use rayon::prelude::*;
+    let n = patch.ribbons.len();
+    let (l, d1) = (ev.layers(), ev.degree() + 1);
+    let per = l * d1;
+    let r = layout.sampling().resolution;
+    let mut points = vec![(DVec3::ZERO, DVec3::ZERO); layout.uv.len()];
+    // Control points in the weights' flat order (ribbon j, row k, column c).
+    let ctrl: Vec<DVec3> = patch
+        .ribbons
+        .iter()
+        .flat_map(|rb| (0..l).flat_map(move |k| (0..d1).map(move |c| rb.rows.get(k).and_then(|row| row.get(c)).copied().unwrap_or(DVec3::ZERO))))
+        .collect();
+    let reps: Vec<(usize, usize)> = (1..=r).flat_map(|m| (0..m).map(move |t| (m, t))).collect();
+    let done: Vec<Vec<(usize, DVec3, DVec3, DVec3)>> = reps
+        .par_iter()
+        .map_init(
+            || (ev.clone(), Vec::with_capacity(n * per)),
+            |(ev, w), &(m, t)| {
+                let first = 1 + n * m * (m - 1) / 2 + t;
+                w.clear();
+                let b0 = ev.for_each_ribbon_weight(layout.uv[first], form, |_, x| w.push(x));
+                (0..n)
+                    .map(|i| {
+                        let (mut p, mut su, mut sv) = (b0.val * patch.center, b0.du * patch.center, b0.dv * patch.center);
+                        // Ribbon j at this sample uses the weights of ribbon j − i at side 0.
+                        for j in 0..n {
+                            let src = ((j + n - i) % n) * per;
+                            for q in 0..per {
+                                let (x, c) = (w[src + q], ctrl[j * per + q]);
+                                p += x.val * c;
+                                su += x.du * c;
+                                sv += x.dv * c;
+                            }
+                        }
+                        (first + i * m, p, su, sv)
+                    })
+                    .collect()
+            },
+        )
+        .collect();
+    let mut ev = ev.clone();
+    for (s, p, su, sv) in done.into_iter().flatten() {
+        let d = crate::gb::SurfaceDerivs { p, su, sv, ..Default::default() };
+        let nrm = d.normal().unwrap_or_else(|| normal_or_nearby(patch, &mut ev, layout.uv[s], form));
+        points[s] = (p, nrm);
+    }
+    let centre = patch.eval_derivs_with_form(&mut ev, layout.uv[0], form);
+    points[0] = (centre.p, centre.normal().unwrap_or_else(|| normal_or_nearby(patch, &mut ev, layout.uv[0], form)));
+    points
 }
