@@ -7,7 +7,7 @@
 //! Layers, each depending only on the ones above it in this list (the order the README's layer
 //! table gives; the compiler enforces layering between the workspace's crates):
 //! - [`tol`]: the one shared tolerance and the `assert_near!` test helpers; [`limits`]: every
-//!   bound on input sizes.
+//!   bound on input sizes; [`input`]: bounded reading of input files.
 //! - [`bezier`]: Bernstein basis, Bézier curves and tensor-product surfaces, rational forms (seed
 //!   001), degree reduction and base + displacement (seed 002).
 //! - [`gb`]: the n-sided domain, Wachspress coordinates, the GB patch and its ribbon-only (CGB)
@@ -42,6 +42,7 @@ pub mod bezier;
 pub mod construct;
 pub mod export;
 pub mod gb;
+pub mod input;
 pub mod limits;
 pub mod mesh;
 pub mod offset;

@@ -295,9 +295,11 @@ fn malformed_files_give_typed_errors_with_lines() {
         read_gbp(&bytes[..]),
         Err(GbpError::NotText { line: 2 })
     ));
+    // A directory (like a device or FIFO) is refused, never read without end.
+    assert!(matches!(load_gbp(std::env::temp_dir()), Err(GbpError::Input(gbsurf::input::InputError::NotAFile { .. }))));
     assert!(matches!(
         load_gbp("/nonexistent/x.gbp"),
-        Err(GbpError::Io(_))
+        Err(GbpError::Input(gbsurf::input::InputError::Io { .. }))
     ));
 }
 

@@ -300,3 +300,46 @@ fn convert_degree_elevates_the_exact_description() {
     let o = run(&["convert", CUBE, "--quiet", "--degree", "6", "-o", mesh2.to_str().unwrap()], "");
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// `.gbp` inputs are read like meshes: a directory or FIFO is refused (never read without end),
+/// and a tessellation whose sample count exceeds the memory limit is refused before anything is
+/// allocated, with the figures; nothing is written.
+#[test]
+fn gbp_inputs_and_huge_tessellations_are_refused() {
+    let dir = scratch("gbp-hostile");
+    let obj = dir.join("out.obj");
+    let out = run(&["tessellate-gbp", dir.to_str().unwrap(), "-o", obj.to_str().unwrap()], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8(out.stderr).unwrap().contains("is not a regular file"));
+    #[cfg(unix)]
+    {
+        let fifo = dir.join("f.gbp");
+        let made = Command::new("mkfifo").arg(&fifo).status().map(|s| s.success()).unwrap_or(false);
+        if made {
+            for args in [vec!["tessellate-gbp", fifo.to_str().unwrap(), "-o", obj.to_str().unwrap()], vec!["eval-gbp", fifo.to_str().unwrap()]] {
+                let out = run(&args, "");
+                assert_eq!(out.status.code(), Some(1), "{args:?}");
+                assert!(String::from_utf8(out.stderr).unwrap().contains("is not a regular file"), "{args:?}");
+            }
+            std::fs::remove_file(&fifo).unwrap();
+        }
+    }
+    // The documented maximum of sides at the largest resolution: about 131 GB.
+    let mut text = String::from("1024 3\n0 0 0.5\n");
+    for k in 0..2 {
+        for i in 0..1024 {
+            for j in k..3 - k {
+                let a = std::f64::consts::TAU * ((i as f64 - 1.0) + j as f64 / 3.0) / 1024.0;
+                let r = if k == 0 { 1.0 } else { 0.8 };
+                text += &format!("{} {} {}\n", r * a.cos(), r * a.sin(), 0.2 * k as f64);
+            }
+        }
+    }
+    let big = dir.join("big.gbp");
+    std::fs::write(&big, text).unwrap();
+    let out = run(&["tessellate-gbp", big.to_str().unwrap(), "-o", obj.to_str().unwrap(), "-r", "1024"], "");
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("1024 sides at resolution 1024 make 537395201 samples") && err.contains("above the limit of 2048 MiB"), "{err}");
+    assert!(!obj.exists());
+}

@@ -28,6 +28,9 @@ pub enum GbpError {
     /// The underlying reader or writer failed.
     #[error("I/O error: {0}")]
     Io(#[from] std::io::Error),
+    /// The input file is not a regular file, too large or unreadable.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The file is not UTF-8 text.
     #[error("line {line}: not valid UTF-8 text")]
     NotText { line: usize },
@@ -215,9 +218,10 @@ pub fn read_gbp<R: Read>(mut reader: R) -> Result<GbPatch, GbpError> {
     parse_gbp(text)
 }
 
-/// Reads a `.gbp` file.
+/// Reads a `.gbp` file: a regular file of at most [`crate::limits::MAX_INPUT_BYTES`]
+/// ([`crate::input::read_input`]; a device or FIFO is refused, not read without end).
 pub fn load_gbp(path: impl AsRef<Path>) -> Result<GbPatch, GbpError> {
-    read_gbp(std::fs::File::open(path)?)
+    read_gbp(&crate::input::read_input(path)?[..])
 }
 
 /// Writes a connected patch as `.gbp`, one point per line, 17 significant digits (exact

@@ -50,11 +50,12 @@
 use super::error::{MeshError, MeshWarning, SourceMap};
 use super::halfedge::HalfEdgeMesh;
 use super::PolyMesh;
+#[cfg(doc)]
 use crate::limits::MAX_INPUT_BYTES;
 use glam::DVec3;
 use std::collections::HashMap;
-use std::fs;
-use std::io::{self, Read};
+
+use std::io;
 use std::path::Path;
 
 fn parse_err(line: Option<usize>, message: impl Into<String>) -> MeshError {
@@ -485,21 +486,11 @@ pub fn read_polymesh(path: impl AsRef<Path>) -> Result<(PolyMesh, SourceMap), Me
 /// input file goes through this (meshes here, point lists and grids of the command line).
 pub fn read_input_bytes(path: impl AsRef<Path>) -> Result<Vec<u8>, MeshError> {
     let path = path.as_ref();
-    let meta = fs::metadata(path).map_err(|e| io_err(path, e))?;
-    if !meta.is_file() {
-        return Err(MeshError::NotAFile { path: path.display().to_string() });
-    }
-    let too_large = || MeshError::InputTooLarge { path: path.display().to_string(), limit: MAX_INPUT_BYTES };
-    if meta.len() > MAX_INPUT_BYTES {
-        return Err(too_large());
-    }
-    let file = fs::File::open(path).map_err(|e| io_err(path, e))?;
-    let mut bytes = Vec::with_capacity(meta.len().min(MAX_INPUT_BYTES) as usize);
-    file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes).map_err(|e| io_err(path, e))?;
-    if bytes.len() as u64 > MAX_INPUT_BYTES {
-        return Err(too_large()); // the file grew while being read
-    }
-    Ok(bytes)
+    crate::input::read_input(path).map_err(|e| match e {
+        crate::input::InputError::NotAFile { path } => MeshError::NotAFile { path },
+        crate::input::InputError::TooLarge { path, limit } => MeshError::InputTooLarge { path, limit },
+        crate::input::InputError::Io { source, .. } => io_err(path, source),
+    })
 }
 
 /// Reads and validates a mesh file into a half-edge mesh; errors and warnings carry the source

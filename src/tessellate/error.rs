@@ -34,4 +34,8 @@ pub enum TessellateError {
     /// An output array could not be allocated (`what` names it).
     #[error("out of memory: could not allocate {bytes} bytes for {what}")]
     OutOfMemory { what: &'static str, bytes: u64 },
+    /// A single patch's tessellation would need more memory than the limit (estimated from its
+    /// sample count before anything is allocated).
+    #[error("{sides} sides at resolution {r} make {samples} samples, about {mib} MiB, above the limit of {limit_mib} MiB: lower the resolution")]
+    OverMemoryLimit { sides: usize, r: usize, samples: u64, mib: u64, limit_mib: u64 },
 }

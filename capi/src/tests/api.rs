@@ -204,13 +204,14 @@ fn convert_file_reports_io_and_named_validation_errors() {
     let bad = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/models/bad/");
     let cases = [
         ("garbage.obj", GBSURF_ERR_IO, "line 1"),
-        ("nan.obj", GBSURF_ERR_NAN, "vertex 0"),
-        ("inf.obj", GBSURF_ERR_NAN, "vertex 0"),
+        // Vertices as the OBJ file numbers them (1-based).
+        ("nan.obj", GBSURF_ERR_NAN, "vertex 1 (line 2)"),
+        ("inf.obj", GBSURF_ERR_NAN, "vertex 1 (line 2)"),
         ("index_out_of_range.obj", GBSURF_ERR_INDEX, "face 5"),
         ("duplicate_face.obj", GBSURF_ERR_INVALID_MESH, "face 6"),
         ("flipped_face.obj", GBSURF_ERR_INVALID_MESH, "line 15"),
         ("nonmanifold_edge.obj", GBSURF_ERR_INVALID_MESH, "edge"),
-        ("bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH, "vertex 0"),
+        ("bowtie_vertex.obj", GBSURF_ERR_INVALID_MESH, "vertex 1 (line 2)"),
         ("repeated_index.obj", GBSURF_ERR_INVALID_MESH, "face"),
         ("zero_area.obj", GBSURF_ERR_INVALID_MESH, "face 6 (line 17) has zero area"),
         ("huge_coordinates.obj", GBSURF_ERR_INVALID_MESH, "exceeds"),
