@@ -1,35 +1,40 @@
 //! The output size guard: an upper bound of a conversion's output vertex count and peak memory,
 //! computed from the control mesh alone, before any work.
 //!
-//! Peak memory per output vertex, measured (peak RSS of `gbsurf convert` by `/usr/bin/time -v`,
-//! torus.obj of 96 quads, OBJ output; every figure includes the output mesh arrays (positions,
-//! normals, curvatures, G1, patch indices, triangles), the evaluation buffers, the welding maps,
-//! the validity checks' BVH and the writer):
+//! Peak memory, measured (peak RSS of `gbsurf convert` by `/usr/bin/time`, release build; every
+//! figure includes the output mesh arrays, the evaluation buffers, the welding maps, the validity
+//! checks (with the self-intersection BVH: tori are not star-shaped, so no shell certificate
+//! skips it) and the writer). Marginal bytes between two resolutions of torus.obj (96 quads, OBJ
+//! output), and the whole run of a 120k-triangle binary STL torus (PLY output):
 //!
-//! | method | output vertices | peak RSS | bytes per vertex (marginal) |
+//! | method | case | bytes per sample | bytes per output vertex |
 //! |---|---|---|---|
-//! | dual, r = 16 / 48 | 49 152 / 442 368 | 53.3 / 404.7 MiB | 937 |
-//! | topology, r = 16 / 48 | 49 152 / 442 368 | 53.4 / 404.6 MiB | 937 |
-//! | catmull-clark, levels 4 / 5 / 6 | 24 576 / 98 304 / 393 216 | 31.4 / 100.1 / 374.5 MiB | 978 |
-//! | doo-sabin, levels 4 / 5 / 6 | 24 576 / 98 304 / 393 216 | 32.2 / 102.5 / 383.6 MiB | 1000 |
+//! | dual, quads | torus.obj r = 32 → 64 | 293 | 296 |
+//! | dual, triangles | torus.obj r = 32 → 64 | 225 | 450 |
+//! | topology, quads | torus.obj r = 32 → 64 | 293 | 296 |
+//! | dual, quads r = 2 | STL torus, 1.44 M vertices, 681 MiB | 314 | 484 |
+//! | topology, quads r = 2 | STL torus, 1.44 M vertices, 716 MiB | 336 | 521 |
+//! | catmull-clark | torus.obj levels 5 → 6 | — | 563 |
+//! | doo-sabin | torus.obj levels 5 → 6 | — | 570 |
 //!
-//! (Output triangles are twice the vertices in all of them, so a figure per vertex includes two
-//! triangles: of the ~950 bytes, 76 are the vertex's output arrays and 2 × 16 its triangles'.)
-//! The estimate is [`BASE_BYTES`] plus [`GB_BYTES_PER_SAMPLE`] per tessellation sample (before
-//! welding: an n-sided patch at resolution r has 1 + n·r(r+1)/2, or 1 + n·r(r+1) in the quad
-//! layout, whose per-sample arrays are the same plus one quad (16 bytes) and one face corner) or [`SUBDIV_BYTES_PER_VERTEX`]
-//! per subdivided vertex, 10–25 % above every measurement (largest total: 1023 bytes per vertex
-//! for doo-sabin levels 6, estimated 1196).
+//! (Samples are counted before welding: an n-sided patch at resolution r has 1 + n·r(r+1)/2 in
+//! the triangle layout, 1 + n·r(r+1) in the quad layout; a patch of more than
+//! [`crate::limits::MAX_UNSPLIT_SIDES`] sides counts as n three-sided parts.)
+//! The estimate is [`BASE_BYTES`] plus [`GB_BYTES_PER_SAMPLE`] per sample or
+//! [`SUBDIV_BYTES_PER_VERTEX`] per subdivided vertex, about 25 % above the largest measurement.
+//! (Until the validity checks and writers were reworked the figures were about 950 bytes per
+//! vertex for every method, and the estimate 1024 bytes per sample refused runs of a third of the
+//! limit.)
 
 use crate::mesh::HalfEdgeMesh;
 use crate::options::{ConvertOptions, Method};
 
 /// Memory of a conversion besides its output (program, input, construction), bytes.
 pub const BASE_BYTES: u64 = 16 << 20;
-/// Peak bytes per tessellation sample of the GB methods (measured ≤ 940, see the module doc).
-pub const GB_BYTES_PER_SAMPLE: u64 = 1024;
-/// Peak bytes per output vertex of the subdivision methods (measured ≤ 1000).
-pub const SUBDIV_BYTES_PER_VERTEX: u64 = 1152;
+/// Peak bytes per tessellation sample of the GB methods (measured ≤ 336, see the module doc).
+pub const GB_BYTES_PER_SAMPLE: u64 = 420;
+/// Peak bytes per output vertex of the subdivision methods (measured ≤ 570).
+pub const SUBDIV_BYTES_PER_VERTEX: u64 = 712;
 
 /// An upper bound of a conversion's output, from [`estimate_output`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
