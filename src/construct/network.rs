@@ -490,6 +490,25 @@ pub fn split_cage(cage: Vec<Vec<super::surface::CageSector>>, splits: &[SplitPat
     out
 }
 
+/// One warning per split patch (see [`split_large_patches`]), naming its vertex or face through
+/// `sources` (the surface's, in the input numbering).
+pub fn split_warnings(sources: &[PatchSource], splits: &[SplitPatch]) -> Vec<String> {
+    splits
+        .iter()
+        .filter_map(|sp| {
+            let what = match sources.get(sp.patch)? {
+                PatchSource::Vertex(v) => format!("vertex {v} (valence {})", sp.parts.len()),
+                PatchSource::Face(f) => format!("face {f} ({} sides)", sp.parts.len()),
+            };
+            Some(format!(
+                "the patch of {what} has more than {} sides: split into {} three-sided patches around a new node (docs/math.md#high-valence-split)",
+                crate::limits::MAX_UNSPLIT_SIDES,
+                sp.parts.len()
+            ))
+        })
+        .collect()
+}
+
 /// [`assemble_ticked`] with the patches of more than [`crate::limits::MAX_UNSPLIT_SIDES`] sides
 /// split first ([`split_large_patches`]); when the split network does not assemble (a fan that
 /// folds at its new node), the unsplit one is assembled instead. Returns the surface and the

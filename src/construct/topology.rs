@@ -463,18 +463,7 @@ pub fn build_topology_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker:
         *src = prep.source(*src);
     }
     s.warnings = prep.warnings;
-    for sp in &splits {
-        let what = match s.sources.get(sp.patch) {
-            Some(PatchSource::Vertex(v)) => format!("vertex {v} (valence {})", sp.parts.len()),
-            Some(PatchSource::Face(f)) => format!("face {f} ({} sides)", sp.parts.len()),
-            None => continue,
-        };
-        s.warnings.push(format!(
-            "the patch of {what} has more than {} sides: split into {} three-sided patches around a new node (docs/math.md#high-valence-split)",
-            crate::limits::MAX_UNSPLIT_SIDES,
-            sp.parts.len()
-        ));
-    }
+    s.warnings.extend(super::network::split_warnings(&s.sources, &splits));
     Ok(s)
 }
 

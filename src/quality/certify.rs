@@ -258,6 +258,24 @@ fn certify_patch(positions: &[DVec3], triangles: &[[u32; 3]], lp: &[u32], cone: 
 /// small stars it would cost more than it saves).
 pub const CORE_MIN_PATCHES: usize = 8;
 
+/// The nodes of `loops`: (corner vertex, patch) pairs sorted by vertex, and the range of each
+/// vertex's pairs (its star).
+fn node_groups(loops: &PatchLoops) -> (Vec<(u32, u32)>, Vec<(usize, usize)>) {
+    let mut corners: Vec<(u32, u32)> = (0..loops.len()).flat_map(|p| loops.corners(p).map(move |v| (v, p as u32))).collect();
+    corners.par_sort_unstable();
+    corners.dedup();
+    let mut groups: Vec<(usize, usize)> = Vec::new();
+    let mut k = 0;
+    while k < corners.len() {
+        let s = k;
+        while k < corners.len() && corners[k].0 == corners[s].0 {
+            k += 1;
+        }
+        groups.push((s, k));
+    }
+    (corners, groups)
+}
+
 /// Stars certified per progress tick.
 const STARS_PER_TICK: usize = 2048;
 
@@ -298,20 +316,8 @@ impl Certified {
             return;
         }
         // Nodes with their patches, as in the stars.
-        let mut corners: Vec<(u32, u32)> = (0..np).flat_map(|p| loops.corners(p).map(move |v| (v, p as u32))).collect();
-        corners.par_sort_unstable();
-        corners.dedup();
-        let mut groups: Vec<(usize, usize)> = Vec::new();
-        let mut k = 0;
-        while k < corners.len() {
-            let s = k;
-            while k < corners.len() && corners[k].0 == corners[s].0 {
-                k += 1;
-            }
-            if k - s > CORE_MIN_PATCHES {
-                groups.push((s, k));
-            }
-        }
+        let (corners, mut groups) = node_groups(loops);
+        groups.retain(|&(s, e)| e - s > CORE_MIN_PATCHES);
         let tri_start = &self.tri_start;
         let found: Vec<Vec<(u32, u32)>> = groups
             .par_iter()
@@ -387,19 +393,7 @@ impl Certified {
             .into_par_iter()
             .map(|p| normal_cone(positions, &triangles[loops.triangles[p]..loops.triangles[p + 1]]))
             .collect();
-        // Nodes: (corner vertex, patch), grouped by vertex.
-        let mut corners: Vec<(u32, u32)> = (0..np).flat_map(|p| loops.corners(p).map(move |v| (v, p as u32))).collect();
-        corners.par_sort_unstable();
-        corners.dedup();
-        let mut groups: Vec<(usize, usize)> = Vec::new();
-        let mut k = 0;
-        while k < corners.len() {
-            let s = k;
-            while k < corners.len() && corners[k].0 == corners[s].0 {
-                k += 1;
-            }
-            groups.push((s, k));
-        }
+        let (corners, groups) = node_groups(loops);
         ticker.at(1, 10)?;
         let mut certified: Vec<bool> = Vec::with_capacity(groups.len());
         let per_tick = crate::progress::chunk_size(groups.len(), STARS_PER_TICK);
