@@ -257,7 +257,7 @@ fn output_too_large_is_one_error_line_naming_the_flag() {
     fails(
         &torus,
         &["--method", "catmull-clark", "--levels", "8"],
-        "output too large: catmull-clark would make about 6291456 output vertices and need about 6928 MiB, above the limit of 2048 MiB; lower --resolution or --levels, or raise --max-memory-mb",
+        "output too large: catmull-clark would make about 6291456 output vertices and need about 4288 MiB, above the limit of 2048 MiB; lower --resolution or --levels, or raise --max-memory-mb",
     );
     fails(&torus, &["--max-memory-mb", "1"], "above the limit of 1 MiB");
     fails(&torus, &["--max-memory-mb", "0"], "invalid --max-memory-mb 0: must be in 1..=1048576");

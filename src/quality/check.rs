@@ -134,16 +134,40 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
                 return t;
             }
             t[5] += 1;
-            // The link edges a → b around u must form one path or one cycle.
-            let unique_from = (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0));
-            let unique_to = (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1));
+            // The link edges a → b around u must form one path or one cycle. Lookups by an
+            // edge's start or end: linear in small fans, binary searches in sorted copies in
+            // large ones (a node of valence 16000 would cost m² = 2.6·10⁸ steps otherwise).
+            let large = m > 16;
+            let (mut by_from, mut by_to): (Vec<(u32, u32)>, Vec<u32>) = (Vec::new(), Vec::new());
+            if large {
+                by_from = list.iter().enumerate().map(|(i, x)| (x.0, i as u32)).collect();
+                by_from.sort_unstable();
+                by_to = list.iter().map(|x| x.1).collect();
+                by_to.sort_unstable();
+            }
+            let (unique_from, unique_to) = if large {
+                (by_from.windows(2).all(|w| w[0].0 != w[1].0), by_to.windows(2).all(|w| w[0] != w[1]))
+            } else {
+                (
+                    (0..m).all(|i| !list[..i].iter().any(|x| x.0 == list[i].0)),
+                    (0..m).all(|i| !list[..i].iter().any(|x| x.1 == list[i].1)),
+                )
+            };
+            let leads_in = |x: u32| if large { by_to.binary_search(&x).is_ok() } else { list.iter().any(|y| y.1 == x) };
+            let starting = |x: u32| {
+                if large {
+                    by_from.binary_search_by_key(&x, |e| e.0).ok().map(|k| by_from[k].1 as usize)
+                } else {
+                    list.iter().position(|y| y.0 == x)
+                }
+            };
             if unique_from && unique_to {
                 // Start where no link edge leads in (boundary fan), else anywhere (closed fan).
-                let open = (0..m).find(|&i| !list.iter().any(|x| x.1 == list[i].0));
+                let open = (0..m).find(|&i| !leads_in(list[i].0));
                 let first = open.unwrap_or(0);
                 let mut cur = first;
                 let mut steps = 1;
-                while let Some(next) = list.iter().position(|x| x.0 == list[cur].1) {
+                while let Some(next) = starting(list[cur].1) {
                     if next == first || steps > m {
                         break;
                     }
@@ -318,6 +342,39 @@ mod tests {
             if drop.is_empty() && flip.is_empty() {
                 prop_assert!(c.is_clean_closed());
                 prop_assert_eq!(c.euler_characteristic, 0);
+            }
+        }
+
+        /// Fans of more than 16 corners (the sorted lookups): a double cone over a k-gon, damaged,
+        /// with a third apex fan glued to one of the apexes (a non-manifold vertex) when `bowtie`.
+        #[test]
+        fn large_fans_match_the_hash_reference(k in 17usize..60, drop in proptest::collection::vec(0usize..120, 0..4), flip in proptest::collection::vec(0usize..120, 0..3), bowtie in proptest::bool::ANY) {
+            let ku = k as u32;
+            let mut positions: Vec<DVec3> = (0..k).map(|i| { let a = std::f64::consts::TAU * i as f64 / k as f64; DVec3::new(a.cos(), a.sin(), 0.0) }).collect();
+            positions.push(DVec3::Z);
+            positions.push(-DVec3::Z);
+            let (top, bottom) = (ku, ku + 1);
+            let mut tris: Vec<[u32; 3]> = (0..ku).flat_map(|i| [[i, (i + 1) % ku, top], [(i + 1) % ku, i, bottom]]).collect();
+            if bowtie {
+                let base = positions.len() as u32;
+                positions.extend((0..k).map(|i| { let a = std::f64::consts::TAU * i as f64 / k as f64; DVec3::new(a.cos(), a.sin(), 2.0) }));
+                tris.extend((0..ku).map(|i| [base + i, base + (i + 1) % ku, top]));
+            }
+            for &j in &flip {
+                let j = j % tris.len();
+                tris[j].swap(1, 2);
+            }
+            let kept: Vec<[u32; 3]> = tris.iter().enumerate().filter(|(j, _)| !drop.iter().any(|&d| d % tris.len() == *j)).map(|(_, t)| *t).collect();
+            let c = check_mesh(&positions, &kept);
+            let (inconsistent, undirected, boundary, nm) = reference_edges(positions.len(), &kept);
+            prop_assert_eq!((c.inconsistent_edges, c.boundary_edges, c.non_manifold_edges), (inconsistent, boundary, nm));
+            let used: HashSet<u32> = kept.iter().flat_map(|t| t.iter().copied()).collect();
+            prop_assert_eq!(c.euler_characteristic, used.len() as i64 - undirected as i64 + kept.len() as i64);
+            if drop.is_empty() && flip.is_empty() && !bowtie {
+                prop_assert!(c.is_clean_closed());
+            }
+            if bowtie {
+                prop_assert!(c.non_manifold_vertices >= 1);
             }
         }
 }
