@@ -620,15 +620,20 @@ pub fn star_shaped_shells_ticked(positions: &[DVec3], triangles: &[[u32; 3]], sh
     Ok(shell.iter().map(|&s| ok[s as usize]).collect())
 }
 
-/// A quick guess whether [`star_shaped_shells`] will certify every triangle: the orientation
-/// test on every 64th triangle against the mean of the sampled vertices (for sharing progress
-/// shares only; never used as a certificate).
-pub fn likely_star_shaped(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
-    let get = |v: u32| positions.get(v as usize).copied();
-    let sample: Vec<[DVec3; 3]> = triangles.iter().step_by(64).filter_map(|t| Some([get(t[0])?, get(t[1])?, get(t[2])?])).collect();
-    if sample.is_empty() {
+/// The gate before [`star_shaped_shells`]: every triangle positively oriented seen from the mean
+/// of all triangle vertices (one parallel pass, no shells). A mesh failing it gets no shell
+/// certificate, so a non-star-shaped surface (a torus) pays no shell computation; a mesh of one
+/// shell passing it is usually certified. (A mesh of several star-shaped shells that is not
+/// star-shaped as a whole is searched as before.) A gate only, never a certificate.
+pub fn star_shaped_about_centroid(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
+    let nv = positions.len();
+    if triangles.is_empty() || triangles.iter().flatten().any(|&v| v as usize >= nv) {
         return false;
     }
-    let o = sample.iter().map(|t| t[0] + t[1] + t[2]).sum::<DVec3>() / (3 * sample.len()) as f64;
-    sample.iter().all(|[a, b, c]| (*a - o).dot((*b - *a).cross(*c - *a)) > 0.0)
+    let sum = triangles.par_iter().with_min_len(1 << 12).map(|t| t.iter().map(|&v| positions[v as usize]).sum::<DVec3>()).sum::<DVec3>();
+    let o = sum / (3 * triangles.len()) as f64;
+    triangles.par_iter().with_min_len(1 << 12).all(|t| {
+        let [a, b, c] = t.map(|v| positions[v as usize]);
+        (a - o).dot((b - a).cross(c - a)) > 0.0
+    })
 }

@@ -25,7 +25,7 @@
 //!   ([`mesh_self_intersections`]). Closed shells that are star-shaped around their centre
 //!   ([`super::certify::star_shaped_shells`], with the proof) leave the search altogether.
 
-use super::certify::{likely_star_shaped, share, star_shaped_shells, star_shaped_shells_ticked, Certified};
+use super::certify::{share, star_shaped_about_centroid, star_shaped_shells, star_shaped_shells_ticked, Certified};
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
@@ -442,8 +442,7 @@ fn intersecting_pairs(
         Some(f) if f.len() == triangles.len() => kept.into_iter().filter(|&i| !f[i as usize]).collect(),
         _ => {
             let tris: Vec<[u32; 3]> = kept.iter().map(|&i| triangles[i as usize]).collect();
-            let shell = shells(nv, &tris);
-            let free = star_shaped_shells(positions, &tris, &shell);
+            let free = free_shells(positions, &tris);
             kept.into_iter().zip(free).filter(|x| !x.1).map(|x| x.0).collect()
         }
     };
@@ -682,13 +681,13 @@ fn mesh_self_intersections_free(mesh: &SurfaceMesh, free: &[bool], ticker: &mut 
 
 /// [`mesh_self_intersections_ticked`] for a mesh the caller has checked (`closed`: a closed
 /// two-manifold, so every shell is closed). The central-projection certificate
-/// ([`star_shaped_shells`]) comes first; its share of the progress range is 95 % when a sample
-/// of the triangles suggests every shell passes (the search then has nothing to do), 5 %
-/// otherwise.
+/// ([`star_shaped_shells`]) comes first when the mesh passes its gate
+/// ([`star_shaped_about_centroid`]), with 95 % of the progress range (the search then usually
+/// has nothing left to do); otherwise the search has it all.
 pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, closed: bool, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
     let (positions, triangles) = (&mesh.positions, &mesh.triangles);
-    let count = if closed && !triangles.iter().flatten().any(|&v| v as usize >= positions.len()) {
-        let share = if likely_star_shaped(positions, triangles) { 0.95 } else { 0.05 };
+    let count = if closed && star_shaped_about_centroid(positions, triangles) {
+        let share = 0.95;
         let shell = shells(positions.len(), triangles);
         let free = ticker.within(0.0, share, |t| star_shaped_shells_ticked(positions, triangles, &shell, true, t))?;
         if free.iter().all(|&f| f) {
@@ -705,7 +704,8 @@ pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, closed: bool, ticker:
 /// its centre, so proven free of self-intersections ([`star_shaped_shells`]); all false when a
 /// triangle names a missing vertex.
 pub fn free_shells(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<bool> {
-    if triangles.iter().flatten().any(|&v| v as usize >= positions.len()) {
+    // Gated by one parallel pass (no shells computed for a surface that is not star-shaped).
+    if !star_shaped_about_centroid(positions, triangles) {
         return vec![false; triangles.len()];
     }
     star_shaped_shells(positions, triangles, &shells(positions.len(), triangles))
