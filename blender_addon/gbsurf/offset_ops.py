@@ -117,6 +117,14 @@ def build_offset(src, lib_options, op, positions, triangles, info):
         raise
 
 
+def _in_object_mode(cls, context):
+    """The offset operators' poll: Object Mode only, saying so otherwise."""
+    if context.mode != 'OBJECT':
+        cls.poll_message_set("Switch to Object Mode")
+        return False
+    return True
+
+
 def _report_figures(op, obj, info, warning):
     if warning:
         op.report({'WARNING'}, f"{obj.name}: {warning}")
@@ -132,10 +140,7 @@ class OBJECT_OT_gbsurf_offset(OffsetOptionsMixin, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.mode != 'OBJECT':
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        return True
+        return _in_object_mode(cls, context)
 
     def draw(self, context):
         layout = self.layout
@@ -297,10 +302,7 @@ class CURVE_OT_gbsurf_ph_offset(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.mode != 'OBJECT':
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        return True
+        return _in_object_mode(cls, context)
 
     def execute(self, context):
         src = context.active_object

@@ -15,13 +15,18 @@ def menu_convert(self, context):
     self.layout.operator("curve.gbsurf_ph_offset", text="Exact Offset (PH)")
 
 
-class OBJECT_PT_gbsurf(bpy.types.Panel):
-    """Settings of a GB surface: edit them, then Update (or turn on Live)."""
+class _ObjectPropertiesPanel:
+    """Where both panels live: the Object tab of the Properties editor."""
 
-    bl_label = "GB Surface"
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "object"
+
+
+class OBJECT_PT_gbsurf(_ObjectPropertiesPanel, bpy.types.Panel):
+    """Settings of a GB surface: edit them, then Update (or turn on Live)."""
+
+    bl_label = "GB Surface"
 
     @classmethod
     def poll(cls, context):
@@ -48,13 +53,10 @@ class OBJECT_PT_gbsurf(bpy.types.Panel):
         row.prop(s, "live", toggle=True, icon='REC' if s.live else 'PLAY')
 
 
-class OBJECT_PT_gbsurf_offset(bpy.types.Panel):
+class OBJECT_PT_gbsurf_offset(_ObjectPropertiesPanel, bpy.types.Panel):
     """Settings of an exact offset surface: edit them, then Update."""
 
     bl_label = "GB Offset Surface"
-    bl_space_type = 'PROPERTIES'
-    bl_region_type = 'WINDOW'
-    bl_context = "object"
 
     @classmethod
     def poll(cls, context):
