@@ -38,6 +38,32 @@ def parse(argv):
     return p.parse_args(argv)
 
 
+def apply_crease_tags(mesh, path):
+    """OpenSubdiv's `t crease 2/1/0 a b s` lines (0-based vertices) as the `crease_edge`
+    attribute, c = sqrt(min(s, 10)/10) (Subdivision Surface reads c as sharpness 10·c², like the
+    add-on): Blender's OBJ importer drops these tags, and both sides of the picture read them."""
+    import numpy as np
+    tags = []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            w = line.split()
+            if len(w) >= 6 and w[0] == "t" and w[1] == "crease":
+                tags.append((int(w[3]), int(w[4]), float(w[5])))
+    if not tags:
+        return
+    ev = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", ev)
+    ev = np.sort(ev.reshape(-1, 2), axis=1)
+    index = {(int(a), int(b)): i for i, (a, b) in enumerate(ev)}
+    crease = np.zeros(len(mesh.edges), dtype=np.float32)
+    for a, b, s in tags:
+        i = index.get((min(a, b), max(a, b)))
+        if i is not None:
+            crease[i] = (min(s, 10.0) / 10.0) ** 0.5
+    attr = mesh.attributes.get("crease_edge") or mesh.attributes.new("crease_edge", 'FLOAT', 'EDGE')
+    attr.data.foreach_set("value", crease)
+
+
 def grey_material():
     mat = bpy.data.materials.new("Subdivision grey")
     if bpy.app.version < (5, 0, 0):
@@ -72,6 +98,7 @@ def main(argv):
         filepath=os.path.abspath(a.zip), repo="user_default", enable_on_install=True) == {'FINISHED'}
     bpy.ops.wm.obj_import(filepath=a.model, forward_axis='Y', up_axis='Z')
     src = next(o for o in bpy.context.scene.objects if o.type == 'MESH')
+    apply_crease_tags(src.data, a.model)
     for o in bpy.context.view_layer.objects:
         o.select_set(o == src)
     bpy.context.view_layer.objects.active = src

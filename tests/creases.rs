@@ -102,9 +102,9 @@ fn cube_with_every_edge_sharp_keeps_its_corners() {
     }
     assert_eq!(c.report.sharp_edges, 12);
     assert_eq!(c.report.folds, 0);
-    // the dual structure ignores creases, with a warning
-    let d = convert(&m, &ConvertOptions { method: Method::Dual, ..ConvertOptions::triangles_r8() }, None).unwrap();
-    assert!(d.warnings.iter().any(|w| w.contains("creases are ignored by the dual")), "{:?}", d.warnings);
+    // the subdivision methods ignore creases, with a warning
+    let d = convert(&m, &ConvertOptions { method: Method::CatmullClark, ..ConvertOptions::triangles_r8() }, None).unwrap();
+    assert!(d.warnings.iter().any(|w| w.contains("creases are ignored by the catmull-clark")), "{:?}", d.warnings);
 }
 
 #[test]
@@ -304,5 +304,137 @@ proptest! {
         let j = joins(&s);
         prop_assert!(j.smooth_gap <= 1e-12 && j.sharp_gap <= 1e-12);
         prop_assert!(j.smooth_angle <= 1e-4, "c = {}: {}°", c, j.smooth_angle);
+    }
+}
+
+// ------------------------------------------------------------ dual structure (docs/math.md#dual-creases)
+
+fn dual() -> ConvertOptions {
+    ConvertOptions { method: Method::Dual, ..ConvertOptions::triangles_r8() }
+}
+
+/// The dual conversion in the default quad layout (cage corners and coordinates).
+fn dual_quads(m: &PolyMesh) -> gbsurf::api::Conversion {
+    convert(m, &ConvertOptions { method: Method::Dual, ..Default::default() }, None).unwrap()
+}
+
+fn dual_surface(m: &PolyMesh) -> Surface {
+    gbsurf::construct::build_dual(&HalfEdgeMesh::from_polymesh(m).unwrap(), &ConvertOptions::triangles_r8()).unwrap()
+}
+
+/// Largest distance from an output vertex of one conversion to the other's triangles, both
+/// ways (a Hausdorff distance of the two tessellations, through parry's point queries).
+fn surface_distance(a: &gbsurf::api::Conversion, b: &gbsurf::api::Conversion) -> f64 {
+    use parry3d_f64::math::Vector;
+    use parry3d_f64::query::PointQuery;
+    let one = |x: &gbsurf::api::Conversion, y: &gbsurf::api::Conversion| {
+        let v = |p: &glam::DVec3| Vector::new(p.x, p.y, p.z);
+        let mesh = parry3d_f64::shape::TriMesh::new(y.mesh.positions.iter().map(v).collect(), y.mesh.triangles.clone()).unwrap();
+        x.mesh.positions.iter().map(|p| mesh.distance_to_local_point(v(p), false)).fold(0.0f64, f64::max)
+    };
+    one(a, b).max(one(b, a))
+}
+
+#[test]
+fn dual_cube_with_every_edge_sharp_is_the_cube() {
+    let m = with_creases(cube(), |_| true, 1.0);
+    let c = convert(&m, &dual(), None).unwrap();
+    let lim = c.mesh.positions.iter().flat_map(|p| p.to_array()).fold(0.0f64, |a, x| a.max(x.abs()));
+    assert!((lim - 1.0).abs() <= 1e-12, "largest coordinate {lim}");
+    for corner in &m.positions {
+        let d = c.mesh.positions.iter().map(|p| p.distance(*corner)).fold(f64::INFINITY, f64::min);
+        assert!(d <= 1e-12, "corner {corner} missed by {d}");
+    }
+    for p in &c.mesh.positions {
+        let on = p.to_array().iter().any(|x| (x.abs() - 1.0).abs() <= 1e-9);
+        assert!(on, "{p} is off the cube");
+    }
+    assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    assert_eq!(c.report.folds, 0);
+    assert!(c.report.closed && c.report.self_intersections == 0);
+    // Every output face keeps its cage face (UVs and materials follow it): each sector of a
+    // corner lies on one face of the cube, the one its cage corner names.
+    let quads = dual_quads(&m);
+    for (q, cc) in quads.mesh.quads.iter().zip(&quads.mesh.cage_corner) {
+        let face = &m.faces[cc[0] as usize];
+        assert_eq!(m.faces[cc[0] as usize][cc[1] as usize], face[cc[1] as usize]);
+        let normal = (m.positions[face[1] as usize] - m.positions[face[0] as usize]).cross(m.positions[face[2] as usize] - m.positions[face[0] as usize]).normalize();
+        let centre = q.iter().map(|&i| quads.mesh.positions[i as usize]).sum::<glam::DVec3>() / 4.0;
+        assert!((centre.dot(normal) - 1.0).abs() <= 1e-9, "quad at {centre} is not on its cage face {face:?}");
+    }
+    for st in &quads.mesh.cage_coords {
+        assert!(st.iter().all(|x| (0.0..=1.0).contains(x)), "{st:?}");
+    }
+    println!("dual cube, every edge sharp: {} patches, {} sharp sides", c.report.patches, c.report.sharp_edges);
+}
+
+#[test]
+fn dual_sharp_loop_is_g0_there_and_g1_elsewhere() {
+    let base = cube();
+    let m = with_creases(base.clone(), top_loop(&base), 1.0);
+    let s = dual_surface(&m);
+    let j = joins(&s);
+    println!("dual sharp loop: {} sharp sides, crease angle >= {:.2}°, smooth G1 {:.2e}°, gaps {:.1e} / {:.1e}", j.sharp_sides, j.sharp_min_angle, j.smooth_angle, j.sharp_gap, j.smooth_gap);
+    assert_eq!(j.sharp_sides, 4);
+    assert!(j.sharp_gap <= 1e-12 && j.smooth_gap <= 1e-12, "gaps {} {}", j.sharp_gap, j.smooth_gap);
+    assert!(j.smooth_angle <= 1e-4, "G1 off the crease: {}°", j.smooth_angle);
+    assert!(j.sharp_min_angle >= 5.0, "the crease is not sharp: {}°", j.sharp_min_angle);
+    let c = convert(&m, &dual(), None).unwrap();
+    assert_eq!(c.report.sharp_edges, 4);
+    assert!(c.report.max_g1_deg <= 1e-4, "report G1 {}", c.report.max_g1_deg);
+    assert_eq!(c.report.folds, 0, "{:?} flipped {}", c.report.fold_sites, c.report.flipped_triangles);
+    assert!(c.report.closed && c.report.self_intersections == 0);
+}
+
+#[test]
+fn dual_crease_sweep_is_continuous() {
+    let base = cube();
+    let at = |c: f64| dual_surface(&with_creases(base.clone(), top_loop(&base), c));
+    let mut prev = at(0.05);
+    let mut worst = 0.0f64;
+    for k in 2..=20 {
+        let c = k as f64 * 0.05;
+        let s = at(c);
+        let d = max_move(&prev, &s);
+        worst = worst.max(d);
+        assert!(d <= 0.05, "step to c = {c}: the surface moved {d}");
+        prev = s;
+    }
+    // The first step changes the patch layout: measured on the output samples.
+    let conv = |c: f64| convert(&with_creases(base.clone(), top_loop(&base), c), &dual(), None).unwrap();
+    let jump = surface_distance(&conv(0.0), &conv(1e-9));
+    let full = surface_distance(&conv(0.0), &conv(1.0));
+    println!("dual crease sweep: largest move per step of 0.05 = {worst:.4}; sharpness 0 -> 1e-9: {jump:.4} (0 -> 1: {full:.4})");
+    // The split's own step (docs/math.md#dual-creases): measured 0.054, an eighth of the whole
+    // crease's 0.43.
+    assert!(jump <= 0.08 && jump < full / 5.0, "sharpness 0 -> 1e-9 moved the surface {jump}");
+}
+
+#[test]
+fn dual_open_chains_and_lone_corners_are_left_smooth_with_a_warning() {
+    let base = cube();
+    let plain = convert(&base, &dual(), None).unwrap();
+    // one sharp edge (an open chain) and a corner on a vertex with no sharp edge
+    let mut m = with_creases(base.clone(), |[a, b]| [a, b] == edges(&base)[0], 1.0);
+    m.creases.vertices = vec![(3, 1.0)];
+    let c = convert(&m, &dual(), None).unwrap();
+    assert_eq!(c.mesh.positions, plain.mesh.positions, "the surface changed");
+    let [a, b] = edges(&base)[0];
+    let edge = format!("the first ({a}, {b})");
+    assert!(c.warnings.iter().any(|w| w.contains("closed chains") && w.contains(&edge)), "{:?}", c.warnings);
+    assert!(c.warnings.iter().any(|w| w.contains("corner sharpness ignored at 1 vertex(es), the first 3")), "{:?}", c.warnings);
+    // three sharp edges of a closed loop around a corner, plus the open one: the loop is built
+    let m = with_creases(base.clone(), |e| top_loop(&base)(e) || e == edges(&base)[0], 1.0);
+    let c = convert(&m, &dual(), None).unwrap();
+    assert!(c.report.sharp_edges >= 4, "{}", c.report.sharp_edges);
+}
+
+#[test]
+fn dual_semi_sharp_cube_is_valid_and_g1_off_the_creases() {
+    for c in [0.1, 0.5, 0.9] {
+        let conv = convert(&with_creases(cube(), |_| true, c), &dual(), None).unwrap();
+        assert!(conv.report.valid, "c = {c}: {:?}", conv.warnings);
+        assert!(conv.report.max_g1_deg <= 1e-4, "c = {c}: G1 {}", conv.report.max_g1_deg);
+        assert!(!conv.warnings.iter().any(|w| w.contains("built sharp")), "{:?}", conv.warnings);
     }
 }

@@ -382,7 +382,8 @@ def convert(positions, face_sizes, face_indices, options=None, progress=None,
 
     positions: (V,3) or flat float64; face_sizes: (F,) uint32; face_indices: flat uint32.
     creases: None or (edge_vertices (E,2), edge_sharpness (E,), vertices (K,), vertex_sharpness
-    (K,)) with sharpness in [0, 1] (see `mesh_io.read_creases`); only the topology method builds them.
+    (K,)) with sharpness in [0, 1] (see `mesh_io.read_creases`); both structures build them
+    (the dual along closed sharp chains, docs/math.md#dual-creases); the subdivision methods ignore them.
     options: an `Options` (see `make_options`) or None for the defaults.
     progress: callable(fraction) -> bool (False cancels) or None.
     Raises `GbsurfError` (`Cancelled` when cancelled) with the library's message.

@@ -181,7 +181,8 @@ typedef bool (*GbsurfProgressFn)(float fraction, void *user_data);
 // Edge and vertex sharpness of the input mesh for `gbsurf_convert_creased` (docs/math.md#creases).
 // Sharpness c is in [0, 1]: 0 smooth (the same surface as without the entry), 1 infinitely
 // sharp (edge: G0 across it; vertex: a corner); Blender's `crease_edge` / `crease_vert` values
-// are c as they are. Only the topology method builds creases (the others warn and ignore them).
+// are c as they are. Both structures build creases (the dual along closed chains of sharp edges,
+// docs/math.md#dual-creases); the subdivision methods warn and ignore them.
 // A pointer may be NULL when its count is 0; a zeroed struct means "no creases".
 typedef struct {
   // `2 * edge_count` 0-based vertex indices: edge k joins `edge_vertices[2k]` and

@@ -67,7 +67,10 @@ pub fn estimate_output(mesh: &HalfEdgeMesh, options: &ConvertOptions) -> OutputE
         Method::Dual => (0..mesh.n_vertices())
             .map(|v| {
                 let v = crate::mesh::halfedge::VertexId::from(v);
-                samples(mesh.valence(v) + mesh.is_boundary_vertex(v) as usize)
+                // A crease splits the patch into sectors with 3 more corners each (at most one
+                // sector per sharp edge): sum over sectors of (1 + m·q) ≤ 1 + (n + 4k)·q.
+                let sharp = mesh.vertex_outgoing(v).filter(|&h| mesh.edge_crease(mesh.edge(h)) > 0.0).count();
+                samples(mesh.valence(v) + mesh.is_boundary_vertex(v) as usize + 4 * sharp)
             })
             .sum(),
         Method::Topology => (0..mesh.n_faces()).map(|f| samples(mesh.face_size(crate::mesh::halfedge::FaceId::from(f)))).sum(),

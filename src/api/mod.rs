@@ -223,9 +223,9 @@ fn convert_valid(
         (&normalised.0, &normalised.1)
     };
     let build = builder(options.method);
-    if he.has_creases() && options.method != Method::Topology {
+    if he.has_creases() && !options.method.is_patch_method() {
         warnings.push(format!(
-            "creases are ignored by the {} method (only the topology structure builds them)",
+            "creases are ignored by the {} method (the dual and topology structures build them)",
             options.method.name()
         ));
     }

@@ -226,15 +226,44 @@ pub fn build_dual(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface,
 /// network, then [`super::assemble_ticked`]; see [`crate::progress`]).
 pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mut crate::progress::Ticker<'_>) -> Result<Surface, ConstructError> {
     let prep = ticker.within(0.0, PREPARE, |_| super::prepare(mesh))?;
-    let net = ticker.within(PREPARE, NETWORK, |_| dual_network(&prep.mesh, opts)).map_err(|e| prep.error(e, true))?;
+    let mut net = ticker.within(PREPARE, NETWORK, |_| dual_network(&prep.mesh, opts)).map_err(|e| prep.error(e, true))?;
+    let mut cage = prep.cage_dual(mesh);
+    let mut crease_warnings = Vec::new();
+    if prep.mesh.has_creases() {
+        // Creases split the vertex patches along closed sharp chains (docs/math.md#dual-creases);
+        // the split needs the smooth surface S₀ it starts from.
+        let smooth = super::network::assemble(&net, opts).map_err(|e| prep.error(e, true))?;
+        let (split, edges, corners) = super::dual_crease::split_creases(&prep.mesh, &net, &smooth, &cage, opts);
+        let v = |x: VertexId| prep.vertex_origin.get(x.idx()).copied().unwrap_or(x.idx());
+        if let Some((a, b)) = edges.first() {
+            crease_warnings.push(format!(
+                "the dual structure builds creases only along closed chains of sharp interior edges: {} sharp edge(s) left smooth, the first ({}, {}) (docs/math.md#dual-creases; the topology structure builds them all)",
+                edges.len(),
+                v(*a),
+                v(*b)
+            ));
+        }
+        if let Some(c) = corners.first() {
+            crease_warnings.push(format!(
+                "the dual structure builds corners only where three or more sharp edges meet: corner sharpness ignored at {} vertex(es), the first {} (docs/math.md#dual-creases)",
+                corners.len(),
+                v(*c)
+            ));
+        }
+        if let Some(split) = split {
+            net = split.net;
+            cage = split.cage;
+        }
+    }
     let (mut s, splits) = ticker.within(NETWORK, 1.0, |t| super::network::assemble_split(&net, opts, t)).map_err(|e| prep.error(e, true))?;
-    if net.patches.len() == prep.mesh.n_vertices() {
-        s.cage = super::network::split_cage(prep.cage_dual(mesh), &splits, s.patches.len());
+    if cage.len() == net.patches.len() {
+        s.cage = super::network::split_cage(cage, &splits, s.patches.len());
     }
     for src in &mut s.sources {
         *src = prep.source(*src);
     }
-    s.warnings = prep.warnings;
+    s.warnings = prep.warnings.into_iter().chain(std::mem::take(&mut s.warnings)).collect();
+    s.warnings.extend(crease_warnings);
     s.warnings.extend(super::network::split_warnings(&s.sources, &splits));
     Ok(s)
 }

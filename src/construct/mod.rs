@@ -9,6 +9,7 @@ pub mod blend;
 pub mod check;
 pub mod derived;
 pub mod dual;
+pub mod dual_crease;
 pub mod network;
 pub mod prepare;
 pub mod surface;

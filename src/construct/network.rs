@@ -174,7 +174,11 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         shared[pa][sa] = true;
         shared[pb][sb] = true;
     }
-    let crease_of = |c: usize| net.crease.get(c).copied().unwrap_or(0.0);
+    // Sharpness per curve; a creased curve whose blend cannot be built (its node folds, or a
+    // corner degenerates) is made sharp instead of refused: G0 is what a crease tends to anyway.
+    let mut crease: Vec<f64> = net.crease.clone();
+    let mut made_sharp = 0usize;
+    let crease_of = |crease: &[f64], c: usize| crease.get(c).copied().unwrap_or(0.0);
     if let Some(kind) = kind {
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
@@ -182,13 +186,21 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         let nc = uses.len();
         let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
             let u = &uses[c];
-            if u.len() != 2 || crease_of(c) >= 1.0 {
+            if u.len() != 2 || crease_of(&crease, c) >= 1.0 {
                 return Ok(None);
             }
             let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
             shared_twists(net, &rows, opts, kind, c, a, b).map(Some)
         }))?;
-        for (u, t) in uses.iter().zip(twists) {
+        for (c, (u, t)) in uses.iter().zip(twists).enumerate() {
+            let t = match t {
+                Err(ConstructError::FoldedCorner { .. } | ConstructError::DegenerateCorner { .. }) if crease_of(&crease, c) > 0.0 => {
+                    crease[c] = 1.0;
+                    made_sharp += 1;
+                    continue;
+                }
+                t => t,
+            };
             let Some(t) = t? else { continue };
             let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
             let (pa, sa, _) = a;
@@ -207,7 +219,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         for (p, lay) in net.patches.iter().enumerate() {
             let n = lay.sides.len();
             for i in 0..n {
-                let c = crease_of(lay.sides[i].curve);
+                let c = crease_of(&crease, lay.sides[i].curve);
                 if !shared[p][i] || c == 0.0 {
                     continue;
                 }
@@ -217,7 +229,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 let adj = |j: usize, col: usize, corner: DVec3| {
                     if kind.is_some() && shared[p][j] {
                         let b = blended[p][j][1][col];
-                        b + crease_of(lay.sides[j].curve) * (corner - b)
+                        b + crease_of(&crease, lay.sides[j].curve) * (corner - b)
                     } else {
                         corner
                     }
@@ -277,7 +289,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         net.patches
             .iter()
             .enumerate()
-            .map(|(p, l)| l.sides.iter().enumerate().map(|(i, s)| if shared[p][i] { crease_of(s.curve) } else { 0.0 }).collect())
+            .map(|(p, l)| l.sides.iter().enumerate().map(|(i, s)| if shared[p][i] { crease_of(&crease, s.curve) } else { 0.0 }).collect())
             .collect()
     };
     Ok(Surface {
@@ -286,7 +298,13 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         neighbors,
         sources,
         curves: net.curves.iter().map(|c| c.to_vec()).collect(),
-        warnings: Vec::new(),
+        warnings: if made_sharp > 0 {
+            vec![format!(
+                "{made_sharp} semi-sharp crease curve(s) were built sharp: the network folds at their node, so no G1 blend exists there (docs/math.md#creases)"
+            )]
+        } else {
+            Vec::new()
+        },
         cage: Vec::new(),
     })
 }

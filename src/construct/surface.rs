@@ -68,6 +68,9 @@ pub enum SectorMap {
     /// Dual boundary patch, the sector between the last boundary edge and the open side:
     /// (σ, τ) = (0, s).
     OpenEnd,
+    /// Dual crease sector (docs/math.md#dual-creases), the sector around the centre node where
+    /// three or more crease curves meet: collapsed onto the cage vertex, (σ, τ) = (0, 0).
+    Point,
 }
 
 impl SectorMap {
@@ -78,6 +81,7 @@ impl SectorMap {
             SectorMap::Vertex => [s, t],
             SectorMap::OpenStart => [t, 0.0],
             SectorMap::OpenEnd => [0.0, s],
+            SectorMap::Point => [0.0, 0.0],
         }
     }
 }

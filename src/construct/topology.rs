@@ -462,7 +462,7 @@ pub fn build_topology_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker:
     for src in &mut s.sources {
         *src = prep.source(*src);
     }
-    s.warnings = prep.warnings;
+    s.warnings = prep.warnings.into_iter().chain(std::mem::take(&mut s.warnings)).collect();
     s.warnings.extend(super::network::split_warnings(&s.sources, &splits));
     Ok(s)
 }

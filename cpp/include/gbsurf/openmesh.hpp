@@ -12,8 +12,8 @@
 // Creases: if the input mesh has an edge property "crease" (float or double: sharpness c in
 // [0, 1], Blender's crease meaning: 0 smooth, 1 infinitely sharp) and/or a vertex property
 // "crease" (corner sharpness, same meaning), found by name with get_property_handle, the
-// conversion passes every non-zero value to the creased convert (gbsurf_convert_creased; only
-// the topology method builds creases). A value outside [0, 1], NaN or infinite is refused by
+// conversion passes every non-zero value to the creased convert (gbsurf_convert_creased; both
+// structures build creases, the subdivision methods ignore them). A value outside [0, 1], NaN or infinite is refused by
 // the library's validator (GBSURF_ERR_INVALID_MESH or GBSURF_ERR_NAN) with a message that ends
 // with the OpenMesh element, e.g. "(OpenMesh edge 7)". Properties of other types are ignored.
 #ifndef GBSURF_OPENMESH_HPP

@@ -1,0 +1,435 @@
+//! Creases in the dual structure (docs/math.md#dual-creases): the vertex patches along closed
+//! chains of sharp edges are split into sectors, with the crease curves between the sectors.
+//!
+//! The dual patch of a vertex V spans every face around V, so a feature curve along a cage edge
+//! runs through the middle of two vertex patches. Where V has k ≥ 2 *cut* edges (below), its
+//! patch is replaced by k *sectors*, one between each pair of consecutive cut edges:
+//! - every cut edge e gets a node F_e on its dual curve D_e, which is split there into two halves
+//!   A_e (from the right face's centroid) and B_e (to the left face's centroid);
+//! - k = 2: one *cut curve* K from F_a to F_b joins the two sectors; k ≥ 3: a *centre node* X and
+//!   k *spokes* X → F_e;
+//! - sector s: the second half of side j_s, the sides j_s + 1 … j_{s+1} − 1, the first half of side
+//!   j_{s+1}, then the cut curve (k = 2) or the spokes j_{s+1} → X → j_s (k ≥ 3).
+//!
+//! **Cut edges.** An interior edge of sharpness c > 0 between two interior vertices is cut when it
+//! lies on a closed chain: the sharp edges are pruned, repeatedly, at vertices with exactly one
+//! (a chain's loose end) — what remains is the 2-core of the sharp-edge graph. Pruned sharp edges,
+//! sharp boundary edges and corner sharpness at vertices with fewer than three cut edges are
+//! ignored with a warning: a chain that ends inside the surface would need a sector boundary that
+//! ends inside a patch.
+//!
+//! **Geometry, continuous in the sharpness.** Each quantity moves linearly from its value on the
+//! smooth surface S₀ (the unsplit dual surface, sharpness 0) to the sharp target (sharpness 1),
+//! with the edge's sharpness c_e at F_e and the vertex's corner weight w₃ = max(c_V, c₍₃₎) at X
+//! (c₍₃₎ the third-largest sharpness of V's cut edges, as in docs/math.md#creases):
+//! - F_e = F⁰ + c_e (M_e − F⁰): F⁰ = D_e(½), M_e the edge midpoint;
+//! - A_e, B_e: from the de Casteljau halves of D_e at ½ to the open-boundary curves of §4.1
+//!   (c_f → M_e: C1 = c_f + ((1−κ)/2)(F′_f − c_f) (= the first de Casteljau point, unchanged),
+//!   C2 = c_f + ((3−κ)/4)(M_e − c_f), C3 = M_e), point by point;
+//! - the crossing direction at F_e: u_e = unit(u⁰ + c_e (u¹ − u⁰)), u⁰ the edge direction
+//!   V − W projected into S₀'s tangent plane at F⁰ (spanned by D_e′(½) and D_{0.5}), u¹ =
+//!   unit(V − W). Every cut curve and spoke leaves F_e along ±u_e, so the two halves stay G1 at
+//!   F_e for every sharpness;
+//! - cut curve of V (k = 2), from F_a to F_b: C1 = F_a + ℓ_a u_a, C2 = F_b + ℓ_b u_b (u pointing
+//!   towards V); ℓ⁰ from S₀'s derivative along the straight domain segment from the midpoint of
+//!   side a to that of side b (the Hermite cubic of S₀ along it, its end tangents projected on
+//!   u), ℓ¹ = (2/3)|V − M|, so at sharpness 1 it is the quadratic B-spline (M_a, V, M_b) of the
+//!   crease polygon, as on an open boundary (§4.1); its sharpness is min(c_a, c_b);
+//! - centre node X = X⁰ + w₃ (V − X⁰), X⁰ = S₀ at the domain centre; spoke X → F_e: C1 = X +
+//!   (1 − w₃)·(S₀′ along a domain ray)/3 + w₃ (M_e − V)/3, projected into S₀'s tangent plane at
+//!   X⁰ by the fraction 1 − w₃ (the spokes stay coplanar at X until V is a corner), C2 = F_e +
+//!   ℓ u_e as for the cut curve with ℓ¹ = |V − M_e|/3 (a straight segment M_e → V at sharpness 1);
+//!   its sharpness is c_e. The domain ray of spoke s has angle ¼·(angle of side j_s's midpoint) +
+//!   ¾·(angle of spoke 0 + 2πs/k): every angle between consecutive rays stays below π, so the
+//!   spokes leave X⁰ as a star even where three crease lines meet in a T;
+//! - V is a corner through c₍₃₎ only where the angles between its consecutive sharp edges,
+//!   projected along S₀'s normal at X⁰, are all below 170° ([`MAX_CORNER_SECTOR`]): at a
+//!   T-junction or a reflex corner one sector would span π or more at V, which a single patch
+//!   cannot do without folding; there w₃ = c_V;
+//! - D_{0.5}: the halves keep D_e's; a cut curve or spoke gets the mean of its end directions
+//!   (X_L − X_R)·3/2 from its two sectors' neighbouring sides, as the high-valence split does
+//!   (docs/math.md#high-valence-split);
+//! - first-approximation twists: eq. 2.11 at the face-centroid corners, the parallelogram point
+//!   at F_e and X.
+//!
+//! At sharpness 1 a closed crease loop is G0 along the quadratic B-spline of its polygon (as if
+//! the mesh were cut open there), corners (w₃ = 1) end the spokes at V itself, and the cube with
+//! every edge sharp is the cube. **Limit at 0:** for 0 < c ≤ 1 the surface moves continuously, but
+//! the sector split itself is not the unsplit patch: as c → 0 the sectors tend to a G1 surface
+//! that follows S₀ along its nodes and cut curves, not to S₀ exactly (measured in
+//! tests/creases.rs). Sharpness exactly 0 takes none of these steps.
+
+use crate::gb::Evaluate;
+use super::network::{CurveNetwork, PatchLayout, SideUse};
+use super::surface::{CageSector, Patch, SectorMap, Surface};
+use crate::gb::Domain;
+use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, VertexId};
+use crate::options::ConvertOptions;
+use glam::{DVec2, DVec3};
+
+/// What [`split_creases`] did: the new network, the cage rows of its patches (when the unsplit
+/// ones were given) and the sharp input that it could not build, by prepared-mesh elements.
+pub struct CreaseSplit {
+    pub net: CurveNetwork,
+    pub cage: Vec<Vec<CageSector>>,
+    /// Sharp edges left smooth (not on a closed chain of interior sharp edges), as vertex pairs.
+    pub ignored_edges: Vec<(VertexId, VertexId)>,
+    /// Vertices whose corner sharpness is ignored (fewer than three cut edges).
+    pub ignored_corners: Vec<VertexId>,
+}
+
+/// The cut edges of `mesh` (see the module doc): the 2-core of its interior sharp edges between
+/// interior vertices. Returns (cut flag per edge, the sharp edges left out).
+fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
+    let mut cut = vec![false; mesh.n_edges()];
+    let mut count = vec![0usize; mesh.n_vertices()];
+    let mut ignored = Vec::new();
+    for e in mesh.edges() {
+        if mesh.edge_crease(e) <= 0.0 {
+            continue;
+        }
+        let h = mesh.edge_halfedge(e, 0);
+        let (a, b) = (mesh.origin(h), mesh.target(h));
+        if mesh.is_boundary_edge(e) || mesh.is_boundary_vertex(a) || mesh.is_boundary_vertex(b) {
+            ignored.push(e);
+            continue;
+        }
+        cut[e.idx()] = true;
+        count[a.idx()] += 1;
+        count[b.idx()] += 1;
+    }
+    let mut stack: Vec<VertexId> = mesh.vertices().filter(|v| count[v.idx()] == 1).collect();
+    while let Some(v) = stack.pop() {
+        if count[v.idx()] != 1 {
+            continue;
+        }
+        let Some(h) = mesh.vertex_outgoing(v).find(|&h| cut[mesh.edge(h).idx()]) else { continue };
+        let e = mesh.edge(h);
+        cut[e.idx()] = false;
+        ignored.push(e);
+        count[v.idx()] -= 1;
+        let w = mesh.target(h);
+        count[w.idx()] -= 1;
+        if count[w.idx()] == 1 {
+            stack.push(w);
+        }
+    }
+    ignored.sort_by_key(|e| e.idx());
+    (cut, ignored)
+}
+
+/// Per cut edge: the node, the crossing direction (towards origin(h₀)) and the two halves.
+struct EdgeCut {
+    f: DVec3,
+    u: DVec3,
+    a: [DVec3; 4],
+    b: [DVec3; 4],
+    node: usize,
+    b_curve: usize,
+}
+
+/// The widest sector (170°, between consecutive sharp edges at V, around S₀'s normal) with
+/// which three sharp edges still make V a corner.
+const MAX_CORNER_SECTOR: f64 = 170.0 * std::f64::consts::PI / 180.0;
+
+fn lerp4(x: [DVec3; 4], y: [DVec3; 4], t: f64) -> [DVec3; 4] {
+    [0, 1, 2, 3].map(|i| x[i] + t * (y[i] - x[i]))
+}
+
+fn rev(c: [DVec3; 4]) -> [DVec3; 4] {
+    [c[3], c[2], c[1], c[0]]
+}
+
+/// D_{0.5} of a cut curve or spoke `curve` (module doc): at sharpness 0 the direction of S₀'s
+/// tangent plane across the curve's middle (n × T, `s0` the S₀ derivatives there), at sharpness
+/// 1 the mean of the end directions `d0`, `d1`; the length is always that mean's.
+fn mid_constraint(curve: &[DVec3; 4], s0: crate::gb::SurfaceDerivs, d0: DVec3, d1: DVec3, c: f64) -> DVec3 {
+    let mean = 0.5 * (d0 + d1);
+    let t = curve[3] + curve[2] - curve[1] - curve[0];
+    let left = s0.su.cross(s0.sv).cross(t).normalize_or_zero();
+    let smooth = if left.dot(mean) >= 0.0 { left } else { -left } * mean.length();
+    smooth + c * (mean - smooth)
+}
+
+/// Splits the dual network `net` of `mesh` (built by [`super::dual::dual_network`], its patch v
+/// the vertex v) along the closed chains of sharp edges (module doc). `smooth` is the surface
+/// assembled from `net` (S₀), `cage` its cage rows (or empty). `None` when no edge is cut; the
+/// ignored sharp input is then reported through the second value.
+pub fn split_creases(
+    mesh: &HalfEdgeMesh,
+    net: &CurveNetwork,
+    smooth: &Surface,
+    cage: &[Vec<CageSector>],
+    opts: &ConvertOptions,
+) -> (Option<CreaseSplit>, Vec<(VertexId, VertexId)>, Vec<VertexId>) {
+    let (cut, ignored) = cut_edges(mesh);
+    let ends = |e: EdgeId| {
+        let h = mesh.edge_halfedge(e, 0);
+        (mesh.origin(h), mesh.target(h))
+    };
+    let ignored_edges: Vec<(VertexId, VertexId)> = ignored.iter().map(|&e| ends(e)).collect();
+    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
+    let ignored_corners: Vec<VertexId> =
+        mesh.vertices().filter(|&v| mesh.vertex_crease(v) > 0.0 && n_cut(v) < 3).collect();
+    if !cut.iter().any(|&c| c) {
+        return (None, ignored_edges, ignored_corners);
+    }
+    let k = opts.fullness;
+    let mut out = net.clone();
+    if out.crease.is_empty() {
+        out.crease = vec![0.0; out.curves.len()];
+    }
+    let mut out_cage: Vec<Vec<CageSector>> = cage.to_vec();
+
+    // 1. Nodes and halves of every cut edge.
+    let mut edge_cut: Vec<Option<EdgeCut>> = (0..mesh.n_edges()).map(|_| None).collect();
+    for e in mesh.edges().filter(|e| cut[e.idx()]) {
+        let h = mesh.edge_halfedge(e, 0);
+        let (v, w) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
+        let ce = mesh.edge_crease(e);
+        let d = net.curves[e.idx()];
+        let (cr, cl) = (d[0], d[3]);
+        // De Casteljau at ½.
+        let (p01, p12, p23) = ((d[0] + d[1]) / 2.0, (d[1] + d[2]) / 2.0, (d[2] + d[3]) / 2.0);
+        let (q0, q1) = ((p01 + p12) / 2.0, (p12 + p23) / 2.0);
+        let f0 = (q0 + q1) / 2.0;
+        let m = (v + w) / 2.0;
+        let a0 = [d[0], p01, q0, f0];
+        let b0 = [f0, q1, p23, d[3]];
+        let a1 = [cr, p01, cr + 0.25 * (3.0 - k) * (m - cr), m];
+        let b1 = [m, cl + 0.25 * (3.0 - k) * (m - cl), p23, cl];
+        // S₀'s tangent plane at F⁰: D_e′(½) and D_{0.5} (into the patch of origin(h)).
+        let n0 = (q1 - q0).cross(net.mid[e.idx()]).normalize_or_zero();
+        let edge = v - w;
+        let u0 = (edge - n0 * n0.dot(edge)).normalize_or_zero();
+        let u1 = edge.normalize_or_zero();
+        let u = (u0 + ce * (u1 - u0)).normalize_or_zero();
+        let (a, b) = (lerp4(a0, a1, ce), lerp4(b0, b1, ce));
+        let node = out.nodes.len();
+        out.nodes.push(a[3]);
+        out.node_normals.push((b[1] - a[2]).cross(u).normalize_or(n0));
+        // A replaces D_e (curve e), B is new.
+        out.curves[e.idx()] = a;
+        out.curve_nodes[e.idx()] = [net.curve_nodes[e.idx()][0], node];
+        let b_curve = out.curves.len();
+        out.curves.push(b);
+        out.curve_nodes.push([node, net.curve_nodes[e.idx()][1]]);
+        out.mid.push(net.mid[e.idx()]);
+        out.crease.push(0.0);
+        edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u, a, b, node, b_curve });
+    }
+
+    // 2. The sectors of every vertex with cut edges.
+    for v in mesh.vertices() {
+        let outg: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
+        let n = outg.len();
+        let js: Vec<usize> = (0..n).filter(|&j| cut[mesh.edge(outg[j]).idx()]).collect();
+        let kc = js.len();
+        if kc < 2 {
+            continue;
+        }
+        let vp = mesh.position(v);
+        let lay = &net.patches[v.idx()];
+        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { continue };
+        let Ok(dom) = Domain::regular(n) else { continue };
+        let eval = |uv: DVec2| patch.eval_derivs(uv, opts.weights);
+        // Per cut side j (index into js): node, direction towards V, halves as patch V traverses
+        // side j: first (corner j−1 → F), second (F → corner j), with their SideUses.
+        struct Side {
+            f: DVec3,
+            u: DVec3,
+            m: DVec3,
+            node: usize,
+            first: [DVec3; 4],
+            second: [DVec3; 4],
+            first_use: SideUse,
+            second_use: SideUse,
+            c: f64,
+            mid_uv: DVec2,
+        }
+        let sides: Vec<Side> = js
+            .iter()
+            .map(|&j| {
+                let h = outg[j];
+                let e = mesh.edge(h);
+                let ec = edge_cut[e.idx()].as_ref().expect("cut edges have nodes");
+                let m = (vp + mesh.position(mesh.target(h))) / 2.0;
+                let forward = h.0 & 1 == 0; // v = origin(h₀): the side runs along A then B
+                let (first, second, first_use, second_use, u) = if forward {
+                    (
+                        ec.a,
+                        ec.b,
+                        SideUse { curve: e.idx(), reversed: false },
+                        SideUse { curve: ec.b_curve, reversed: false },
+                        ec.u,
+                    )
+                } else {
+                    (
+                        rev(ec.b),
+                        rev(ec.a),
+                        SideUse { curve: ec.b_curve, reversed: true },
+                        SideUse { curve: e.idx(), reversed: true },
+                        -ec.u,
+                    )
+                };
+                Side {
+                    f: ec.f,
+                    u,
+                    m,
+                    node: ec.node,
+                    first,
+                    second,
+                    first_use,
+                    second_use,
+                    c: mesh.edge_crease(e),
+                    mid_uv: dom.side_point(j, 0.5),
+                }
+            })
+            .collect();
+        // ℓ at the F end of a curve leaving F along u towards the domain point `to`: S₀′ at the
+        // side midpoint (a hair inside) along the segment, projected on u, over 3.
+        let inside = |uv: DVec2| uv * (1.0 - 1e-7);
+        let ell0 = |s: &Side, along: DVec2| {
+            let d = eval(inside(s.mid_uv));
+            let t = d.su * along.x + d.sv * along.y;
+            (t.dot(s.u) / 3.0).max(0.05 * t.length() / 3.0)
+        };
+        let ell = |s: &Side, l0: f64, l1: f64| l0 + s.c * (l1 - l0);
+        let first_spoke = out.curves.len();
+        let mut closing: Vec<Vec<SideUse>> = Vec::with_capacity(kc);
+        if kc == 2 {
+            let (sa, sb) = (&sides[0], &sides[1]);
+            let seg = sb.mid_uv - sa.mid_uv;
+            let la = ell(sa, ell0(sa, seg), (2.0 / 3.0) * vp.distance(sa.m));
+            let lb = ell(sb, ell0(sb, -seg), (2.0 / 3.0) * vp.distance(sb.m));
+            let kcurve = [sa.f, sa.f + la * sa.u, sb.f + lb * sb.u, sb.f];
+            // Left = sector 1 (runs F_a → F_b forward): at F_a it holds the first half of side a,
+            // at F_b the second half of side b.
+            let d0 = 1.5 * (sa.first[2] - sa.second[1]);
+            let d1 = 1.5 * (sb.second[1] - sb.first[2]);
+            out.curves.push(kcurve);
+            out.curve_nodes.push([sa.node, sb.node]);
+            out.mid.push(mid_constraint(&kcurve, eval((sa.mid_uv + sb.mid_uv) / 2.0), d0, d1, sa.c.min(sb.c)));
+            out.crease.push(sa.c.min(sb.c));
+            closing.push(vec![SideUse { curve: first_spoke, reversed: true }]);
+            closing.push(vec![SideUse { curve: first_spoke, reversed: false }]);
+        } else {
+            let mut cs: Vec<f64> = sides.iter().map(|s| s.c).collect();
+            cs.sort_by(|a, b| b.total_cmp(a));
+            let d = eval(DVec2::ZERO);
+            let x0 = d.p;
+            let nx = d.su.cross(d.sv).normalize_or_zero();
+            // Three sharp edges make V a corner (w₃ = c₍₃₎) only where the sectors between its
+            // edges all open less than π around S₀'s normal: at a T-junction or a reflex corner a
+            // sector would have a corner angle of π or more at V, which one patch cannot span
+            // without folding. There only the corner sharpness c_V moves X to V.
+            let plane = |d: DVec3| (d - nx * nx.dot(d)).normalize_or_zero();
+            let ccw = |a: DVec3, b: DVec3| a.cross(b).dot(nx).atan2(a.dot(b)).rem_euclid(std::f64::consts::TAU);
+            let convex = (0..kc).all(|i| ccw(plane(sides[i].m - vp), plane(sides[(i + 1) % kc].m - vp)) < MAX_CORNER_SECTOR);
+            let w3 = if convex { mesh.vertex_crease(v).max(cs[2]) } else { mesh.vertex_crease(v) };
+            let x = x0 + w3 * (vp - x0);
+            // Spoke directions at X⁰ in the domain: angle θ_s = ¼·(angle of side j_s's midpoint)
+            // + ¾·(that of spoke 0 + 2πs/k), so every angle between consecutive spokes is below
+            // π (a domain sector is below 2π, a quarter of it plus ¾·2π/k ≤ π/2 stays below π for
+            // k ≥ 3): the spokes leave X⁰ as a star, also where three crease lines meet in a T.
+            let angle = |uv: DVec2| uv.y.atan2(uv.x);
+            let a0 = angle(sides[0].mid_uv);
+            let tau = std::f64::consts::TAU;
+            let spokes: Vec<[DVec3; 4]> = sides
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let dom = a0 + (angle(s.mid_uv) - a0).rem_euclid(tau);
+                    let eq = a0 + tau * i as f64 / kc as f64;
+                    let th = 0.25 * dom + 0.75 * eq;
+                    let ray = s.mid_uv.length() * DVec2::new(th.cos(), th.sin());
+                    let t0 = d.su * ray.x + d.sv * ray.y;
+                    let mut c1 = x + (1.0 - w3) * t0 / 3.0 + w3 * (s.m - vp) / 3.0;
+                    c1 -= (1.0 - w3) * nx * nx.dot(c1 - x);
+                    let l = ell(s, ell0(s, -s.mid_uv), vp.distance(s.m) / 3.0);
+                    [x, c1, s.f + l * s.u, s.f]
+                })
+                .collect();
+            let node = out.nodes.len();
+            out.nodes.push(x);
+            out.node_normals.push(nx);
+            for (i, s) in sides.iter().enumerate() {
+                let (next, prev) = (&spokes[(i + 1) % kc], &spokes[(i + kc - 1) % kc]);
+                // Left = sector i: at X its other spoke is i+1; at F it holds the second half.
+                let d0 = 1.5 * (next[1] - prev[1]);
+                let d1 = 1.5 * (s.second[1] - s.first[2]);
+                out.curves.push(spokes[i]);
+                out.curve_nodes.push([node, s.node]);
+                out.mid.push(mid_constraint(&spokes[i], eval(s.mid_uv / 2.0), d0, d1, s.c));
+                out.crease.push(s.c);
+            }
+            for s in 0..kc {
+                closing.push(vec![
+                    SideUse { curve: first_spoke + (s + 1) % kc, reversed: true },
+                    SideUse { curve: first_spoke + s, reversed: false },
+                ]);
+            }
+        }
+        // Sector patches: sides and, per corner (the end of each side), the first-approximation
+        // twist of the unsplit patch (face corners) or None (parallelogram), and the cage sector.
+        let row = cage.get(v.idx());
+        let face_cage = |j: usize| row.and_then(|r| r.get(j % n)).copied();
+        let with = |c: Option<CageSector>, map| c.map(|c| CageSector { map, ..c });
+        let mut parts: Vec<(Vec<SideUse>, Vec<Option<DVec3>>, Vec<Option<CageSector>>)> = Vec::new();
+        for s in 0..kc {
+            let (j0, j1) = (js[s], if s + 1 < kc { js[s + 1] } else { js[0] + n });
+            let mut sides_out = vec![sides[s].second_use];
+            sides_out.extend((j0 + 1..j1).map(|j| lay.sides[j % n]));
+            let s1 = (s + 1) % kc;
+            sides_out.push(sides[s1].first_use);
+            sides_out.extend(closing[s].iter().copied());
+            let mut twists: Vec<Option<DVec3>> = (j0..j1).map(|j| Some(lay.corner_twists[j % n])).collect();
+            let mut cage_row: Vec<Option<CageSector>> = (j0..j1).map(face_cage).collect();
+            twists.extend(std::iter::repeat_n(None, closing[s].len() + 1));
+            cage_row.push(with(face_cage(j1 - 1), SectorMap::OpenEnd));
+            if kc > 2 {
+                cage_row.push(with(face_cage(j0), SectorMap::Point));
+            }
+            cage_row.push(with(face_cage(j0), SectorMap::OpenStart));
+            parts.push((sides_out, twists, cage_row));
+        }
+        for (i, (sides_out, twists, cage_row)) in parts.into_iter().enumerate() {
+            let m = sides_out.len();
+            let pts: Vec<[DVec3; 4]> = sides_out
+                .iter()
+                .map(|&u| {
+                    let c = out.curves[u.curve];
+                    if u.reversed {
+                        rev(c)
+                    } else {
+                        c
+                    }
+                })
+                .collect();
+            let twists: Vec<DVec3> = (0..m)
+                .map(|i| twists[i].unwrap_or_else(|| pts[i][2] + pts[(i + 1) % m][1] - pts[i][3]))
+                .collect();
+            let part = PatchLayout { sides: sides_out, corner_twists: twists, center: None, source: lay.source };
+            let index = if i == 0 { v.idx() } else { out.patches.len() };
+            if i == 0 {
+                out.patches[index] = part;
+            } else {
+                out.patches.push(part);
+            }
+            if row.is_some() {
+                let r: Vec<CageSector> = cage_row
+                    .into_iter()
+                    .map(|c| c.unwrap_or(CageSector { face: u32::MAX, corner: u32::MAX, map: SectorMap::Vertex }))
+                    .collect();
+                if index < out_cage.len() {
+                    out_cage[index] = r;
+                } else {
+                    out_cage.resize(index, Vec::new());
+                    out_cage.push(r);
+                }
+            }
+        }
+    }
+    let split = CreaseSplit { net: out, cage: out_cage, ignored_edges: ignored_edges.clone(), ignored_corners: ignored_corners.clone() };
+    (Some(split), ignored_edges, ignored_corners)
+}
