@@ -171,6 +171,19 @@ proptest! {
             let inside = (0..n).filter(|&k| sp.in_sector(k as u32, n as u32).is_some()).count();
             prop_assert_eq!(inside, sp.count as usize);
         }
+        // Every triangle lies in its face corner's sector (its closure), but the middle one of
+        // each ring's side, which straddles the spoke with two of its vertices in it.
+        let corners = l.face_corners();
+        let mut straddling = 0;
+        for (tri, &c) in l.triangles.iter().zip(&corners) {
+            let inside = tri.iter().filter(|&&x| points[x as usize].in_sector(c, n as u32).is_some()).count();
+            prop_assert!(inside >= 2, "n={} r={} {:?} corner {}", n, r, tri, c);
+            straddling += usize::from(inside == 2);
+        }
+        prop_assert_eq!(straddling, n * r);
+        // Ring 1: one triangle per corner.
+        let ring1: std::collections::BTreeSet<u32> = corners[..n].iter().copied().collect();
+        prop_assert_eq!(ring1.len(), n);
         let q = l.quad_sector(i % n);
         let st = bilinear_inverse(q, bilinear(q, s, t));
         prop_assert!(st.distance(DVec2::new(s, t)) <= 1e-12, "n={} ({}, {}) → {}", n, s, t, st);

@@ -238,25 +238,22 @@ impl SampleLayout {
     }
 
     /// The domain corner (0..n; corner i is domain vertex i, the end of side i) of every output
-    /// face: the sector of each quad; in the triangle layout, the nearer end of the triangle's
-    /// side sector (centre, v_{i−1}, v_i) to its centroid.
+    /// face: the sector of each quad; in the triangle layout, the quad sector (c, m_i, v_i,
+    /// m_{i+1}) holding the triangle's centroid: of the 2m − 1 triangles of ring m in the side
+    /// sector (centre, v_{i−1}, v_i), the first m − 1 lie on v_{i−1}'s side of the spoke c → m_i
+    /// (corner i − 1) and the last m − 1 on v_i's (corner i); the middle one, symmetric about the
+    /// spoke, takes corner i (by the integers: no rounding decides it).
     pub fn face_corners(&self) -> Vec<u32> {
         let r2 = self.resolution * self.resolution;
         let n = self.sides;
         match self.layout {
             Layout::Quads => (0..self.quads.len()).map(|k| (k / r2.max(1)) as u32).collect(),
             Layout::Triangles => {
-                let vertex = |i: usize| self.uv[self.boundary_index(i + 1, 0)];
                 let mut out = Vec::with_capacity(self.triangles.len());
-                let mut tris = self.triangles.iter();
                 for m in 1..=self.resolution {
                     for i in 0..n {
-                        let (a, b) = (vertex(i + n - 1), vertex(i));
-                        for tri in tris.by_ref().take(2 * m - 1) {
-                            let c = tri.iter().map(|&x| self.uv[x as usize]).sum::<DVec2>() / 3.0;
-                            let near_end = c.distance_squared(b) <= c.distance_squared(a);
-                            out.push(if near_end { i as u32 } else { ((i + n - 1) % n) as u32 });
-                        }
+                        let before = ((i + n - 1) % n) as u32;
+                        out.extend((0..2 * m - 1).map(|j| if j + 1 < m { before } else { i as u32 }));
                     }
                 }
                 out
