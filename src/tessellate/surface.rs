@@ -313,15 +313,15 @@ fn partition<'a>(
     mesh.cage_corner = try_filled(nf, [u32::MAX; 2], "output cage corners")?;
     // Cage coordinates per loop: 4 per quad, or 3 per triangle in the triangle layout (whose
     // loops also get their own cage corner).
-    let (loop_start, nl): (Vec<usize>, usize) = if nq > 0 || nt == 0 {
-        (quad_start.iter().map(|&q| 4 * q).collect(), 4 * nq)
-    } else {
+    let triangle_layout = nq == 0;
+    let (loop_start, nl): (Vec<usize>, usize) = if triangle_layout {
         (tri_start.iter().map(|&t| 3 * t).collect(), 3 * nt)
+    } else {
+        (quad_start.iter().map(|&q| 4 * q).collect(), 4 * nq)
     };
     mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
-    let triangle_loops = if nq == 0 { nl } else { 0 };
-    mesh.cage_loop_corner = try_filled(triangle_loops, [u32::MAX; 2], "output loop cage corners")?;
-    let lc_start: Vec<usize> = if nq == 0 { loop_start.clone() } else { vec![0; np + 1] };
+    let (lc_len, lc_start) = if triangle_layout { (nl, loop_start.clone()) } else { (0, vec![0; np + 1]) };
+    mesh.cage_loop_corner = try_filled(lc_len, [u32::MAX; 2], "output loop cage corners")?;
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
     let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
