@@ -3,7 +3,9 @@
 //! are contiguous and number r² (so n·r² per n-gon), the cage coordinates of the loops give one
 //! cage point per (output vertex, cage face) (the interpolated UV map is continuous within every
 //! cage face), the (0,0) loops of a cage vertex meet in one output vertex and the (1,1) loops of
-//! a face in another; the triangle layout and subdivision give what their doc says.
+//! a face in another; the triangle layout and subdivision give what their doc says. The
+//! triangle layout's per-loop coordinates are the quad layout's at the samples both layouts
+//! share (tests/cage_triangles.rs).
 
 use gbsurf::api::{convert, ConvertOptions, Method};
 use gbsurf::gb::Layout;
@@ -129,16 +131,20 @@ fn triangles_and_subdivision() {
         let out = convert(&cube, &opts(method, Layout::Triangles, 3), None).unwrap();
         let m = &out.mesh;
         assert_eq!(m.cage_corner.len(), m.triangles.len());
-        assert!(m.cage_coords.is_empty());
+        assert_eq!(m.cage_coords.len(), 3 * m.triangles.len());
+        assert_eq!(m.cage_loop_corner.len(), 3 * m.triangles.len());
         for (c, &fc) in m.cage_corner.iter().zip(&m.face_corner) {
             assert!((c[0] as usize) < 6 && c[1] < 4, "{method}: {c:?} (patch corner {fc})");
         }
+        // The quad layout has no per-loop cage corners.
+        let quads = convert(&cube, &opts(method, Layout::Quads, 2), None).unwrap();
+        assert!(quads.mesh.cage_loop_corner.is_empty());
     }
     for method in [Method::CatmullClark, Method::DooSabin] {
         let out = convert(&cube, &ConvertOptions { method, levels: 2, ..Default::default() }, None).unwrap();
         let m = &out.mesh;
         assert_eq!(m.cage_corner.len(), m.triangles.len());
-        assert!(m.cage_coords.is_empty());
+        assert!(m.cage_coords.is_empty() && m.cage_loop_corner.is_empty());
         for (c, &t) in m.cage_corner.iter().zip(&m.triangle_patch) {
             assert_eq!(*c, [t, u32::MAX], "{method}");
         }

@@ -49,6 +49,24 @@ fn catmull_clark_levels_8_is_refused_before_any_work() {
     assert!(e.bytes <= ConvertOptions { max_memory_mb: 8192, ..o }.max_memory_mb << 20);
 }
 
+/// Each layout's figure: the triangle layout carries per-loop cage coordinates and corners.
+#[test]
+fn the_estimate_per_sample_follows_the_layout() {
+    use gbsurf::api::{BASE_BYTES, GB_BYTES_PER_SAMPLE, GB_TRIANGLE_BYTES_PER_SAMPLE};
+    let torus = model("torus.obj");
+    for method in [Method::Dual, Method::Topology] {
+        let tri = ConvertOptions { method, ..ConvertOptions::triangles_r8() };
+        let e = estimate(&torus, &tri);
+        // 96 quad patches (dual: 96 valence-4 vertices), 1 + 4·8·9/2 samples each.
+        assert_eq!(e.vertices, 96 * 145, "{method}");
+        assert_eq!(e.bytes, BASE_BYTES + e.vertices * GB_TRIANGLE_BYTES_PER_SAMPLE, "{method}");
+        let quads = ConvertOptions { method, ..ConvertOptions::default() };
+        let e = estimate(&torus, &quads);
+        assert_eq!(e.vertices, 96 * 25, "{method}");
+        assert_eq!(e.bytes, BASE_BYTES + e.vertices * GB_BYTES_PER_SAMPLE, "{method}");
+    }
+}
+
 #[test]
 fn a_small_limit_refuses_the_default_conversion_and_a_large_one_accepts_it() {
     let cube = model("cube.obj");

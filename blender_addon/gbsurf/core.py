@@ -23,8 +23,8 @@ class ConvertError(Exception):
 # Library runs started by `compute` in this session (live mode's tests count them).
 conversions = 0
 
-VERTEX_GROUPS_SKIPPED = ("vertex groups not carried over: only the quad layout of Dual or "
-                         "Topology gives the cage coordinates they are interpolated with")
+VERTEX_GROUPS_SKIPPED = ("vertex groups not carried over: only Dual and Topology give the cage "
+                         "coordinates they are interpolated with")
 NO_FACES = "the mesh has no faces: fill it or add faces (F in Edit Mode)"
 EVALUATED_NOTE = (" (element numbers are those of the mesh after its modifiers; disable them in "
                   "the viewport to see the edited mesh's)")
@@ -168,12 +168,14 @@ def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=N
     mesh_io.set_point_attribute(
         mesh, "gb_patch_color", 'FLOAT_COLOR', mesh_io.index_colors(conv.patch_index))
     set_display(mesh, display)
+    loop_corner = getattr(conv, "cage_loop_corner", ())
     mesh_io.carry_cage_data(mesh, getattr(conv, "cage_corner", ()), getattr(conv, "cage_coords", ()),
-                            getattr(conv, "source_face_sizes", ()), getattr(conv, "source_faces", None))
+                            getattr(conv, "source_face_sizes", ()), getattr(conv, "source_faces", None),
+                            loop_corner)
     mesh_io.carry_vertex_groups(mesh, getattr(conv, "source_vertex_groups", None),
                                 getattr(conv, "source_face_sizes", ()), getattr(conv, "source_face_indices", ()),
                                 getattr(conv, "cage_corner", ()), getattr(conv, "cage_coords", ()),
-                                getattr(conv, "faces", ()))
+                                getattr(conv, "faces", ()), loop_corner)
     for mat in (materials if materials else [surface_material(created)]):
         mesh.materials.append(mat)
     return mesh

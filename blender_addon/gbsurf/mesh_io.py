@@ -241,55 +241,69 @@ def _keep_corners(values, sizes, f, c, st):
     return out
 
 
-def cage_loop_values(values, face_sizes, cage_corner, cage_coords):
+def _loop_corners(cage_corner, st, loop_corner):
+    """Per loop (face corner of the output) its cage corner (N,2) int64: `loop_corner` (N,2)
+    when given (the triangle layout: each corner's own), else its face's `cage_corner` (F,2)
+    repeated for the m = N/F corners of every face. None when the sizes do not fit."""
+    loop_corner = np.asarray(loop_corner if loop_corner is not None else (), dtype=np.int64).reshape(-1, 2)
+    if len(loop_corner):
+        return loop_corner if len(loop_corner) == len(st) else None
+    cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
+    nq = len(cage_corner)
+    if nq == 0 or len(st) % nq:
+        return None
+    return np.repeat(cage_corner, len(st) // nq, axis=0)
+
+
+def cage_loop_values(values, face_sizes, cage_corner, cage_coords, loop_corner=None):
     """Per output face corner, a cage attribute given per cage face corner (`values` (sum sizes,
     k) in face-corner order) interpolated like Subdivision Surface's "keep corners"
     (docs/math.md#cage-corners): bilinear between the corner's value, the two adjacent edge
     midpoints' values and the face centre's (the mean over the face's corners), at the loop's
-    cage coordinates. `cage_corner` (F,2), `cage_coords` (m·F,2), m corners per output face.
-    Faces with an unknown cage corner get 0. numpy only."""
+    cage coordinates. `cage_corner` (F,2), `cage_coords` (m·F,2), m corners per output face;
+    `loop_corner` (m·F,2) the triangle layout's per-corner cage corners (used in place of the
+    face's when not empty). Faces with an unknown cage corner get 0. numpy only."""
     values = np.asarray(values, dtype=np.float64)
     sizes = np.asarray(face_sizes, dtype=np.int64)
-    cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
     st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
-    nf, nq = len(sizes), len(cage_corner)
-    if nf == 0 or nq == 0 or len(st) % nq:
+    corners = _loop_corners(cage_corner, st, loop_corner)
+    if len(sizes) == 0 or corners is None:
         return np.zeros((len(st), values.shape[1]), dtype=np.float64)
-    k = len(st) // nq
-    return _keep_corners(values, sizes, np.repeat(cage_corner[:, 0], k), np.repeat(cage_corner[:, 1], k), st)
+    return _keep_corners(values, sizes, corners[:, 0], corners[:, 1], st)
 
 
-def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coords, faces, n_vertices):
+def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coords, faces, n_vertices,
+                       loop_corner=None):
     """Per output vertex, a cage attribute given per cage vertex (`values` (V_cage, k)), by the
     keep-corners rule of `cage_loop_values` with per-vertex data: the corner's vertex value, at
     the edge midpoints the mean of the edge's two vertices, at the centre the mean of the face's
     vertices. Each output vertex is evaluated at one of its face corners (the rule is continuous:
     every corner gives the same value, up to rounding). `faces` (F, m) output faces, `n_vertices` their vertex
-    count; vertices of no face, or of a face with no cage coordinates, get 0. numpy only."""
+    count, `loop_corner` as in `cage_loop_values`; vertices of no face, or of a face with no cage
+    coordinates, get 0. numpy only."""
     values = np.asarray(values, dtype=np.float64)
     sizes = np.asarray(face_sizes, dtype=np.int64)
-    cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
     st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
     verts = np.asarray(faces, dtype=np.int64).reshape(-1)
     out = np.zeros((n_vertices, values.shape[1]), dtype=np.float64)
-    nq = len(cage_corner)
-    if len(sizes) == 0 or nq == 0 or len(st) != len(verts) or len(st) % nq:
+    corners = _loop_corners(cage_corner, st, loop_corner)
+    if len(sizes) == 0 or corners is None or len(st) != len(verts):
         return out
-    k = len(st) // nq
     ok = (verts >= 0) & (verts < n_vertices)
     loop = np.full(n_vertices, -1, dtype=np.int64)
     loop[verts[ok]] = np.flatnonzero(ok)  # one face corner per vertex (which one does not matter)
     has = np.flatnonzero(loop >= 0)
     lp = loop[has]
     corner_values = values[np.asarray(face_indices, dtype=np.int64)]
-    out[has] = _keep_corners(corner_values, sizes, cage_corner[lp // k, 0], cage_corner[lp // k, 1], st[lp])
+    out[has] = _keep_corners(corner_values, sizes, corners[lp, 0], corners[lp, 1], st[lp])
     return out
 
 
-def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces):
+def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces, loop_corner=None):
     """Carries a cage's `faces` (FaceData) over to a result mesh built from the conversion's
     faces: each face's material index is its cage face's; every UV map is interpolated per face
-    corner with `cage_loop_values` (quad layout only: the other layouts give no coordinates)."""
+    corner with `cage_loop_values` (`loop_corner`: the triangle layout's per-corner cage corners;
+    the subdivision methods give no coordinates, so no UVs)."""
     if faces is None:
         return
     cage_corner = np.asarray(cage_corner, dtype=np.int64).reshape(-1, 2)
@@ -303,7 +317,8 @@ def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces):
         layer = mesh.uv_layers.new(name=name)
         if layer is None:  # Blender's limit on UV maps
             break
-        vals = cage_loop_values(uv, face_sizes, cage_corner, cage_coords).astype(np.float32).reshape(-1)
+        vals = cage_loop_values(uv, face_sizes, cage_corner, cage_coords, loop_corner)
+        vals = vals.astype(np.float32).reshape(-1)
         if hasattr(layer, "uv"):
             layer.uv.foreach_set("vector", vals)
         else:
@@ -316,12 +331,14 @@ def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces):
 GROUP_CHUNK = 16  # vertex groups interpolated at once (bounds the temporary arrays)
 
 
-def carry_vertex_groups(mesh, groups, face_sizes, face_indices, cage_corner, cage_coords, faces):
+def carry_vertex_groups(mesh, groups, face_sizes, face_indices, cage_corner, cage_coords, faces,
+                        loop_corner=None):
     """Gives a result mesh its cage's vertex groups (`VertexGroups`): the same names in the same
     order, the same active group, each output vertex weighted by `cage_vertex_values` (the UV
     rule with per-vertex weights, docs/math.md#cage-corners); a weight of 0 leaves the vertex out
-    of the group, as Subdivision Surface does. Quad layout only: returns False (nothing added)
-    without cage coordinates (triangle layout, subdivision methods), else True.
+    of the group, as Subdivision Surface does. `loop_corner`: the triangle layout's per-corner
+    cage corners. Returns False (nothing added) without cage coordinates (subdivision methods),
+    else True.
 
     Vertex group names belong to the mesh (an object only shows its mesh's), so the groups are
     made through a temporary object that is removed again. Each group's weights go in as a float
@@ -340,7 +357,7 @@ def carry_vertex_groups(mesh, groups, face_sizes, face_indices, cage_corner, cag
         for lo in range(0, len(groups.names), GROUP_CHUNK):
             hi = min(lo + GROUP_CHUNK, len(groups.names))
             w = cage_vertex_values(groups.weights[lo:hi].T, face_sizes, face_indices, cage_corner,
-                                   cage_coords, faces, nv)
+                                   cage_coords, faces, nv, loop_corner)
             w = np.clip(w, 0.0, 1.0).astype(np.float32)
             for j, name in enumerate(groups.names[lo:hi]):
                 _add_vertex_group(tmp, name, np.ascontiguousarray(w[:, j]))

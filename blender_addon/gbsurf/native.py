@@ -185,6 +185,7 @@ _SIGNATURES = {
     "gbsurf_mesh_face_corner": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_cage_corner": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_cage_coords": (c_uint32, [_R, _PD, _S]),
+    "gbsurf_mesh_cage_loop_corner": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_triangle_patch": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_patch_index": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_mean_curvature": (c_uint32, [_R, _PD, _S]),
@@ -349,8 +350,11 @@ class Conversion:
     triangles), face_patch (F,) uint32 (the patch or input face of each face), face_corner (F,)
     uint32 (the patch corner whose sector holds each face; empty for subdivision), cage_corner
     (F,2) uint32 (the cage face and the corner in it each face lies in; corner 0xFFFFFFFF for
-    subdivision), cage_coords (4Q,2) float64 (quad layout: per quad corner its bilinear
-    coordinates in that cage corner, docs/math.md#cage-corners), patch_index (V,) uint32,
+    subdivision), cage_coords (4Q,2) or (3T,2) float64 (per face corner its bilinear
+    coordinates in its cage corner, docs/math.md#cage-corners; empty for subdivision),
+    cage_loop_corner (3T,2) uint32 (triangle layout: per face corner the cage corner its
+    coordinates are in; empty otherwise, where a face's cage_corner serves its corners),
+    patch_index (V,) uint32,
     mean_curvature, gaussian_curvature, g1_deviation (V,) float64 (degrees), fold (V,) uint8
     (1 on folded samples and the vertices of flipped triangles),
     curves: list of (3k+1,3) arrays, each curve's cubic Bezier chain (segment i = rows 3i..3i+3),
@@ -446,6 +450,7 @@ def _unpack(lib, h, want_patches, want_curves, want_control_net):
     c.face_corner = _view(lib, lib.gbsurf_mesh_face_corner, h, c_uint32)
     c.cage_corner = _view(lib, lib.gbsurf_mesh_cage_corner, h, c_uint32).reshape(-1, 2)
     c.cage_coords = _view(lib, lib.gbsurf_mesh_cage_coords, h, c_double).reshape(-1, 2)
+    c.cage_loop_corner = _view(lib, lib.gbsurf_mesh_cage_loop_corner, h, c_uint32).reshape(-1, 2)
     triangle_patch = _view(lib, lib.gbsurf_mesh_triangle_patch, h, c_uint32)
     c.face_patch = triangle_patch[::2] if len(c.quads) else triangle_patch
     c.patch_index = _view(lib, lib.gbsurf_mesh_patch_index, h, c_uint32)

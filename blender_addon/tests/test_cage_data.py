@@ -84,6 +84,53 @@ def test_materials_and_uvs_follow_the_cage(method):
     assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
 
 
+@pytest.mark.parametrize("method", STRUCTURES)
+def test_triangle_layout_carries_materials_and_uvs(method):
+    # The triangle layout at r = 4 (the quad layout's 2r = 4 steps per side): every triangle
+    # corner has its own cage corner and coordinates (a triangle can straddle two sectors).
+    src = cube_with_materials_and_checker()
+    opts = {"method": method, "resolution": 4, "face_layout": "TRIANGLES"}
+    assert bpy.ops.object.gbsurf_convert(**opts) == {'FINISHED'}
+    mesh = bpy.context.active_object.data
+    assert [m.name for m in mesh.materials] == ["A", "B"]
+    lib_options, outputs = mod().core.split_options(opts)
+    conv = mod().core.compute(src, lib_options, outputs)
+    assert mod().core.VERTEX_GROUPS_SKIPPED not in conv.warnings
+    nt = len(conv.triangles)
+    assert len(conv.quads) == 0 and len(mesh.polygons) == nt == 6 * 4 * 16
+    assert len(conv.cage_coords) == len(conv.cage_loop_corner) == len(mesh.loops) == 3 * nt
+    mi = np.empty(nt, dtype=np.int32)
+    mesh.polygons.foreach_get("material_index", mi)
+    assert (mi == np.array([0, 0, 0, 1, 1, 1])[conv.cage_corner[:, 0].astype(np.int64)]).all()
+    assert [layer.name for layer in mesh.uv_layers] == [layer.name for layer in src.data.uv_layers]
+    uv = loop_uvs(mesh, "Checker")
+    src_uv = loop_uvs(src.data, "Checker")
+    st = conv.cage_coords
+    loop_face = conv.cage_loop_corner[:, 0].astype(np.int64)
+    loop_corner = conv.cage_loop_corner[:, 1].astype(np.int64)
+    # Some loops lie in another cage corner than their triangle's (the dual structure: another
+    # cage face).
+    differs = (conv.cage_loop_corner != np.repeat(conv.cage_corner, 3, axis=0)).any(axis=1)
+    assert differs.any()
+    # At the cage corners: the source's corner UV, every one of the 24 corners met.
+    at = (st == 0).all(axis=1)
+    assert len(set(zip(loop_face[at].tolist(), loop_corner[at].tolist()))) == 24
+    assert np.allclose(uv[at], src_uv[4 * loop_face[at] + loop_corner[at]], atol=1e-6)
+    # At the face centres: the mean of the face's UVs, every face met.
+    at = (st == 1).all(axis=1)
+    assert set(loop_face[at].tolist()) == set(range(6))
+    centres = src_uv.reshape(6, 4, 2).mean(axis=1)
+    assert np.allclose(uv[at], centres[loop_face[at]], atol=1e-6)
+    # Continuous within each cage face: one UV per (output vertex, cage face).
+    verts = np.asarray(conv.triangles, dtype=np.int64).reshape(-1)
+    seen = {}
+    for v, f, u in zip(verts.tolist(), loop_face.tolist(), uv.tolist()):
+        prev = seen.setdefault((v, f), u)
+        assert np.allclose(prev, u, atol=1e-6), (v, f, prev, u)
+    lo = np.array([[f, f % 2] for f in range(6)], dtype=np.float32)[loop_face]
+    assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
+
+
 def test_source_without_materials_keeps_the_colour_material():
     helpers.add_primitive("cube")
     assert bpy.ops.object.gbsurf_convert(method='TOPOLOGY', resolution=2) == {'FINISHED'}
@@ -99,3 +146,8 @@ def test_cage_loop_values_is_the_keep_corners_rule():
     out = mod().mesh_io.cage_loop_values(values, [4], corner, coords)
     assert out[:4, 0].tolist() == [1.0, 1.5, 1.5, 0.5]
     assert out[4:, 0].tolist() == [0.0] * 8  # unknown corner, unknown face
+    # Per-loop cage corners (the triangle layout) take the place of the face's.
+    loops = np.array([[0, 1], [0, 2], [0, 3], [0, 9]], dtype=np.uint32)
+    st = np.array([[0, 0]] * 4, dtype=np.float64)
+    out = mod().mesh_io.cage_loop_values(values, [4], [[0, 0]], st, loops)
+    assert out[:, 0].tolist() == [1.0, 2.0, 3.0, 0.0]

@@ -11,6 +11,8 @@ import pytest
 import helpers
 
 STRUCTURES = ["DUAL", "TOPOLOGY"]
+# The quad layout at r = 2 and the triangle layout at r = 4 (4 steps per side in both).
+LAYOUTS = [("QUADS", 2), ("TRIANGLES", 4)]
 
 
 def mod():
@@ -52,10 +54,12 @@ def cube_with_groups():
 
 def loop_points(conv, sizes, indices):
     """Per output face corner: (output vertex, cage face, corner, σ, τ) and the cage vertices
-    a = the corner's, b = the next, p = the previous."""
+    a = the corner's, b = the next, p = the previous. The triangle layout's corners have their
+    own cage corner (cage_loop_corner)."""
     k = conv.cage_coords.shape[0] // len(conv.cage_corner)
-    f = np.repeat(conv.cage_corner[:, 0].astype(np.int64), k)
-    c = np.repeat(conv.cage_corner[:, 1].astype(np.int64), k)
+    corner = conv.cage_loop_corner if len(conv.cage_loop_corner) else np.repeat(conv.cage_corner, k, axis=0)
+    f = corner[:, 0].astype(np.int64)
+    c = corner[:, 1].astype(np.int64)
     starts = np.concatenate(([0], np.cumsum(sizes)[:-1])).astype(np.int64)
     n = sizes.astype(np.int64)[f]
     a = indices[starts[f] + c]
@@ -64,11 +68,13 @@ def loop_points(conv, sizes, indices):
     return verts, f, conv.cage_coords, a, b
 
 
-def convert(src, method):
-    assert bpy.ops.object.gbsurf_convert(method=method, resolution=2) == {'FINISHED'}
+def convert(src, method, layout=LAYOUTS[0]):
+    opts = {"method": method, "resolution": layout[1], "face_layout": layout[0]}
+    assert bpy.ops.object.gbsurf_convert(**opts) == {'FINISHED'}
     out = bpy.context.active_object
-    lib_options, outputs = mod().core.split_options({"method": method, "resolution": 2})
+    lib_options, outputs = mod().core.split_options(opts)
     conv = mod().core.compute(src, lib_options, outputs)
+    assert mod().core.VERTEX_GROUPS_SKIPPED not in conv.warnings
     assert len(conv.cage_coords) == len(out.data.loops)
     return out, conv
 
@@ -82,10 +88,11 @@ def test_groups_keep_names_order_and_active(method):
     assert not group_weights(out, "Empty")[1].any()
 
 
+@pytest.mark.parametrize("layout", LAYOUTS)
 @pytest.mark.parametrize("method", STRUCTURES)
-def test_top_group_weights(method):
+def test_top_group_weights(method, layout):
     src = cube_with_groups()
-    out, conv = convert(src, method)
+    out, conv = convert(src, method, layout)
     w, member = group_weights(out, "Top")
     assert ((w >= 0) & (w <= 1)).all()
     assert (member == (w > 0)).all()  # weight 0 = not in the group
@@ -94,7 +101,10 @@ def test_top_group_weights(method):
     top = positions[:, 2] > 0
     # Cage vertex samples (σ, τ) = (0, 0): 1 at the top corners, 0 (not in the group) below.
     at = (st == 0).all(axis=1)
-    assert at.sum() == 24  # 6 faces x 4 corners
+    # 6 faces x 4 corners; triangles: 2 triangles at a patch corner (topology), 3 at the patch
+    # centre of a valence-3 vertex (dual).
+    assert at.sum() == {"QUADS": 24, "TRIANGLES": 48 if method == "TOPOLOGY" else 24}[layout[0]]
+    assert len(set(zip(f[at].tolist(), a[at].tolist()))) == 24
     assert (w[verts[at]] == top[a[at]]).all()
     assert len(set(verts[at][member[verts[at]]].tolist())) == len(set(verts[at][top[a[at]]].tolist())) == 4
     # Edge midpoints (1, 0): 0.5 on the 4 vertical edges, 1 on the top square, 0 on the bottom.
@@ -115,18 +125,20 @@ def test_top_group_weights(method):
     assert (w[verts[f == top_face[0]]] == 1).all()
     # Continuous: every face corner of a vertex gives the vertex's weight (the per-loop rule).
     per_loop = mod().mesh_io.cage_loop_values(
-        top[indices].astype(float)[:, None], sizes, conv.cage_corner, conv.cage_coords)[:, 0]
+        top[indices].astype(float)[:, None], sizes, conv.cage_corner, conv.cage_coords,
+        conv.cage_loop_corner)[:, 0]
     assert np.allclose(per_loop, w[verts], atol=1e-7)
 
 
+@pytest.mark.parametrize("layout", LAYOUTS)
 @pytest.mark.parametrize("method", STRUCTURES)
-def test_varying_weights_are_exact_at_the_cage_samples(method):
+def test_varying_weights_are_exact_at_the_cage_samples(method, layout):
     # Dual: (σ, τ) = (0, 0) is the patch centre of the cage vertex's patch; topology: the patch
     # corner at the cage vertex. Either way the output vertex there has the vertex's own weight
     # (v + 1) / 8, the edge midpoint the mean of two, the face centre the mean of four: all
     # multiples of 1/64, exact in float32.
     src = cube_with_groups()
-    out, conv = convert(src, method)
+    out, conv = convert(src, method, layout)
     w, member = group_weights(out, "Ramp")
     ramp = source_weights(src, "Ramp")
     assert ramp.tolist() == [(v + 1) / 8 for v in range(8)]
@@ -143,7 +155,7 @@ def test_varying_weights_are_exact_at_the_cage_samples(method):
     assert (w[verts[at]] == ramp[indices].reshape(6, 4).mean(axis=1)[f[at]]).all()
     assert member.all() and (w >= 1 / 8).all() and (w <= 1).all()
     per_loop = mod().mesh_io.cage_loop_values(ramp[indices][:, None], sizes, conv.cage_corner,
-                                              conv.cage_coords)[:, 0]
+                                              conv.cage_coords, conv.cage_loop_corner)[:, 0]
     assert np.allclose(per_loop, w[verts], atol=1e-6)
 
 
@@ -153,9 +165,10 @@ def test_source_without_groups_gives_none():
     assert len(bpy.context.active_object.vertex_groups) == 0
 
 
-def test_triangle_layout_skips_groups_with_a_message():
+@pytest.mark.parametrize("method", ["CATMULL_CLARK", "DOO_SABIN"])
+def test_subdivision_skips_groups_with_a_message(method):
     src = cube_with_groups()
-    lib_options, outputs = mod().core.split_options({"method": "TOPOLOGY", "face_layout": "TRIANGLES"})
+    lib_options, outputs = mod().core.split_options({"method": method, "levels": 2})
     conv = mod().core.compute(src, lib_options, outputs)
     assert mod().core.VERTEX_GROUPS_SKIPPED in conv.warnings
     out = mod().core.build_result(src, conv, lib_options, outputs)
@@ -166,9 +179,10 @@ def test_triangle_layout_skips_groups_with_a_message():
     assert mod().core.VERTEX_GROUPS_SKIPPED not in conv.warnings
 
 
-def test_update_and_live_mode_carry_new_weights():
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_update_and_live_mode_carry_new_weights(layout):
     src = cube_with_groups()
-    out, _ = convert(src, "TOPOLOGY")
+    out, _ = convert(src, "TOPOLOGY", layout)
     src.vertex_groups["Top"].add(list(range(8)), 0.25, 'REPLACE')
     src.data.update()
     helpers.select_only(out)

@@ -837,11 +837,14 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_corner(
     view_array("gbsurf_mesh_cage_corner", result, |r| Ok(r.mesh.cage_corner.as_flattened()), data, len)
 }
 
-/// View of the cage coordinates of the quad corners (quad layout only, else empty): 2 doubles
-/// (σ, τ) per corner of every quad, in the order of `gbsurf_mesh_quads` (8 per quad): the bilinear
-/// coordinates in the quad's cage corner, (0,0) the cage vertex, (1,0) the midpoint of the edge to
-/// the next vertex, (0,1) the midpoint of the edge from the previous vertex, (1,1) the face
-/// centre (docs/math.md#cage-corners). `*data` is valid until the handle is freed.
+/// View of the cage coordinates of the output face corners (empty for the subdivision methods):
+/// 2 doubles (σ, τ) per corner of every quad, in the order of `gbsurf_mesh_quads` (8 per quad),
+/// or in the triangle layout per corner of every triangle, in the order of
+/// `gbsurf_mesh_triangles` (6 per triangle): the bilinear coordinates in the quad's cage corner
+/// (triangle layout: the corner's own, `gbsurf_mesh_cage_loop_corner`), (0,0) the cage vertex,
+/// (1,0) the midpoint of the edge to the next vertex, (0,1) the midpoint of the edge from the
+/// previous vertex, (1,1) the face centre (docs/math.md#cage-corners). `*data` is valid until
+/// the handle is freed.
 ///
 /// # Safety
 /// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
@@ -852,6 +855,25 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_coords(
     len: *mut usize,
 ) -> u32 {
     view_array("gbsurf_mesh_cage_coords", result, |r| Ok(r.mesh.cage_coords.as_flattened()), data, len)
+}
+
+/// View of the per-corner cage corner of the triangle layout (empty for the quad layout, whose
+/// corners take their quad's `gbsurf_mesh_cage_corner`, and for the subdivision methods): 2
+/// values (face of the control mesh, position of the vertex in its vertex list) per corner of
+/// every triangle, in the order of `gbsurf_mesh_triangles` (6 per triangle): the cage corner the
+/// corner's `gbsurf_mesh_cage_coords` are in, which differs from the triangle's where it
+/// straddles two sectors (docs/math.md#cage-corners); `UINT32_MAX` pairs without a cage map.
+/// `*len` is the number of values; `*data` is valid until the handle is freed.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_cage_loop_corner(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_cage_loop_corner", result, |r| Ok(r.mesh.cage_loop_corner.as_flattened()), data, len)
 }
 
 /// View of the per-triangle patch index (patch methods: the patch it was sampled from;

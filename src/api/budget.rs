@@ -11,6 +11,7 @@
 //! |---|---|---|---|
 //! | dual, quads | torus.obj r = 32 → 64 | 293 | 296 |
 //! | dual, triangles | torus.obj r = 32 → 64 | 225 | 450 |
+//! | dual, triangles, with per-loop cage coordinates and corners | torus.obj r = 32 → 64 | 373 | 746 |
 //! | topology, quads | torus.obj r = 32 → 64 | 293 | 296 |
 //! | dual, quads r = 2 | STL torus, 1.44 M vertices, 681 MiB | 314 | 484 |
 //! | topology, quads r = 2 | STL torus, 1.44 M vertices, 716 MiB | 336 | 521 |
@@ -20,7 +21,12 @@
 //! (Samples are counted before welding: an n-sided patch at resolution r has 1 + n·r(r+1)/2 in
 //! the triangle layout, 1 + n·r(r+1) in the quad layout; a patch of more than
 //! [`crate::limits::MAX_UNSPLIT_SIDES`] sides counts as n three-sided parts.)
-//! The estimate is [`BASE_BYTES`] plus [`GB_BYTES_PER_SAMPLE`] per sample or
+//! The triangle layout's per-loop cage coordinates and corners (`SurfaceMesh::cage_coords`,
+//! `cage_loop_corner`: 3 · (16 + 8) = 72 bytes per triangle, two triangles per sample) add 148
+//! bytes per sample, measured on the debug build (202 → 350 bytes per sample, the same run
+//! before and after; allocation sizes do not depend on the build), so 225 + 148 = 373.
+//! The estimate is [`BASE_BYTES`] plus [`GB_BYTES_PER_SAMPLE`] (quad layout) or
+//! [`GB_TRIANGLE_BYTES_PER_SAMPLE`] (triangle layout) per sample or
 //! [`SUBDIV_BYTES_PER_VERTEX`] per subdivided vertex, about 25 % above the largest measurement.
 //! (Until the validity checks and writers were reworked the figures were about 950 bytes per
 //! vertex for every method, and the estimate 1024 bytes per sample refused runs of a third of the
@@ -31,8 +37,12 @@ use crate::options::{ConvertOptions, Method};
 
 /// Memory of a conversion besides its output (program, input, construction), bytes.
 pub const BASE_BYTES: u64 = 16 << 20;
-/// Peak bytes per tessellation sample of the GB methods (measured ≤ 336, see the module doc).
+/// Peak bytes per tessellation sample of the GB methods in the quad layout (measured ≤ 336, see
+/// the module doc).
 pub const GB_BYTES_PER_SAMPLE: u64 = 420;
+/// Peak bytes per tessellation sample of the GB methods in the triangle layout (measured ≤ 373
+/// with its per-loop cage data, see the module doc).
+pub const GB_TRIANGLE_BYTES_PER_SAMPLE: u64 = 470;
 /// Peak bytes per output vertex of the subdivision methods (measured ≤ 570).
 pub const SUBDIV_BYTES_PER_VERTEX: u64 = 712;
 
@@ -76,7 +86,11 @@ pub fn estimate_output(mesh: &HalfEdgeMesh, options: &ConvertOptions) -> OutputE
         Method::Topology => (0..mesh.n_faces()).map(|f| samples(mesh.face_size(crate::mesh::halfedge::FaceId::from(f)))).sum(),
         Method::CatmullClark | Method::DooSabin => subdivided_vertices(mesh, options.method, options.levels),
     };
-    let per = if options.method.is_patch_method() { GB_BYTES_PER_SAMPLE } else { SUBDIV_BYTES_PER_VERTEX };
+    let per = match (options.method.is_patch_method(), options.layout) {
+        (false, _) => SUBDIV_BYTES_PER_VERTEX,
+        (true, crate::gb::Layout::Quads) => GB_BYTES_PER_SAMPLE,
+        (true, crate::gb::Layout::Triangles) => GB_TRIANGLE_BYTES_PER_SAMPLE,
+    };
     OutputEstimate { vertices: sat(vertices), bytes: sat((BASE_BYTES as u128).saturating_add(vertices.saturating_mul(per as u128))) }
 }
 

@@ -31,7 +31,7 @@ mod scale;
 mod subdivision;
 
 pub use offset::{offset, offset_surface, piece_point as offset_piece_point, CuspSite, Offset, OffsetError, OffsetOptions, OffsetPiece, OffsetReport};
-pub use budget::{estimate_output, OutputEstimate, BASE_BYTES, GB_BYTES_PER_SAMPLE, SUBDIV_BYTES_PER_VERTEX};
+pub use budget::{estimate_output, OutputEstimate, BASE_BYTES, GB_BYTES_PER_SAMPLE, GB_TRIANGLE_BYTES_PER_SAMPLE, SUBDIV_BYTES_PER_VERTEX};
 
 pub use crate::options::{ConvertOptions, Method, OptionError, OptionValue, Twist, MAX_LEVELS, MAX_RESOLUTION};
 

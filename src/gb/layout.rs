@@ -110,6 +110,57 @@ impl Sampling {
     }
 }
 
+/// The bilinear map of the quad `q` = (c, m, v, m') at (s, t): (1−s)(1−t)·c + s(1−t)·m + st·v +
+/// (1−s)t·m' ((0,0) ↦ c, (1,0) ↦ m, (1,1) ↦ v, (0,1) ↦ m'); the quad layout's sector map.
+pub fn bilinear(q: [DVec2; 4], s: f64, t: f64) -> DVec2 {
+    let [c, m0, v, m1] = q;
+    c * ((1.0 - s) * (1.0 - t)) + m0 * (s * (1.0 - t)) + v * (s * t) + m1 * ((1.0 - s) * t)
+}
+
+/// The inverse of [`bilinear`] on a convex quad: the (s, t) ∈ [0,1]² with `bilinear(q, s, t)` =
+/// `p` for a point p of the quad (clamped to [0,1]² for one outside it, by rounding or not;
+/// docs/math.md#cage-corners). With e = m − c, f = m' − c, g = c − m + v − m', x = p − c and
+/// a × b = a.x·b.y − a.y·b.x, x = s·e + t·f + st·g gives (x − s·e) × (f + s·g) = 0, i.e.
+/// (e × g)·s² + (e × f − x × g)·s + f × x = 0 (linear for a parallelogram, e × g = 0); of its
+/// roots the one nearest to [0,1], then t = (x − s·e)·(f + s·g) / |f + s·g|².
+pub fn bilinear_inverse(q: [DVec2; 4], p: DVec2) -> DVec2 {
+    let [c, m0, v, m1] = q;
+    let (e, f, g, x) = (m0 - c, m1 - c, c - m0 + v - m1, p - c);
+    let (a, b, k) = (e.perp_dot(g), e.perp_dot(f) - x.perp_dot(g), f.perp_dot(x));
+    // Roots by the cancellation-free pair w / a and k / w, w = −(b + sign(b)·√disc)/2.
+    let disc = (b * b - 4.0 * a * k).max(0.0);
+    let w = -0.5 * (b + disc.sqrt().copysign(b));
+    let roots = [if a != 0.0 { w / a } else { f64::NAN }, if w != 0.0 { k / w } else { f64::NAN }];
+    let off = |s: f64| if s.is_finite() { (s.clamp(0.0, 1.0) - s).abs() } else { f64::INFINITY };
+    let s = if off(roots[1]) <= off(roots[0]) { roots[1] } else { roots[0] };
+    let s = if s.is_finite() { s.clamp(0.0, 1.0) } else { 0.0 };
+    let d = f + g * s;
+    let len2 = d.length_squared();
+    let t = if len2 > 0.0 { (x - e * s).dot(d) / len2 } else { 0.0 };
+    DVec2::new(s, if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 })
+}
+
+/// Where a sample of the triangle layout lies in the quad layout's sectors (sector i the quad
+/// (c, m_i, v_i, m_{i+1}), [`SampleLayout::quad_sector`]): in the closed sectors `first`,
+/// `first + 1`, …, `first + count − 1` (mod n), at bilinear coordinates `st[j]` in sector
+/// `first + j` ([`bilinear_inverse`]). One sector inside one; two on a spoke c → m_i (sectors
+/// i − 1 and i); all n, at (0, 0), for the centre (then `st` holds two copies).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectorPoint {
+    pub first: u32,
+    pub count: u32,
+    pub st: [DVec2; 2],
+}
+
+impl SectorPoint {
+    /// The sample's coordinates in sector `i` (0..n of an `n`-sided domain), `None` when the
+    /// sample does not lie in it.
+    pub fn in_sector(&self, i: u32, n: u32) -> Option<DVec2> {
+        let j = (i + n - self.first % n) % n;
+        (j < self.count).then(|| self.st[(j as usize).min(1)])
+    }
+}
+
 /// The samples of an n-sided domain at resolution r and their CCW triangulation (see the
 /// module doc). Sample 0 is the centre; ring m ≥ 1 starts at index 1 + n·m(m−1)/2 and lists
 /// side 0 (t = 0..m−1), side 1, …; step t = m of side i is step 0 of side i+1.
@@ -187,30 +238,83 @@ impl SampleLayout {
     }
 
     /// The domain corner (0..n; corner i is domain vertex i, the end of side i) of every output
-    /// face: the sector of each quad; in the triangle layout, the nearer end of the triangle's
-    /// side sector (centre, v_{i−1}, v_i) to its centroid.
+    /// face: the sector of each quad; in the triangle layout, the quad sector (c, m_i, v_i,
+    /// m_{i+1}) holding the triangle's centroid: of the 2m − 1 triangles of ring m in the side
+    /// sector (centre, v_{i−1}, v_i), the first m − 1 lie on v_{i−1}'s side of the spoke c → m_i
+    /// (corner i − 1) and the last m − 1 on v_i's (corner i); the middle one, symmetric about the
+    /// spoke, takes corner i (by the integers: no rounding decides it).
     pub fn face_corners(&self) -> Vec<u32> {
         let r2 = self.resolution * self.resolution;
         let n = self.sides;
         match self.layout {
             Layout::Quads => (0..self.quads.len()).map(|k| (k / r2.max(1)) as u32).collect(),
             Layout::Triangles => {
-                let vertex = |i: usize| self.uv[self.boundary_index(i + 1, 0)];
                 let mut out = Vec::with_capacity(self.triangles.len());
-                let mut tris = self.triangles.iter();
                 for m in 1..=self.resolution {
                     for i in 0..n {
-                        let (a, b) = (vertex(i + n - 1), vertex(i));
-                        for tri in tris.by_ref().take(2 * m - 1) {
-                            let c = tri.iter().map(|&x| self.uv[x as usize]).sum::<DVec2>() / 3.0;
-                            let near_end = c.distance_squared(b) <= c.distance_squared(a);
-                            out.push(if near_end { i as u32 } else { ((i + n - 1) % n) as u32 });
-                        }
+                        let before = ((i + n - 1) % n) as u32;
+                        out.extend((0..2 * m - 1).map(|j| if j + 1 < m { before } else { i as u32 }));
                     }
                 }
                 out
             }
         }
+    }
+
+    /// Domain vertex i (mod n, the end of side i) of the layout's polygon.
+    pub fn vertex(&self, i: usize) -> DVec2 {
+        self.uv[self.boundary_index(i + 1, 0)]
+    }
+
+    /// Sector i (mod n) of the quad layout on this layout's domain, in either layout: the quad
+    /// (c, m_i, v_i, m_{i+1}) of the centre (sample 0), the midpoint of side i, domain vertex i
+    /// and the midpoint of side i+1, for [`bilinear`].
+    pub fn quad_sector(&self, i: usize) -> [DVec2; 4] {
+        let n = self.sides;
+        let mid = |j: usize| (self.vertex(j + n - 1) + self.vertex(j)) * 0.5;
+        [self.uv[0], mid(i), self.vertex(i), mid(i + 1)]
+    }
+
+    /// Triangle layout (empty for the quad layout, whose samples are its sectors' grid points):
+    /// per sample, the quad sectors it lies in and its coordinates there
+    /// (docs/math.md#cage-corners). Sample t of side i on ring m (0 ≤ t < m, between the scaled
+    /// v_{i−1} and v_i) lies in sector i − 1 for 2t < m, in sector i for 2t > m and on the spoke
+    /// c → m_i for 2t = m, at (0, m/r) in sector i − 1 and (m/r, 0) in sector i. On the boundary
+    /// ring (m = r) the coordinates are exact too: (1 − 2t/r, 1) in sector i − 1 and
+    /// (1, 2t/r − 1) in sector i; elsewhere [`bilinear_inverse`].
+    pub fn sector_points(&self) -> Vec<SectorPoint> {
+        if self.layout != Layout::Triangles {
+            return Vec::new();
+        }
+        let (n, r) = (self.sides, self.resolution);
+        let mut out = Vec::with_capacity(self.uv.len());
+        out.push(SectorPoint { first: 0, count: n as u32, st: [DVec2::ZERO; 2] });
+        let sectors: Vec<[DVec2; 4]> = (0..n).map(|i| self.quad_sector(i)).collect();
+        for m in 1..=r {
+            for i in 0..n {
+                let before = (i + n - 1) % n;
+                for t in 0..m {
+                    let p = self.uv[self.ring_index(m, i, t)];
+                    let (mf, rf) = (m as f64, r as f64);
+                    let point = if 2 * t == m {
+                        let l = mf / rf;
+                        SectorPoint { first: before as u32, count: 2, st: [DVec2::new(0.0, l), DVec2::new(l, 0.0)] }
+                    } else {
+                        let sector = if 2 * t < m { before } else { i };
+                        let st = if m < r {
+                            bilinear_inverse(sectors[sector], p)
+                        } else if 2 * t < m {
+                            DVec2::new((rf - 2.0 * t as f64) / rf, 1.0)
+                        } else {
+                            DVec2::new(1.0, (2.0 * t as f64 - rf) / rf)
+                        };
+                        SectorPoint { first: sector as u32, count: 1, st: [st; 2] }
+                    };
+                    out.push(point);
+                }
+            }
+        }
+        out
     }
 
     fn build(
@@ -324,8 +428,7 @@ impl SampleLayout {
             let (m0, v, m1) = (mid(i), vert(i), mid(i + 1));
             for a in 1..r {
                 for b in 1..r {
-                    let (s, t) = (a as f64 / rf, b as f64 / rf);
-                    uv.push(centre * ((1.0 - s) * (1.0 - t)) + m0 * (s * (1.0 - t)) + v * (s * t) + m1 * ((1.0 - s) * t));
+                    uv.push(bilinear([centre, m0, v, m1], a as f64 / rf, b as f64 / rf));
                 }
             }
         }

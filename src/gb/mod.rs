@@ -20,6 +20,6 @@ pub use derivs::{angle_deg, Curvature, Jet2, SurfaceDerivs};
 pub use domain::{Domain, DomainScratch, LocalParam};
 pub use error::GbError;
 pub use eval::Evaluate;
-pub use layout::{Layout, LayoutError, SampleLayout, Sampling};
+pub use layout::{bilinear, bilinear_inverse, Layout, LayoutError, SampleLayout, Sampling, SectorPoint};
 pub use patch::{CgbPatch, GbPatch, Ribbon, WeightForm};
 pub use weights::{gb_basis, layers_for_degree, GbBasis, GbBasisEvaluator};

@@ -30,7 +30,7 @@ use super::fold::{flipped_triangles, patch_folds, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
-use crate::gb::{Layout, SampleLayout, Sampling, WeightForm};
+use crate::gb::{Layout, SampleLayout, Sampling, SectorPoint, WeightForm};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -59,11 +59,21 @@ pub struct SurfaceMesh {
     /// sector. Subdivision methods: `[input face, u32::MAX]` per triangle. `[u32::MAX; 2]` when
     /// the surface has no cage map (hand-built surfaces).
     pub cage_corner: Vec<[u32; 2]>,
-    /// Quad layout only (else empty): per quad corner (4 per quad, in the order of
-    /// [`Self::quads`]) its bilinear coordinates (σ, τ) ∈ [0,1]² in its cage corner: (0,0) the
-    /// cage vertex, (1,0) the midpoint of the edge to the face's next vertex, (0,1) the midpoint
-    /// of the edge from its previous vertex, (1,1) the face centre ([`crate::construct::SectorMap`]).
+    /// Per output face corner (loop: 4 per quad in the order of [`Self::quads`] in the quad
+    /// layout, 3 per triangle in the order of [`Self::triangles`] in the triangle layout; empty
+    /// for the subdivision methods) its bilinear coordinates (σ, τ) ∈ [0,1]² in its cage corner
+    /// (the face's [`Self::cage_corner`] for quads, [`Self::cage_loop_corner`] for triangles):
+    /// (0,0) the cage vertex, (1,0) the midpoint of the edge to the face's next vertex, (0,1)
+    /// the midpoint of the edge from its previous vertex, (1,1) the face centre
+    /// ([`crate::construct::SectorMap`]). Triangle layout: the coordinates of the loop's vertex
+    /// in the quad-layout sector it lies in (docs/math.md#cage-corners).
     pub cage_coords: Vec<[f64; 2]>,
+    /// Triangle layout only (else empty): per triangle corner (3 per triangle) the cage corner
+    /// `[face, corner]` its [`Self::cage_coords`] are in. A triangle can straddle two quad
+    /// sectors (in the dual structure two cage faces): each loop takes the triangle's
+    /// [`Self::cage_corner`] when its vertex lies in that sector (its closure), else the sector
+    /// its vertex lies in. `[u32::MAX; 2]` when the surface has no cage map.
+    pub cage_loop_corner: Vec<[u32; 2]>,
     /// Per vertex: the patch that created it (the smallest patch index sharing it). For subdivision
     /// methods: the face of the input mesh it descends from.
     pub patch: Vec<u32>,
@@ -236,6 +246,11 @@ fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: Sampling, evaluator: &E) 
     Ok(layouts)
 }
 
+/// Per side count n: the sampling layout, its fold-test sectors, the patch corner of every output
+/// face ([`SampleLayout::face_corners`]) and, for the triangle layout, where every sample lies in
+/// the quad sectors ([`SampleLayout::sector_points`]).
+type PatchLayout = (SampleLayout, Sectors, Vec<u32>, Vec<SectorPoint>);
+
 /// The output of one patch: its own disjoint pieces of the output arrays.
 struct PatchOut<'a> {
     p: usize,
@@ -251,6 +266,7 @@ struct PatchOut<'a> {
     corner: &'a mut [u32],
     cage: &'a mut [[u32; 2]],
     coords: &'a mut [[f64; 2]],
+    loop_cage: &'a mut [[u32; 2]],
     bnd: &'a mut [SurfacePoint],
     fold: &'a mut TessellationFolds,
     /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
@@ -263,7 +279,7 @@ struct PatchOut<'a> {
 /// without locks.
 fn partition<'a>(
     surface: &Surface,
-    layouts: &HashMap<usize, (SampleLayout, Sectors, Vec<u32>)>,
+    layouts: &HashMap<usize, PatchLayout>,
     map: &WeldMap,
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
@@ -295,8 +311,17 @@ fn partition<'a>(
     tick(3)?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
     mesh.cage_corner = try_filled(nf, [u32::MAX; 2], "output cage corners")?;
-    mesh.cage_coords = try_filled(4 * nq, [0.0; 2], "output cage coordinates")?;
-    let coord_start: Vec<usize> = quad_start.iter().map(|&q| 4 * q).collect();
+    // Cage coordinates per loop: 4 per quad, or 3 per triangle in the triangle layout (whose
+    // loops also get their own cage corner).
+    let triangle_layout = nq == 0;
+    let (loop_start, nl): (Vec<usize>, usize) = if triangle_layout {
+        (tri_start.iter().map(|&t| 3 * t).collect(), 3 * nt)
+    } else {
+        (quad_start.iter().map(|&q| 4 * q).collect(), 4 * nq)
+    };
+    mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
+    let (lc_len, lc_start) = if triangle_layout { (nl, loop_start.clone()) } else { (0, vec![0; np + 1]) };
+    mesh.cage_loop_corner = try_filled(lc_len, [u32::MAX; 2], "output loop cage corners")?;
     let vs = &map.vstart;
     let mut pos = split_by(&mut mesh.positions, vs).into_iter();
     let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
@@ -309,7 +334,8 @@ fn partition<'a>(
     let mut qu = split_by(&mut mesh.quads, &quad_start).into_iter();
     let mut fc = split_by(&mut mesh.face_corner, &face_start).into_iter();
     let mut cc = split_by(&mut mesh.cage_corner, &face_start).into_iter();
-    let mut cx = split_by(&mut mesh.cage_coords, &coord_start).into_iter();
+    let mut cx = split_by(&mut mesh.cage_coords, &loop_start).into_iter();
+    let mut lc = split_by(&mut mesh.cage_loop_corner, &lc_start).into_iter();
     let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
     mesh.patch_folds = vec![TessellationFolds::default(); np];
     // Every split has exactly np pieces; an empty slice is never taken.
@@ -329,6 +355,7 @@ fn partition<'a>(
             corner: fc.next().unwrap_or_default(),
             cage: cc.next().unwrap_or_default(),
             coords: cx.next().unwrap_or_default(),
+            loop_cage: lc.next().unwrap_or_default(),
             bnd: bd.next().unwrap_or_default(),
             fold,
             folded: Vec::new(),
@@ -337,21 +364,44 @@ fn partition<'a>(
 }
 
 /// The cage corner of every output face of one patch (`cage`: the patch's [`Surface::cage`] row,
-/// `None` when the surface has none) and, for quads, the cage coordinates of their corners.
-fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], out: &mut [[u32; 2]], coords: &mut [[f64; 2]]) {
+/// `None` when the surface has none) and the cage coordinates of the face corners: for quads
+/// from their sector grid, for triangles from `points` ([`SampleLayout::sector_points`]) with
+/// each loop's own cage corner (docs/math.md#cage-corners).
+fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], points: &[SectorPoint], o: &mut PatchOut<'_>) {
+    use crate::construct::SectorMap;
     let sector = |i: u32| cage.and_then(|c| c.get(i as usize));
-    for (o, &i) in out.iter_mut().zip(corners) {
+    for (out, &i) in o.cage.iter_mut().zip(corners) {
         if let Some(c) = sector(i) {
-            *o = [c.face, c.corner];
+            *out = [c.face, c.corner];
         }
     }
     let r = layout.resolution.max(1);
     let rf = r as f64;
-    for (k, q) in coords.chunks_exact_mut(4).enumerate() {
-        let map = sector((k / (r * r)) as u32).map_or(crate::construct::SectorMap::Vertex, |c| c.map);
+    for (k, q) in o.coords.chunks_exact_mut(4).enumerate().take(layout.quads.len()) {
+        let map = sector((k / (r * r)) as u32).map_or(SectorMap::Vertex, |c| c.map);
         let (a, b) = ((k % (r * r)) / r, k % r);
         for (c, (da, db)) in q.iter_mut().zip([(0, 0), (1, 0), (1, 1), (0, 1)]) {
             *c = map.cage_coords((a + da) as f64 / rf, (b + db) as f64 / rf);
+        }
+    }
+    if !layout.quads.is_empty() {
+        return;
+    }
+    let n = layout.sides as u32;
+    let loops = o.coords.chunks_exact_mut(3).zip(o.loop_cage.chunks_exact_mut(3));
+    for ((tri, (coords, loop_cage)), &face) in layout.triangles.iter().zip(loops).zip(corners) {
+        for ((&x, c), lc) in tri.iter().zip(coords).zip(loop_cage) {
+            let Some(point) = points.get(x as usize) else { continue };
+            // The face's sector when the vertex lies in it, else the vertex's first.
+            let (i, st) = match point.in_sector(face, n) {
+                Some(st) => (face, st),
+                None => (point.first, point.st[0]),
+            };
+            let c_sector = sector(i);
+            *c = c_sector.map_or(SectorMap::Vertex, |c| c.map).cage_coords(st.x, st.y);
+            if let Some(cs) = c_sector {
+                *lc = [cs.face, cs.corner];
+            }
         }
     }
 }
@@ -361,14 +411,14 @@ fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayo
 fn evaluate_patch<E: PatchEvaluator>(
     surface: &Surface,
     evaluator: &E,
-    layouts: &HashMap<usize, (SampleLayout, Sectors, Vec<u32>)>,
+    layouts: &HashMap<usize, PatchLayout>,
     map: &WeldMap,
     folds: bool,
     buf: &mut Vec<SurfacePoint>,
     o: &mut PatchOut<'_>,
 ) -> Result<(), TessellateError> {
     let p = o.p;
-    let (layout, sectors, corners) = &layouts[&surface.patches[p].sides()];
+    let (layout, sectors, corners, points) = &layouts[&surface.patches[p].sides()];
     evaluator.evaluate(surface, p, layout, buf);
     if buf.len() != layout.uv.len() {
         return Err(TessellateError::Evaluation { patch: p, sample: buf.len().min(layout.uv.len()) });
@@ -404,7 +454,7 @@ fn evaluate_patch<E: PatchEvaluator>(
         *q = lq.map(|x| ids[x as usize]);
     }
     o.corner.copy_from_slice(corners);
-    write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, o.cage, o.coords);
+    write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, points, o);
     if !folds {
         return Ok(());
     }
@@ -452,9 +502,9 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let r = sampling.per_side();
     let map = WeldMap::new(surface, &layouts, r)?;
     tick(&mut progress, setup(3))?;
-    let with_sectors: HashMap<usize, (SampleLayout, Sectors, Vec<u32>)> = layouts
+    let with_sectors: HashMap<usize, PatchLayout> = layouts
         .par_iter()
-        .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv), l.face_corners())))
+        .map(|(&n, l)| (n, (l.clone(), Sectors::new(&evaluator.domain(n), &l.uv), l.face_corners(), l.sector_points())))
         .collect();
     tick(&mut progress, setup(4))?;
     let nv = map.vertex_count;
@@ -477,6 +527,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         face_corner: Vec::new(),
         cage_corner: Vec::new(),
         cage_coords: Vec::new(),
+        cage_loop_corner: Vec::new(),
         patch,
         triangle_patch: Vec::new(),
         mean_curvature,

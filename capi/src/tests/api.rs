@@ -903,6 +903,8 @@ fn quad_layout_views_match_rust() {
         assert_eq!(std::slice::from_raw_parts(c, clen), conv.mesh.cage_coords.as_flattened());
         assert_eq!(clen, 8 * 96);
         assert_eq!(gbsurf_mesh_cage_coords(r, null_mut(), &mut clen), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_mesh_cage_loop_corner(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(len, 0, "quad layout: the quads' cage corners serve their corners");
         assert_eq!(gbsurf_mesh_triangle_patch(r, &mut u, &mut len), GBSURF_OK);
         assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.triangle_patch[..]);
         gbsurf_result_free(r);
@@ -974,4 +976,47 @@ fn holed_slab_converts_and_bad_holes_get_their_codes() {
     // SAFETY: as above.
     assert_eq!(unsafe { convert_holed(&h, &mut out) }, GBSURF_ERR_NULL);
     assert!(last().contains("holes.indices"), "{}", last());
+}
+
+/// The triangle layout through the C ABI: per triangle corner the cage coordinates and the
+/// corner's own cage corner, equal to the Rust API's (6 values per triangle each).
+#[test]
+fn triangle_layout_cage_views_match_rust() {
+    let (p, s, f) = cube();
+    let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+    // SAFETY: writable struct, then initialized.
+    let mut o = unsafe {
+        gbsurf_options_init(o.as_mut_ptr());
+        o.assume_init()
+    };
+    o.method = GBSURF_METHOD_DUAL;
+    o.layout = GBSURF_LAYOUT_TRIANGLES;
+    o.resolution = 3;
+    let mut r = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut r) }, GBSURF_OK, "{}", last());
+    let faces = f.chunks(4).map(<[u32]>::to_vec).collect();
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    let opts = gbsurf::api::ConvertOptions {
+        method: gbsurf::api::Method::Dual,
+        layout: gbsurf::gb::Layout::Triangles,
+        resolution: 3,
+        ..gbsurf::api::ConvertOptions::default()
+    };
+    let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
+    let nt = conv.mesh.triangles.len();
+    // SAFETY: `r` is a live handle; all outputs are valid locals.
+    unsafe {
+        let (mut u, mut len) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_cage_loop_corner(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(len, 6 * nt);
+        assert_eq!(std::slice::from_raw_parts(u, len), conv.mesh.cage_loop_corner.as_flattened());
+        let (mut c, mut clen) = (null(), 0usize);
+        assert_eq!(gbsurf_mesh_cage_coords(r, &mut c, &mut clen), GBSURF_OK);
+        assert_eq!(clen, 6 * nt);
+        assert_eq!(std::slice::from_raw_parts(c, clen), conv.mesh.cage_coords.as_flattened());
+        assert_eq!(gbsurf_mesh_cage_loop_corner(r, null_mut(), &mut len), GBSURF_ERR_NULL);
+        assert_eq!(gbsurf_mesh_cage_loop_corner(null(), &mut u, &mut len), GBSURF_ERR_NULL);
+        gbsurf_result_free(r);
+    }
 }
