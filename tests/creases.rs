@@ -85,21 +85,26 @@ fn joins(s: &Surface) -> Joins {
     j
 }
 
-#[test]
-fn cube_with_every_edge_sharp_keeps_its_corners() {
-    let m = with_creases(cube(), |_| true, 1.0);
-    let c = convert(&m, &topology(), None).unwrap();
+/// The output of the cube `m` is the cube: largest coordinate 1, every corner hit, every point
+/// on a face (one coordinate at ±1).
+fn assert_is_the_cube(m: &PolyMesh, c: &gbsurf::api::Conversion) {
     let lim = c.mesh.positions.iter().flat_map(|p| p.to_array()).fold(0.0f64, |a, x| a.max(x.abs()));
     assert!((lim - 1.0).abs() <= 1e-12, "largest coordinate {lim}");
     for corner in &m.positions {
         let d = c.mesh.positions.iter().map(|p| p.distance(*corner)).fold(f64::INFINITY, f64::min);
         assert!(d <= 1e-12, "corner {corner} missed by {d}");
     }
-    // every output point lies on the cube's surface: one coordinate at ±1
     for p in &c.mesh.positions {
         let on = p.to_array().iter().any(|x| (x.abs() - 1.0).abs() <= 1e-9);
         assert!(on, "{p} is off the cube");
     }
+}
+
+#[test]
+fn cube_with_every_edge_sharp_keeps_its_corners() {
+    let m = with_creases(cube(), |_| true, 1.0);
+    let c = convert(&m, &topology(), None).unwrap();
+    assert_is_the_cube(&m, &c);
     assert_eq!(c.report.sharp_edges, 12);
     assert_eq!(c.report.folds, 0);
     // the subdivision methods ignore creases, with a warning
@@ -339,16 +344,7 @@ fn surface_distance(a: &gbsurf::api::Conversion, b: &gbsurf::api::Conversion) ->
 fn dual_cube_with_every_edge_sharp_is_the_cube() {
     let m = with_creases(cube(), |_| true, 1.0);
     let c = convert(&m, &dual(), None).unwrap();
-    let lim = c.mesh.positions.iter().flat_map(|p| p.to_array()).fold(0.0f64, |a, x| a.max(x.abs()));
-    assert!((lim - 1.0).abs() <= 1e-12, "largest coordinate {lim}");
-    for corner in &m.positions {
-        let d = c.mesh.positions.iter().map(|p| p.distance(*corner)).fold(f64::INFINITY, f64::min);
-        assert!(d <= 1e-12, "corner {corner} missed by {d}");
-    }
-    for p in &c.mesh.positions {
-        let on = p.to_array().iter().any(|x| (x.abs() - 1.0).abs() <= 1e-9);
-        assert!(on, "{p} is off the cube");
-    }
+    assert_is_the_cube(&m, &c);
     assert!(c.warnings.is_empty(), "{:?}", c.warnings);
     assert_eq!(c.report.folds, 0);
     assert!(c.report.closed && c.report.self_intersections == 0);

@@ -38,6 +38,26 @@ def loop_uvs(mesh, name):
     return uv.reshape(-1, 2)
 
 
+def check_checker_uvs(uv, src_uv, st, loop_face, loop_corner, faces):
+    """The keep-corners rule on the checker cube, per output loop (`faces`: the output faces'
+    vertex indices, flattened in loop order): the cage corners' own UVs at (σ, τ) = (0, 0), the
+    face's mean UV at (1, 1) with every face met, one UV per (output vertex, cage face), and each
+    face's UVs inside its square."""
+    at = (st == 0).all(axis=1)
+    assert np.allclose(uv[at], src_uv[4 * loop_face[at] + loop_corner[at]], atol=1e-6)
+    at = (st == 1).all(axis=1)
+    assert set(loop_face[at].tolist()) == set(range(6))
+    centres = src_uv.reshape(6, 4, 2).mean(axis=1)
+    assert np.allclose(uv[at], centres[loop_face[at]], atol=1e-6)
+    verts = np.asarray(faces, dtype=np.int64).reshape(-1)
+    seen = {}
+    for v, f, u in zip(verts.tolist(), loop_face.tolist(), uv.tolist()):
+        prev = seen.setdefault((v, f), u)
+        assert np.allclose(prev, u, atol=1e-6), (v, f, prev, u)
+    lo = np.array([[f, f % 2] for f in range(6)], dtype=np.float32)[loop_face]
+    assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
+
+
 @pytest.mark.parametrize("method", STRUCTURES)
 def test_materials_and_uvs_follow_the_cage(method):
     src = cube_with_materials_and_checker()
@@ -68,20 +88,7 @@ def test_materials_and_uvs_follow_the_cage(method):
     # At the cage corners: the source's corner UV (faces are quads, 4 corners each).
     at = (st == 0).all(axis=1)
     assert at.sum() == 24
-    assert np.allclose(uv[at], src_uv[4 * loop_face[at] + loop_corner[at]], atol=1e-6)
-    # At the face centres: the mean of the face's UVs.
-    at = (st == 1).all(axis=1)
-    centres = src_uv.reshape(6, 4, 2).mean(axis=1)
-    assert np.allclose(uv[at], centres[loop_face[at]], atol=1e-6)
-    # Continuous within each cage face: one UV per (output vertex, cage face).
-    verts = np.asarray(conv.quads, dtype=np.int64).reshape(-1)
-    seen = {}
-    for v, f, u in zip(verts.tolist(), loop_face.tolist(), uv.tolist()):
-        prev = seen.setdefault((v, f), u)
-        assert np.allclose(prev, u, atol=1e-6), (v, f, prev, u)
-    # Within each cage face the UVs stay in that face's square.
-    lo = np.array([[f, f % 2] for f in range(6)], dtype=np.float32)[loop_face]
-    assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
+    check_checker_uvs(uv, src_uv, st, loop_face, loop_corner, conv.quads)
 
 
 @pytest.mark.parametrize("method", STRUCTURES)
@@ -115,20 +122,7 @@ def test_triangle_layout_carries_materials_and_uvs(method):
     # At the cage corners: the source's corner UV, every one of the 24 corners met.
     at = (st == 0).all(axis=1)
     assert len(set(zip(loop_face[at].tolist(), loop_corner[at].tolist()))) == 24
-    assert np.allclose(uv[at], src_uv[4 * loop_face[at] + loop_corner[at]], atol=1e-6)
-    # At the face centres: the mean of the face's UVs, every face met.
-    at = (st == 1).all(axis=1)
-    assert set(loop_face[at].tolist()) == set(range(6))
-    centres = src_uv.reshape(6, 4, 2).mean(axis=1)
-    assert np.allclose(uv[at], centres[loop_face[at]], atol=1e-6)
-    # Continuous within each cage face: one UV per (output vertex, cage face).
-    verts = np.asarray(conv.triangles, dtype=np.int64).reshape(-1)
-    seen = {}
-    for v, f, u in zip(verts.tolist(), loop_face.tolist(), uv.tolist()):
-        prev = seen.setdefault((v, f), u)
-        assert np.allclose(prev, u, atol=1e-6), (v, f, prev, u)
-    lo = np.array([[f, f % 2] for f in range(6)], dtype=np.float32)[loop_face]
-    assert ((uv >= lo - 1e-6) & (uv <= lo + 1 + 1e-6)).all()
+    check_checker_uvs(uv, src_uv, st, loop_face, loop_corner, conv.triangles)
 
 
 def test_source_without_materials_keeps_the_colour_material():
