@@ -318,6 +318,27 @@ fn dual() -> ConvertOptions {
     ConvertOptions { method: Method::Dual, ..ConvertOptions::triangles_r8() }
 }
 
+/// The largest distance between an output quad corner and the keep-corners point of its cage
+/// coordinates (docs/math.md#cage-corners); panics on a quad whose (σ, τ) span no area.
+fn cage_point_error(m: &PolyMesh, c: &gbsurf::api::Conversion) -> f64 {
+    let mut worst = 0.0f64;
+    for (k, (q, cc)) in c.mesh.quads.iter().zip(&c.mesh.cage_corner).enumerate() {
+        let face = &m.faces[cc[0] as usize];
+        let (len, i) = (face.len(), cc[1] as usize);
+        let p = |j: usize| m.positions[face[j % len] as usize];
+        let (v, next, prev) = (p(i), p(i + 1), p(i + len - 1));
+        let centre = face.iter().map(|&x| m.positions[x as usize]).sum::<glam::DVec3>() / len as f64;
+        let st = &c.mesh.cage_coords[4 * k..4 * k + 4];
+        let area = (0..4).map(|a| st[a][0] * st[(a + 1) % 4][1] - st[(a + 1) % 4][0] * st[a][1]).sum::<f64>().abs() / 2.0;
+        assert!(area > 1e-6, "quad {k} is flat in (σ, τ): {st:?}");
+        for (corner, &[sg, ta]) in q.iter().zip(st) {
+            let at = (1.0 - sg) * (1.0 - ta) * v + sg * (1.0 - ta) * (v + next) / 2.0 + sg * ta * centre + (1.0 - sg) * ta * (v + prev) / 2.0;
+            worst = worst.max(at.distance(c.mesh.positions[*corner as usize]));
+        }
+    }
+    worst
+}
+
 /// The dual conversion in the default quad layout (cage corners and coordinates).
 fn dual_quads(m: &PolyMesh) -> gbsurf::api::Conversion {
     convert(m, &ConvertOptions { method: Method::Dual, ..Default::default() }, None).unwrap()
@@ -350,16 +371,19 @@ fn dual_cube_with_every_edge_sharp_is_the_cube() {
     assert!(c.report.closed && c.report.self_intersections == 0);
     // Every output face keeps its cage face (UVs and materials follow it): each sector of a
     // corner lies on one face of the cube, the one its cage corner names.
+    // Its cage coordinates say where it is: the output is the cube, so the keep-corners point
+    // of each quad corner, (1−σ)(1−τ)·V + σ(1−τ)·M_next + στ·c_f + (1−σ)τ·M_prev of its cage
+    // corner, lies near the output vertex, and no quad is flat in (σ, τ) (a checker texture
+    // would smear).
     let quads = dual_quads(&m);
+    let worst = cage_point_error(&m, &quads);
+    println!("dual cube, every edge sharp: cage coordinates within {worst:.3} of the vertices");
+    assert!(worst <= 0.2, "a quad corner lies {worst} from its cage point");
     for (q, cc) in quads.mesh.quads.iter().zip(&quads.mesh.cage_corner) {
         let face = &m.faces[cc[0] as usize];
-        assert_eq!(m.faces[cc[0] as usize][cc[1] as usize], face[cc[1] as usize]);
         let normal = (m.positions[face[1] as usize] - m.positions[face[0] as usize]).cross(m.positions[face[2] as usize] - m.positions[face[0] as usize]).normalize();
         let centre = q.iter().map(|&i| quads.mesh.positions[i as usize]).sum::<glam::DVec3>() / 4.0;
         assert!((centre.dot(normal) - 1.0).abs() <= 1e-9, "quad at {centre} is not on its cage face {face:?}");
-    }
-    for st in &quads.mesh.cage_coords {
-        assert!(st.iter().all(|x| (0.0..=1.0).contains(x)), "{st:?}");
     }
     println!("dual cube, every edge sharp: {} patches, {} sharp sides", c.report.patches, c.report.sharp_edges);
 }
@@ -377,6 +401,11 @@ fn dual_sharp_loop_is_g0_there_and_g1_elsewhere() {
     assert!(j.sharp_min_angle >= 5.0, "the crease is not sharp: {}°", j.sharp_min_angle);
     let c = convert(&m, &dual(), None).unwrap();
     assert_eq!(c.report.sharp_edges, 4);
+    let quads = dual_quads(&m);
+    let worst = cage_point_error(&m, &quads);
+    let plain = cage_point_error(&base, &dual_quads(&base));
+    println!("dual sharp loop: cage coordinates within {worst:.3} of the vertices (no crease: {plain:.3})");
+    assert!(worst <= plain + 0.1, "{worst} against {plain} without the crease");
     assert!(c.report.max_g1_deg <= 1e-4, "report G1 {}", c.report.max_g1_deg);
     assert_eq!(c.report.folds, 0, "{:?} flipped {}", c.report.fold_sites, c.report.flipped_triangles);
     assert!(c.report.closed && c.report.self_intersections == 0);

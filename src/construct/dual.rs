@@ -231,8 +231,13 @@ pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mu
     let mut crease_warnings = Vec::new();
     if prep.mesh.has_creases() {
         // Creases split the vertex patches along closed sharp chains (docs/math.md#dual-creases);
-        // the split needs the smooth surface S₀ it starts from.
-        let smooth = super::network::assemble(&net, opts).map_err(|e| prep.error(e, true))?;
+        // the split needs the smooth surface S₀ it starts from (assembled only when an edge is
+        // cut; an empty surface otherwise, which the split does not read).
+        let smooth = if super::dual_crease::cut_edges(&prep.mesh).0.iter().any(|&c| c) {
+            ticker.within(PREPARE, NETWORK, |t| super::network::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?
+        } else {
+            Surface { patches: Vec::new(), neighbors: Vec::new(), sources: Vec::new(), curves: Vec::new(), warnings: Vec::new(), cage: Vec::new(), creases: Vec::new() }
+        };
         let (split, edges, corners) = super::dual_crease::split_creases(&prep.mesh, &net, &smooth, &cage, opts);
         let v = |x: VertexId| prep.vertex_origin.get(x.idx()).copied().unwrap_or(x.idx());
         if let Some((a, b)) = edges.first() {

@@ -80,7 +80,7 @@ pub struct CreaseSplit {
 
 /// The cut edges of `mesh` (see the module doc): the 2-core of its interior sharp edges between
 /// interior vertices. Returns (cut flag per edge, the sharp edges left out).
-fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
+pub fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
     let mut cut = vec![false; mesh.n_edges()];
     let mut count = vec![0usize; mesh.n_vertices()];
     let mut ignored = Vec::new();
@@ -131,6 +131,71 @@ struct EdgeCut {
 /// The widest sector (170°, between consecutive sharp edges at V, around S₀'s normal) with
 /// which three sharp edges still make V a corner.
 const MAX_CORNER_SECTOR: f64 = 170.0 * std::f64::consts::PI / 180.0;
+
+/// A point of a crease sector for its cage coordinates: the face centre of V's corner j, the
+/// midpoint of the edge of V's outgoing half-edge j, or V itself.
+#[derive(Clone, Copy)]
+enum Pt {
+    Face(usize),
+    Edge(usize),
+    Vertex,
+}
+
+/// A side's midpoint: a point, the mean of two, or the middle (a + 2V + b)/4 of a cut curve
+/// (the quadratic B-spline of the crease polygon at sharpness 1).
+#[derive(Clone, Copy)]
+enum Mid {
+    At(Pt),
+    Avg(Pt, Pt),
+    Crease(Pt, Pt),
+}
+
+/// The cage coordinates (σ, τ) of `p` in V's cage corner j (face(out_j)): (0,0) V, (1,0) the
+/// midpoint of edge out_j, (0,1) that of edge out_{j+1}, (1,1) the face centre; `None` when `p`
+/// is not a point of that corner. `n`: V's valence.
+fn frame_coords(j: usize, p: Pt, n: usize) -> Option<[f64; 2]> {
+    match p {
+        Pt::Vertex => Some([0.0, 0.0]),
+        Pt::Face(i) => (i == j).then_some([1.0, 1.0]),
+        Pt::Edge(i) if i == j => Some([1.0, 0.0]),
+        Pt::Edge(i) if i == (j + 1) % n => Some([0.0, 1.0]),
+        Pt::Edge(_) => None,
+    }
+}
+
+/// The cage row of a crease sector (docs/math.md#dual-creases): `corners[i]` = (the point at
+/// corner i, the cage corner j of V whose frame its quad sector uses), `mids[i]` = the midpoint
+/// of side i. The sector's centre maps to V, or, for a sector within one face, to the mean of its
+/// corners. Points outside a frame count as V.
+fn sector_cage(
+    corners: &[(Pt, usize)],
+    mids: &[Mid],
+    n: usize,
+    one_face: bool,
+    face_cage: &dyn Fn(usize) -> Option<CageSector>,
+) -> Vec<Option<CageSector>> {
+    let at = |j: usize, p: Pt| frame_coords(j, p, n).unwrap_or([0.0, 0.0]);
+    let add = |a: [f64; 2], b: [f64; 2], w: f64| [w * (a[0] + b[0]), w * (a[1] + b[1])];
+    let mid = |j: usize, m: Mid| match m {
+        Mid::At(p) => at(j, p),
+        Mid::Avg(a, b) => add(at(j, a), at(j, b), 0.5),
+        Mid::Crease(a, b) => add(at(j, a), at(j, b), 0.25),
+    };
+    let m = corners.len();
+    (0..m)
+        .map(|i| {
+            let (p, j) = corners[i];
+            let centre = if one_face {
+                let sum = corners.iter().fold([0.0, 0.0], |acc, &(q, _)| add(acc, at(j, q), 1.0));
+                [sum[0] / m as f64, sum[1] / m as f64]
+            } else {
+                [0.0, 0.0]
+            };
+            let map = SectorMap::corners(centre, mid(j, mids[i]), at(j, p), mid(j, mids[(i + 1) % m]));
+            face_cage(j).map(|c| CageSector { map, ..c })
+        })
+        .collect()
+}
 
 fn lerp4(x: [DVec3; 4], y: [DVec3; 4], t: f64) -> [DVec3; 4] {
     [0, 1, 2, 3].map(|i| x[i] + t * (y[i] - x[i]))
@@ -230,8 +295,10 @@ pub fn split_creases(
         }
         let vp = mesh.position(v);
         let lay = &net.patches[v.idx()];
-        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { continue };
-        let Ok(dom) = Domain::regular(n) else { continue };
+        // Both hold for the dual patch of an interior vertex; if not, nothing is split (the
+        // network built so far is dropped, never left half-split).
+        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { return (None, ignored_edges, ignored_corners) };
+        let Ok(dom) = Domain::regular(n) else { return (None, ignored_edges, ignored_corners) };
         let eval = |uv: DVec2| patch.eval_derivs(uv, opts.weights);
         // Per cut side j (index into js): node, direction towards V, halves as patch V traverses
         // side j: first (corner j−1 → F), second (F → corner j), with their SideUses.
@@ -374,7 +441,6 @@ pub fn split_creases(
         // twist of the unsplit patch (face corners) or None (parallelogram), and the cage sector.
         let row = cage.get(v.idx());
         let face_cage = |j: usize| row.and_then(|r| r.get(j % n)).copied();
-        let with = |c: Option<CageSector>, map| c.map(|c| CageSector { map, ..c });
         let mut parts: Vec<(Vec<SideUse>, Vec<Option<DVec3>>, Vec<Option<CageSector>>)> = Vec::new();
         for s in 0..kc {
             let (j0, j1) = (js[s], if s + 1 < kc { js[s + 1] } else { js[0] + n });
@@ -384,13 +450,23 @@ pub fn split_creases(
             sides_out.push(sides[s1].first_use);
             sides_out.extend(closing[s].iter().copied());
             let mut twists: Vec<Option<DVec3>> = (j0..j1).map(|j| Some(lay.corner_twists[j % n])).collect();
-            let mut cage_row: Vec<Option<CageSector>> = (j0..j1).map(face_cage).collect();
             twists.extend(std::iter::repeat_n(None, closing[s].len() + 1));
-            cage_row.push(with(face_cage(j1 - 1), SectorMap::OpenEnd));
-            if kc > 2 {
-                cage_row.push(with(face_cage(j0), SectorMap::Point));
+            // Cage coordinates (docs/math.md#cage-corners): every corner and side midpoint of
+            // the sector as a point of V's cage corners, each quad sector in one face's frame.
+            let mut corners: Vec<(Pt, usize)> = (j0..j1).map(|j| (Pt::Face(j % n), j % n)).collect();
+            let mut mids: Vec<Mid> = vec![Mid::Avg(Pt::Edge(j0 % n), Pt::Face(j0 % n))];
+            mids.extend((j0 + 1..j1).map(|j| Mid::At(Pt::Edge(j % n))));
+            mids.push(Mid::Avg(Pt::Face((j1 - 1) % n), Pt::Edge(j1 % n)));
+            corners.push((Pt::Edge(j1 % n), (j1 - 1) % n));
+            if kc == 2 {
+                mids.push(Mid::Crease(Pt::Edge(j1 % n), Pt::Edge(j0 % n)));
+            } else {
+                mids.push(Mid::Avg(Pt::Edge(j1 % n), Pt::Vertex));
+                mids.push(Mid::Avg(Pt::Vertex, Pt::Edge(j0 % n)));
+                corners.push((Pt::Vertex, j0 % n));
             }
-            cage_row.push(with(face_cage(j0), SectorMap::OpenStart));
+            corners.push((Pt::Edge(j0 % n), j0 % n));
+            let cage_row = sector_cage(&corners, &mids, n, j1 - j0 == 1, &face_cage);
             parts.push((sides_out, twists, cage_row));
         }
         for (i, (sides_out, twists, cage_row)) in parts.into_iter().enumerate() {

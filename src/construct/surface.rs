@@ -68,9 +68,10 @@ pub enum SectorMap {
     /// Dual boundary patch, the sector between the last boundary edge and the open side:
     /// (σ, τ) = (0, s).
     OpenEnd,
-    /// Dual crease sector (docs/math.md#dual-creases), the sector around the centre node where
-    /// three or more crease curves meet: collapsed onto the cage vertex, (σ, τ) = (0, 0).
-    Point,
+    /// Dual crease sector (docs/math.md#dual-creases): the cage coordinates of the sector's four
+    /// points (centre, midpoint of side i, corner i, midpoint of side i+1) in units of 1/65535,
+    /// bilinear in between.
+    Corners([[u16; 2]; 4]),
 }
 
 impl SectorMap {
@@ -81,10 +82,24 @@ impl SectorMap {
             SectorMap::Vertex => [s, t],
             SectorMap::OpenStart => [t, 0.0],
             SectorMap::OpenEnd => [0.0, s],
-            SectorMap::Point => [0.0, 0.0],
+            SectorMap::Corners(q) => {
+                let v = |k: usize, i: usize| q[k][i] as f64 / CORNERS_UNIT;
+                let at = |i: usize| (1.0 - s) * (1.0 - t) * v(0, i) + s * (1.0 - t) * v(1, i) + s * t * v(2, i) + (1.0 - s) * t * v(3, i);
+                [at(0), at(1)]
+            }
         }
     }
+
+    /// [`SectorMap::Corners`] from the cage coordinates of the sector's centre, its two side
+    /// midpoints and its corner (each clamped to [0, 1]).
+    pub fn corners(centre: [f64; 2], mid_i: [f64; 2], corner: [f64; 2], mid_next: [f64; 2]) -> SectorMap {
+        let q = |p: [f64; 2]| p.map(|x| (x.clamp(0.0, 1.0) * CORNERS_UNIT).round() as u16);
+        SectorMap::Corners([q(centre), q(mid_i), q(corner), q(mid_next)])
+    }
 }
+
+/// The unit of [`SectorMap::Corners`]: coordinates are stored as multiples of 1/65535.
+const CORNERS_UNIT: f64 = u16::MAX as f64;
 
 /// The cage corner (face, corner) a patch corner's sector lies in, in the numbering of the mesh
 /// the surface was built from: `corner` is the position of the vertex in the face's vertex list.
