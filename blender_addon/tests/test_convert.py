@@ -230,6 +230,41 @@ def test_cube_with_crease_edge_one_keeps_its_corners(method):
     assert np.linalg.norm(np.abs(pos) - 1.0, axis=1).min() > 0.1  # the corners are rounded off
 
 
+@pytest.mark.parametrize("method,start", [('TOPOLOGY', 0.0), ('DUAL', 0.05)])
+def test_semi_sharp_crease_sweep_moves_the_surface_a_little_per_step(method, start):
+    """An animated crease: the top loop of Blender's cube swept from `start` to 1 in steps of
+    0.05 through `crease_edge`. The output keeps its vertex count and each step moves every
+    vertex by less than 0.05 (the cube has edge 2). The dual structure starts at 0.05: it splits
+    its patches as soon as c > 0 (docs/math.md#dual-creases), a step of its own (0.054 in the
+    library's test)."""
+    mod = helpers.mesh_module()
+    src = helpers.add_primitive("cube")
+    co = np.empty(3 * len(src.data.vertices), dtype=np.float32)
+    src.data.vertices.foreach_get("co", co)
+    top = co.reshape(-1, 3)[:, 2] > 0
+    ev = np.empty(2 * len(src.data.edges), dtype=np.int32)
+    src.data.edges.foreach_get("vertices", ev)
+    loop = top[ev.reshape(-1, 2)].all(axis=1)
+    assert loop.sum() == 4
+    attr = src.data.attributes.new("crease_edge", 'FLOAT', 'EDGE')
+    prev, first, worst = None, None, 0.0
+    for k in range(round(start / 0.05), 21):
+        attr.data.foreach_set("value", np.where(loop, 0.05 * k, 0.0).astype(np.float32))
+        src.data.update()
+        out = mod.core.convert_object(src, method=method, resolution=2)
+        pos = helpers.mesh_arrays(out.data)[0]
+        bpy.data.objects.remove(out)
+        if prev is not None:
+            assert pos.shape == prev.shape, k
+            step = np.linalg.norm(pos - prev, axis=1).max()
+            worst = max(worst, step)
+            assert step < 0.05, (k, step)
+        prev = pos
+        first = pos if first is None else first
+    # ... and the whole sweep does change the surface (the crease is read at all)
+    assert np.linalg.norm(prev - first, axis=1).max() > 0.2
+
+
 def test_a_folded_result_says_so_and_marks_the_fold():
     """A unit cube with its corner (1, 1, 1) pulled inside to (-0.5, -0.5, -0.5): the dual
     surface folds. The result's info says NOT VALID with the report's figures, and `gb_fold`
