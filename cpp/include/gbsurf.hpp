@@ -173,6 +173,15 @@ public:
     /// Three vertex indices per triangle, counter-clockwise.
     span<uint32_t> triangles() const& { return view(gbsurf_mesh_triangles); }
     span<uint32_t> triangles() const&& = delete;
+    /// Quad layout (the default): the output faces, four vertex indices per quad,
+    /// counter-clockwise; empty in the triangle layout and for the subdivision methods.
+    std::size_t quad_count() const { return count(gbsurf_mesh_quad_count); }
+    span<uint32_t> quads() const& { return view(gbsurf_mesh_quads); }
+    span<uint32_t> quads() const&& = delete;
+    /// Per output face (quads when there are any, else triangles): its cage corner, the input
+    /// face and the position of the vertex in it (UINT32_MAX when unknown).
+    span<uint32_t> cage_corner() const& { return view(gbsurf_mesh_cage_corner); }
+    span<uint32_t> cage_corner() const&& = delete;
     /// Patch (or, for subdivision, input face) index per vertex.
     span<uint32_t> patch_index() const& { return view(gbsurf_mesh_patch_index); }
     span<uint32_t> patch_index() const&& = delete;

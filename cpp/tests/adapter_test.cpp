@@ -119,6 +119,26 @@ static void good_model(const std::string& dir) {
             CHECK(r.patch_count() == (m == gbsurf::method::dual ? 8u : 6u));
             CHECK(r.report().closed == 1);
             CHECK(r.patches_with_sides(m == gbsurf::method::dual ? 3 : 4) == r.patch_count());
+            // The output faces as a PolyMesh: the quads of the default layout.
+            gbsurf::result rq = gbsurf::openmesh::convert_to_result(in, gbsurf::options().method(m));
+            gbsurf::openmesh::PolyMesh poly = gbsurf::openmesh::to_polymesh(rq);
+            CHECK(rq.quad_count() > 0 && poly.n_faces() == rq.quad_count());
+            CHECK(poly.n_vertices() == rq.vertex_count());
+            // r = 2 on the cube: 96 quads, the count of Subdivision Surface level 2.
+            CHECK(poly.n_faces() == 96);
+            OpenMesh::FPropHandleT<int> cf;
+            CHECK(poly.get_property_handle(cf, gbsurf::openmesh::cage_face_property_name()));
+            std::vector<int> per_cage(6, 0);
+            for (auto fh : poly.faces()) {
+                CHECK(poly.valence(fh) == 4);
+                int c = poly.property(cf, fh);
+                CHECK(c >= 0 && c < 6);
+                if (c >= 0 && c < 6) ++per_cage[c];
+            }
+            for (int c : per_cage) CHECK(c == 16);
+            bool closed = true;
+            for (auto eh : poly.edges()) closed = closed && !poly.is_boundary(eh);
+            CHECK(closed);
             auto curves = gbsurf::openmesh::curve_network(r);
             CHECK(r.curve_count() == 12);
             CHECK(curves.n_vertices() > 0 && curves.n_edges() > 0);

@@ -238,6 +238,67 @@ inline TriMesh to_trimesh(const result& r) {
     return out;
 }
 
+/// On to_polymesh's output: per face, the input face it lies in (-1 when unknown).
+inline const char* cage_face_property_name() { return "gbsurf:cage_face"; }
+
+/// The output faces of a result as an OpenMesh PolyMesh: the quads of the quad layout (the
+/// default; n·r² per n-sided patch, like Subdivision Surface level L at r = 2^(L−1)), else the
+/// triangles, with normals, the vertex properties of to_trimesh and the face property
+/// "gbsurf:cage_face" (materials and per-face data of the input follow it).
+inline PolyMesh to_polymesh(const result& r) {
+    PolyMesh out;
+    auto pos = r.positions();
+    auto nrm = r.normals();
+    auto pat = r.patch_index();
+    auto h = r.mean_curvature();
+    auto k = r.gaussian_curvature();
+    auto g = r.g1_deviation();
+    auto quads = r.quads();
+    auto tris = r.triangles();
+    auto cage = r.cage_corner();
+    const bool q = !quads.empty();
+    const std::size_t m = q ? 4 : 3;
+    auto corners = q ? quads : tris;
+    const std::size_t nv = pos.size() / 3;
+    out.request_vertex_normals();
+    auto ph = detail::vprop<int>(out, patch_property_name());
+    auto hh = detail::vprop<double>(out, mean_curvature_property_name());
+    auto kh = detail::vprop<double>(out, gaussian_curvature_property_name());
+    auto gh = detail::vprop<double>(out, g1_deviation_property_name());
+    OpenMesh::FPropHandleT<int> fh_cage;
+    out.add_property(fh_cage, cage_face_property_name());
+    std::vector<PolyMesh::VertexHandle> vhs;
+    vhs.reserve(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+        auto vh = out.add_vertex(PolyMesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+        if (nrm.size() == pos.size()) out.set_normal(vh, PolyMesh::Normal(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]));
+        out.property(ph, vh) = i < pat.size() ? static_cast<int>(pat[i]) : -1;
+        out.property(hh, vh) = i < h.size() ? h[i] : 0.0;
+        out.property(kh, vh) = i < k.size() ? k[i] : 0.0;
+        out.property(gh, vh) = i < g.size() ? g[i] : 0.0;
+        vhs.push_back(vh);
+    }
+    std::vector<PolyMesh::VertexHandle> face(m);
+    for (std::size_t f = 0; m * f + m - 1 < corners.size(); ++f) {
+        for (std::size_t c = 0; c < m; ++c) face[c] = vhs[corners[m * f + c]];
+        auto fh = out.add_face(face);
+        if (!fh.is_valid()) {
+            throw error(GBSURF_ERR_INVALID_MESH, std::string("OpenMesh rejected output ") + (q ? "quad " : "triangle ") +
+                                                     std::to_string(f) + " (non-manifold)");
+        }
+        const bool known = 2 * f + 1 < cage.size() && cage[2 * f] != UINT32_MAX;
+        out.property(fh_cage, fh) = known ? static_cast<int>(cage[2 * f]) : -1;
+    }
+    return out;
+}
+
+/// Converts an OpenMesh polygon mesh into a PolyMesh of its output faces (see convert_to_result
+/// and to_polymesh).
+template <class InMesh>
+PolyMesh convert_poly(const InMesh& in, const options& opt = options(), const progress_fn& progress = {}) {
+    return to_polymesh(convert_to_result(in, opt, progress));
+}
+
 /// Converts an OpenMesh polygon mesh into a TriMesh (see convert_to_result and to_trimesh).
 template <class InMesh>
 TriMesh convert(const InMesh& in, const options& opt = options(), const progress_fn& progress = {}) {
