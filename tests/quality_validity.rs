@@ -130,6 +130,31 @@ fn a_cage_with_a_corner_pulled_through_intersects_itself() {
 }
 
 #[test]
+fn folds_where_the_cage_folds_are_attributed_to_the_cage() {
+    use gbsurf::quality::validity::cage_fold_vertices;
+    // The plain cube has no cage fold. With its corner 7 = (1, 1, 1) pulled inside to
+    // (−0.5, −0.5, −0.5), the three faces at 7 turn back at their corners opposite 7 (vertices
+    // 1, 2 and 4), and vertex 0, away from the pulled faces, stays unflagged.
+    assert!(!cage_fold_vertices(&HalfEdgeMesh::from_polymesh(&cube(None)).unwrap()).iter().any(|&b| b));
+    let bad = cube(Some(DVec3::new(-0.5, -0.5, -0.5)));
+    let flags = cage_fold_vertices(&HalfEdgeMesh::from_polymesh(&bad).unwrap());
+    let at: Vec<usize> = (0..8).filter(|&v| flags[v]).collect();
+    assert!(!at.is_empty() && !at.contains(&0), "{at:?}");
+    for method in [Method::Dual, Method::Topology] {
+        let Ok(c) = convert(&bad, &ConvertOptions { method, ..Default::default() }, None) else { continue };
+        if c.report.folds == 0 {
+            continue;
+        }
+        let w = c.warnings.iter().find(|w| w.contains("where the cage itself turns back")).unwrap_or_else(|| panic!("{method}: {:?}", c.warnings));
+        assert!(w.contains(&format!("of the {} folded patches", c.report.folds)), "{w}");
+        println!("{method}: {w}");
+    }
+    // A surface without folds says nothing of the kind.
+    let c = convert(&cube(None), &ConvertOptions::default(), None).unwrap();
+    assert!(!c.warnings.iter().any(|w| w.contains("cage itself turns back")), "{:?}", c.warnings);
+}
+
+#[test]
 fn every_shared_model_is_valid_with_both_structures() {
     let mut models: Vec<_> = std::fs::read_dir(MODELS)
         .unwrap()

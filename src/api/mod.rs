@@ -254,6 +254,14 @@ fn convert_valid(
         report.folds = folds.patches;
         report.fold_sites = folds.sites;
         report.flipped_triangles = folds.flipped_triangles;
+        let (at_cage, first) = crate::quality::validity::folds_at_cage_folds(&m, &surface.sources, he);
+        if let Some(v) = first {
+            warnings.push(format!(
+                "{at_cage} of the {} folded patches lie where the cage itself turns back (an incident face more than 90° from the vertex normal; the first at vertex {}): smoothing the cage there is the likely fix",
+                report.folds,
+                v
+            ));
+        }
         (m, Some(surface))
     } else {
         ticker.stage(0.0, SUBDIV_STAGES[0])?;

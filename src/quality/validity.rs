@@ -91,6 +91,61 @@ impl Folds {
     }
 }
 
+/// Vertices where the cage itself turns back: an incident face's Newell normal lies more than
+/// 90° from the vertex normal (the sum of the incident faces' Newell normals, so area-weighted).
+/// A smooth surface over such a vertex has to turn as sharply, and the folds of public cages
+/// sit there (MeshLab's cow; OpenSubdiv's rook: 17 of its 18 dual folds), so the report points
+/// at them; it is a diagnosis, not a proof that the cage causes the fold.
+pub fn cage_fold_vertices(cage: &crate::mesh::HalfEdgeMesh) -> Vec<bool> {
+    use crate::mesh::geometry::newell_normal;
+    let normals: Vec<DVec3> = (0..cage.n_faces() as u32)
+        .map(|f| {
+            let pts: Vec<DVec3> = cage.face_vertices(crate::mesh::FaceId(f)).map(|v| cage.position(v)).collect();
+            newell_normal(&pts)
+        })
+        .collect();
+    cage.vertices()
+        .map(|v| {
+            let faces: Vec<DVec3> = cage.vertex_outgoing(v).filter_map(|h| cage.face(h)).map(|f| normals[f.idx()]).collect();
+            let n = faces.iter().copied().sum::<DVec3>();
+            faces.iter().any(|f| f.dot(n) < 0.0)
+        })
+        .collect()
+}
+
+/// Of the folded patches of `mesh` (as [`Folds::of_tessellation`] counts them), those whose
+/// cage element (`sources`, numbered like `cage`) has a vertex where the cage itself folds
+/// ([`cage_fold_vertices`]): their number and the first such cage vertex.
+pub fn folds_at_cage_folds(mesh: &SurfaceMesh, sources: &[crate::construct::PatchSource], cage: &crate::mesh::HalfEdgeMesh) -> (usize, Option<usize>) {
+    use crate::construct::PatchSource;
+    let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
+    for &t in &mesh.flipped_triangles {
+        if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
+            *f = true;
+        }
+    }
+    if !folded.iter().any(|&f| f) {
+        return (0, None);
+    }
+    let bad = cage_fold_vertices(cage);
+    let at = |v: usize| bad.get(v).copied().unwrap_or(false);
+    let (mut count, mut first) = (0, None);
+    for (p, _) in folded.iter().enumerate().filter(|x| *x.1) {
+        let hit = match sources.get(p) {
+            Some(&PatchSource::Vertex(v)) => at(v).then_some(v),
+            Some(&PatchSource::Face(f)) if f < cage.n_faces() => {
+                cage.face_vertices(crate::mesh::FaceId(f as u32)).map(|v| v.idx()).find(|&v| at(v))
+            }
+            _ => None,
+        };
+        if let Some(v) = hit {
+            count += 1;
+            first = first.or(Some(v));
+        }
+    }
+    (count, first)
+}
+
 /// Fold sampling level for tessellation resolution `r`: twice as dense as the tessellation, at
 /// least 8 steps per domain triangle.
 pub fn fold_level(resolution: usize) -> usize {
