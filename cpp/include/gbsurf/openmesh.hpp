@@ -201,33 +201,43 @@ result convert_to_result(const InMesh& in, const options& opt = options(), const
     }
 }
 
-/// The output mesh of a result as an OpenMesh TriMesh with normals and the gbsurf properties.
-inline TriMesh to_trimesh(const result& r) {
-    TriMesh out;
+namespace detail {
+/// The output vertices of `r` added to `out` with their normals and the gbsurf vertex
+/// properties (shared by to_trimesh and to_polymesh).
+template <class Mesh>
+std::vector<typename Mesh::VertexHandle> add_output_vertices(Mesh& out, const result& r) {
     auto pos = r.positions();
     auto nrm = r.normals();
-    auto tri = r.triangles();
     auto pat = r.patch_index();
     auto h = r.mean_curvature();
     auto k = r.gaussian_curvature();
     auto g = r.g1_deviation();
     const std::size_t nv = pos.size() / 3;
     out.request_vertex_normals();
-    auto ph = detail::vprop<int>(out, patch_property_name());
-    auto hh = detail::vprop<double>(out, mean_curvature_property_name());
-    auto kh = detail::vprop<double>(out, gaussian_curvature_property_name());
-    auto gh = detail::vprop<double>(out, g1_deviation_property_name());
-    std::vector<TriMesh::VertexHandle> vhs;
+    auto ph = vprop<int>(out, patch_property_name());
+    auto hh = vprop<double>(out, mean_curvature_property_name());
+    auto kh = vprop<double>(out, gaussian_curvature_property_name());
+    auto gh = vprop<double>(out, g1_deviation_property_name());
+    std::vector<typename Mesh::VertexHandle> vhs;
     vhs.reserve(nv);
     for (std::size_t i = 0; i < nv; ++i) {
-        auto vh = out.add_vertex(TriMesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
-        if (nrm.size() == pos.size()) out.set_normal(vh, TriMesh::Normal(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]));
+        auto vh = out.add_vertex(typename Mesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+        if (nrm.size() == pos.size()) out.set_normal(vh, typename Mesh::Normal(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]));
         out.property(ph, vh) = i < pat.size() ? static_cast<int>(pat[i]) : -1;
         out.property(hh, vh) = i < h.size() ? h[i] : 0.0;
         out.property(kh, vh) = i < k.size() ? k[i] : 0.0;
         out.property(gh, vh) = i < g.size() ? g[i] : 0.0;
         vhs.push_back(vh);
     }
+    return vhs;
+}
+}  // namespace detail
+
+/// The output mesh of a result as an OpenMesh TriMesh with normals and the gbsurf properties.
+inline TriMesh to_trimesh(const result& r) {
+    TriMesh out;
+    auto tri = r.triangles();
+    auto vhs = detail::add_output_vertices(out, r);
     for (std::size_t t = 0; 3 * t + 2 < tri.size(); ++t) {
         auto fh = out.add_face(vhs[tri[3 * t]], vhs[tri[3 * t + 1]], vhs[tri[3 * t + 2]]);
         if (!fh.is_valid()) {
@@ -247,37 +257,15 @@ inline const char* cage_face_property_name() { return "gbsurf:cage_face"; }
 /// "gbsurf:cage_face" (materials and per-face data of the input follow it).
 inline PolyMesh to_polymesh(const result& r) {
     PolyMesh out;
-    auto pos = r.positions();
-    auto nrm = r.normals();
-    auto pat = r.patch_index();
-    auto h = r.mean_curvature();
-    auto k = r.gaussian_curvature();
-    auto g = r.g1_deviation();
     auto quads = r.quads();
     auto tris = r.triangles();
     auto cage = r.cage_corner();
     const bool q = !quads.empty();
     const std::size_t m = q ? 4 : 3;
     auto corners = q ? quads : tris;
-    const std::size_t nv = pos.size() / 3;
-    out.request_vertex_normals();
-    auto ph = detail::vprop<int>(out, patch_property_name());
-    auto hh = detail::vprop<double>(out, mean_curvature_property_name());
-    auto kh = detail::vprop<double>(out, gaussian_curvature_property_name());
-    auto gh = detail::vprop<double>(out, g1_deviation_property_name());
     OpenMesh::FPropHandleT<int> fh_cage;
     out.add_property(fh_cage, cage_face_property_name());
-    std::vector<PolyMesh::VertexHandle> vhs;
-    vhs.reserve(nv);
-    for (std::size_t i = 0; i < nv; ++i) {
-        auto vh = out.add_vertex(PolyMesh::Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
-        if (nrm.size() == pos.size()) out.set_normal(vh, PolyMesh::Normal(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]));
-        out.property(ph, vh) = i < pat.size() ? static_cast<int>(pat[i]) : -1;
-        out.property(hh, vh) = i < h.size() ? h[i] : 0.0;
-        out.property(kh, vh) = i < k.size() ? k[i] : 0.0;
-        out.property(gh, vh) = i < g.size() ? g[i] : 0.0;
-        vhs.push_back(vh);
-    }
+    auto vhs = detail::add_output_vertices(out, r);
     std::vector<PolyMesh::VertexHandle> face(m);
     for (std::size_t f = 0; m * f + m - 1 < corners.size(); ++f) {
         for (std::size_t c = 0; c < m; ++c) face[c] = vhs[corners[m * f + c]];
