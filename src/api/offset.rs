@@ -19,6 +19,7 @@ use crate::gb::{Domain, Evaluate, SurfaceDerivs};
 use crate::mesh::PolyMesh;
 use crate::offset::pn::{IsotropicFrame, PnError, PnGrid, PnRational, PnSurface};
 use glam::{DMat3, DVec2, DVec3};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// A PN piece whose surface is farther than this times the size of its grid from the GB surface
@@ -355,21 +356,32 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     let total = *grid_slots.offsets.last().unwrap_or(&0);
     let mut report = OffsetReport { distance: d, grid: g, shell: off.shell, ..Default::default() };
 
-    // 1. Raw grid data per slot, from the slot's own patch.
+    // 1. Raw grid data per slot, from the slot's own patch (patches in parallel, written in
+    // patch order: the same result as a serial loop).
     let mut raw = vec![Raw::default(); total];
-    for (p, patch) in surface.patches.iter().enumerate() {
-        let Some(dom) = &domains[p] else { continue };
-        for k in 0..patch.sides() {
-            for i in 0..g {
-                for j in 0..g {
-                    let (uv, ps, pt) = piece_point(dom, k, i as f64 / gl, j as f64 / gl);
-                    let sd = patch.eval_derivs(uv, form);
-                    if let Some((x, n, nu, nv)) = normal_jet(&sd, ps / gl, pt / gl) {
-                        raw[grid_slots.id(p, k, i, j)] = Raw { x, n, nu, nv, ok: true };
+    let per_patch: Vec<Vec<(usize, Raw)>> = surface
+        .patches
+        .par_iter()
+        .enumerate()
+        .map(|(p, patch)| {
+            let mut out = Vec::new();
+            let Some(dom) = &domains[p] else { return out };
+            for k in 0..patch.sides() {
+                for i in 0..g {
+                    for j in 0..g {
+                        let (uv, ps, pt) = piece_point(dom, k, i as f64 / gl, j as f64 / gl);
+                        let sd = patch.eval_derivs(uv, form);
+                        if let Some((x, n, nu, nv)) = normal_jet(&sd, ps / gl, pt / gl) {
+                            out.push((grid_slots.id(p, k, i, j), Raw { x, n, nu, nv, ok: true }));
+                        }
                     }
                 }
             }
-        }
+            out
+        })
+        .collect();
+    for (id, r) in per_patch.into_iter().flatten() {
+        raw[id] = r;
     }
 
     // 2. Rays of every incidence, grouped by root.
@@ -468,68 +480,21 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
         }
     }
 
-    // 4. One PN surface per piece.
+    // 4. One PN surface per piece: the fits of each patch in parallel, then merged into the
+    // report in patch order (the same report as a serial loop).
     let fr = frames();
+    let fits: Vec<Vec<Result<(PnSurface, usize), String>>> = surface
+        .patches
+        .par_iter()
+        .enumerate()
+        .map(|(p, patch)| (0..patch.sides()).map(|k| fit_piece(surface, &domains, &grid_slots, &raw, &shared_nu, &shared_nv, &fr, form, g, p, k)).collect())
+        .collect();
     let mut pieces = Vec::new();
     let mut piece_frame: Vec<Vec<Option<usize>>> = Vec::new();
-    for (p, patch) in surface.patches.iter().enumerate() {
+    for (p, fits_p) in fits.into_iter().enumerate() {
         let mut frames_p = Vec::new();
-        for k in 0..patch.sides() {
+        for (k, fit) in fits_p.into_iter().enumerate() {
             report.pieces += 1;
-            let fit = (|| -> Result<(PnSurface, usize), String> {
-                let at = |i: usize, j: usize| grid_slots.id(p, k, i, j);
-                let mut pts = vec![vec![DVec3::ZERO; g]; g];
-                let mut nrm = vec![vec![DVec3::ZERO; g]; g];
-                for i in 0..g {
-                    for j in 0..g {
-                        let r = raw[grid_slots.root(at(i, j))];
-                        if !r.ok {
-                            return Err(format!("degenerate normal at grid [{i}][{j}]"));
-                        }
-                        pts[i][j] = r.x;
-                        nrm[i][j] = r.n;
-                    }
-                }
-                let which = usize::from(nrm.iter().flatten().any(|n| n.z > 0.5));
-                let frame = fr[which];
-                let grid = PnGrid::new(&pts, &nrm).map_err(|e| e.to_string())?;
-                let mut du = vec![vec![DVec3::ZERO; g]; g];
-                let mut dv = vec![vec![DVec3::ZERO; g]; g];
-                for i in 0..g {
-                    for j in 0..g {
-                        let id = at(i, j);
-                        let (x, n) = (grid.point(i, j), grid.normal(i, j));
-                        du[i][j] = frame.isotropic_tangent(x, n, shared_nu[id]).ok_or("normal at the pole")?;
-                        dv[i][j] = frame.isotropic_tangent(x, n, shared_nv[id]).ok_or("normal at the pole")?;
-                    }
-                }
-                let s = PnSurface::from_derivatives(&grid, frame, &du, &dv).map_err(|e| e.to_string())?;
-                // Corners of one sign do not exclude J = 0 inside: only certified pieces are used.
-                s.certify_regular().map_err(|e| e.to_string())?;
-                // A certified fit can still stray from the GB surface (a 25 × 16 torus, topology,
-                // resolution 2 gave a fit error of 4.34 against a tube radius of 3): compare with
-                // the GB surface at the grid points, the cells' edge midpoints and centres and
-                // refuse the fit beyond
-                // FIT_REJECT times the size of the piece's grid.
-                if let Some(dom) = &domains[p] {
-                    let (lo, hi) = pts.iter().flatten().fold((pts[0][0], pts[0][0]), |(lo, hi), &x| (lo.min(x), hi.max(x)));
-                    let size = lo.distance(hi);
-                    for ci in 0..2 * g - 1 {
-                        for cj in 0..2 * g - 1 {
-                            let (a, b) = (ci as f64 / 2.0, cj as f64 / 2.0);
-                            let pn = s.eval_global(a, b).map_err(|e| e.to_string())?.point;
-                            let (uv, _, _) = piece_point(dom, k, a / gl, b / gl);
-                            let dist = pn.distance(patch.eval_derivs(uv, form).p);
-                            if !(dist <= FIT_REJECT * size) {
-                                return Err(format!(
-                                    "the fit strays {dist:.3e} from the GB surface at grid parameter ({a}, {b}) (piece size {size:.3e})"
-                                ));
-                            }
-                        }
-                    }
-                }
-                Ok((s, which))
-            })();
             match fit {
                 Ok((s, which)) => {
                     frames_p.push(Some(which));
@@ -559,68 +524,93 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     let mut pn_ok = vec![false; stotal];
     let mut frame_of = vec![usize::MAX; stotal];
     let h = 1e-4;
-    let mut piece_index = 0;
-    for (p, patch) in surface.patches.iter().enumerate() {
-        let Some(dom) = &domains[p] else { continue };
-        for k in 0..patch.sides() {
-            let piece = &pieces[piece_index];
-            piece_index += 1;
-            for i in 0..r {
-                for j in 0..r {
-                    let (s, t) = (i as f64 / rl, j as f64 / rl);
-                    let id = sample_slots.id(p, k, i, j);
-                    let (uv, _, _) = piece_point(dom, k, s, t);
-                    let sd = patch.eval_derivs(uv, form);
-                    let gb_n = sd.su.cross(sd.sv).normalize_or_zero();
-                    let mut done = false;
-                    if let Some(pn) = &piece.pn {
-                        if let Ok(e) = pn.eval_global(s * gl, t * gl) {
-                            surf[id] = e.point;
-                            offs[id] = e.offset(d);
-                            pn_ok[id] = true;
-                            frame_of[id] = piece_frame[p][k].unwrap_or(usize::MAX);
-                            done = true;
-                            report.max_fit_error = report.max_fit_error.max((e.point - sd.p).length());
-                            // Residuals by fourth-order central differences inside one Coons cell
-                            // (x is only G1 across cells, so a stencil must not straddle a cell
-                            // boundary).
-                            let (ci, cj) = (((s * gl).floor() as usize).min(g - 2), ((t * gl).floor() as usize).min(g - 2));
-                            let (uc, vc) = ((s * gl - ci as f64).clamp(2.0 * h, 1.0 - 2.0 * h), (t * gl - cj as f64).clamp(2.0 * h, 1.0 - 2.0 * h));
-                            let at = |u: f64, v: f64| pn.eval(ci, cj, u, v);
-                            let diff = |dir: (f64, f64)| -> Option<(DVec3, DVec3)> {
-                                let e = |k: f64| at(uc + k * h * dir.0, vc + k * h * dir.1).ok();
-                                let (m2, m1, p1, p2) = (e(-2.0)?, e(-1.0)?, e(1.0)?, e(2.0)?);
-                                let f = |g: &dyn Fn(&crate::offset::pn::PnSample) -> DVec3| g(&m2) - g(&p2) + (g(&p1) - g(&m1)) * 8.0;
-                                Some((f(&|x| x.point), f(&|x| x.offset(d))))
-                            };
-                            if let (Ok(c), Some(du_), Some(dv_)) = (at(uc, vc), diff((1.0, 0.0)), diff((0.0, 1.0))) {
-                                for (xu, ou) in [du_, dv_] {
-                                    if xu.length() > 0.0 {
-                                        report.max_normal_residual = report.max_normal_residual.max(c.normal.dot(xu).abs() / xu.length());
+    // Per piece in parallel (each patch's pieces in one task), merged in piece order below: the
+    // same arrays and report as a serial loop.
+    let first_piece: Vec<usize> = surface
+        .patches
+        .iter()
+        .scan(0usize, |acc, pt| {
+            let at = *acc;
+            *acc += pt.sides();
+            Some(at)
+        })
+        .collect();
+    let per_patch: Vec<Vec<DenseSample>> = surface
+        .patches
+        .par_iter()
+        .enumerate()
+        .map(|(p, patch)| {
+            let mut out = Vec::new();
+            let Some(dom) = &domains[p] else { return out };
+            for k in 0..patch.sides() {
+                let piece = &pieces[first_piece[p] + k];
+                for i in 0..r {
+                    for j in 0..r {
+                        let (s, t) = (i as f64 / rl, j as f64 / rl);
+                        let mut o = DenseSample { id: sample_slots.id(p, k, i, j), patch: p, piece: k, s, t, frame: usize::MAX, ..Default::default() };
+                        let (uv, _, _) = piece_point(dom, k, s, t);
+                        let sd = patch.eval_derivs(uv, form);
+                        let gb_n = sd.su.cross(sd.sv).normalize_or_zero();
+                        let mut done = false;
+                        if let Some(pn) = &piece.pn {
+                            if let Ok(e) = pn.eval_global(s * gl, t * gl) {
+                                o.surf = e.point;
+                                o.offs = e.offset(d);
+                                o.pn_ok = true;
+                                o.frame = piece_frame[p][k].unwrap_or(usize::MAX);
+                                done = true;
+                                o.fit_error = (e.point - sd.p).length();
+                                // Residuals by fourth-order central differences inside one Coons
+                                // cell (x is only G1 across cells, so a stencil must not straddle
+                                // a cell boundary).
+                                let (ci, cj) = (((s * gl).floor() as usize).min(g - 2), ((t * gl).floor() as usize).min(g - 2));
+                                let (uc, vc) = ((s * gl - ci as f64).clamp(2.0 * h, 1.0 - 2.0 * h), (t * gl - cj as f64).clamp(2.0 * h, 1.0 - 2.0 * h));
+                                let at = |u: f64, v: f64| pn.eval(ci, cj, u, v);
+                                let diff = |dir: (f64, f64)| -> Option<(DVec3, DVec3)> {
+                                    let e = |k: f64| at(uc + k * h * dir.0, vc + k * h * dir.1).ok();
+                                    let (m2, m1, p1, p2) = (e(-2.0)?, e(-1.0)?, e(1.0)?, e(2.0)?);
+                                    let f = |g: &dyn Fn(&crate::offset::pn::PnSample) -> DVec3| g(&m2) - g(&p2) + (g(&p1) - g(&m1)) * 8.0;
+                                    Some((f(&|x| x.point), f(&|x| x.offset(d))))
+                                };
+                                if let (Ok(c), Some(du_), Some(dv_)) = (at(uc, vc), diff((1.0, 0.0)), diff((0.0, 1.0))) {
+                                    for (xu, ou) in [du_, dv_] {
+                                        if xu.length() > 0.0 {
+                                            o.normal_residual = o.normal_residual.max(c.normal.dot(xu).abs() / xu.length());
+                                        }
+                                        if ou.length() > 0.0 && !is_cusp(&sd, d) {
+                                            o.offset_error = o.offset_error.max(c.normal.dot(ou).abs() / ou.length());
+                                        }
                                     }
-                                    if ou.length() > 0.0 && !is_cusp(&sd, d) {
-                                        report.max_offset_error = report.max_offset_error.max(c.normal.dot(ou).abs() / ou.length());
+                                    if !is_cusp(&sd, d) {
+                                        o.offset_error = o.offset_error.max(((c.offset(d) - c.point).length() - d.abs()).abs());
                                     }
-                                }
-                                if !is_cusp(&sd, d) {
-                                    report.max_offset_error =
-                                        report.max_offset_error.max(((c.offset(d) - c.point).length() - d.abs()).abs());
                                 }
                             }
                         }
-                    }
-                    if !done {
-                        surf[id] = sd.p;
-                        offs[id] = sd.p + gb_n * d;
-                    }
-                    if let Some(radius) = cusp_radius(&sd, d) {
-                        report.cusps += 1;
-                        if report.cusp_sites.len() < 10 {
-                            let o = offs[id];
-                            report.cusp_sites.push(CuspSite { patch: p, piece: k, s, t, point: o.to_array(), radius });
+                        if !done {
+                            o.surf = sd.p;
+                            o.offs = sd.p + gb_n * d;
                         }
+                        o.cusp = cusp_radius(&sd, d);
+                        out.push(o);
                     }
                 }
+            }
+            out
+        })
+        .collect();
+    for o in per_patch.into_iter().flatten() {
+        surf[o.id] = o.surf;
+        offs[o.id] = o.offs;
+        pn_ok[o.id] = o.pn_ok;
+        frame_of[o.id] = o.frame;
+        report.max_fit_error = report.max_fit_error.max(o.fit_error);
+        report.max_normal_residual = report.max_normal_residual.max(o.normal_residual);
+        report.max_offset_error = report.max_offset_error.max(o.offset_error);
+        if let Some(radius) = o.cusp {
+            report.cusps += 1;
+            if report.cusp_sites.len() < 10 {
+                report.cusp_sites.push(CuspSite { patch: o.patch, piece: o.piece, s: o.s, t: o.t, point: o.offs.to_array(), radius });
             }
         }
     }
@@ -680,6 +670,25 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     Ok(Offset { positions, triangles, pieces, report })
 }
 
+/// One dense sample of step 5 of [`offset_surface`], before it is merged into the arrays and
+/// the report.
+#[derive(Clone, Copy, Default)]
+struct DenseSample {
+    id: usize,
+    patch: usize,
+    piece: usize,
+    s: f64,
+    t: f64,
+    surf: DVec3,
+    offs: DVec3,
+    pn_ok: bool,
+    frame: usize,
+    fit_error: f64,
+    normal_residual: f64,
+    offset_error: f64,
+    cusp: Option<f64>,
+}
+
 fn piece_of(s: &Slots, id: usize) -> (usize, usize) {
     let p = s.offsets.partition_point(|&o| o <= id) - 1;
     (p, (id - s.offsets[p]) / (s.m * s.m))
@@ -725,4 +734,76 @@ fn shell(base: &[DVec3], top: &[DVec3], tris: &[[u32; 3]], d: f64) -> (Vec<DVec3
         }
     }
     (positions, out)
+}
+
+/// The PN surface of piece `k` of patch `p` (step 4 of [`offset_surface`]) and the index of its
+/// isotropic frame, or why the piece is offset as a singular piece.
+#[allow(clippy::too_many_arguments)]
+fn fit_piece(
+    surface: &Surface,
+    domains: &[Option<Domain>],
+    grid_slots: &Slots,
+    raw: &[Raw],
+    shared_nu: &[DVec3],
+    shared_nv: &[DVec3],
+    fr: &[IsotropicFrame; 2],
+    form: crate::gb::WeightForm,
+    g: usize,
+    p: usize,
+    k: usize,
+) -> Result<(PnSurface, usize), String> {
+    let patch = &surface.patches[p];
+    let gl = (g - 1) as f64;
+    let at = |i: usize, j: usize| grid_slots.id(p, k, i, j);
+    let mut pts = vec![vec![DVec3::ZERO; g]; g];
+    let mut nrm = vec![vec![DVec3::ZERO; g]; g];
+    for i in 0..g {
+        for j in 0..g {
+            let r = raw[grid_slots.root(at(i, j))];
+            if !r.ok {
+                return Err(format!("degenerate normal at grid [{i}][{j}]"));
+            }
+            pts[i][j] = r.x;
+            nrm[i][j] = r.n;
+        }
+    }
+    let which = usize::from(nrm.iter().flatten().any(|n| n.z > 0.5));
+    let frame = fr[which];
+    let grid = PnGrid::new(&pts, &nrm).map_err(|e| e.to_string())?;
+    let mut du = vec![vec![DVec3::ZERO; g]; g];
+    let mut dv = vec![vec![DVec3::ZERO; g]; g];
+    for i in 0..g {
+        for j in 0..g {
+            let id = at(i, j);
+            let (x, n) = (grid.point(i, j), grid.normal(i, j));
+            du[i][j] = frame.isotropic_tangent(x, n, shared_nu[id]).ok_or("normal at the pole")?;
+            dv[i][j] = frame.isotropic_tangent(x, n, shared_nv[id]).ok_or("normal at the pole")?;
+        }
+    }
+    let s = PnSurface::from_derivatives(&grid, frame, &du, &dv).map_err(|e| e.to_string())?;
+    // Corners of one sign do not exclude J = 0 inside: only certified pieces are used.
+    s.certify_regular().map_err(|e| e.to_string())?;
+    // A certified fit can still stray from the GB surface (a 25 × 16 torus, topology,
+    // resolution 2 gave a fit error of 4.34 against a tube radius of 3): compare with
+    // the GB surface at the grid points, the cells' edge midpoints and centres and
+    // refuse the fit beyond
+    // FIT_REJECT times the size of the piece's grid.
+    if let Some(dom) = &domains[p] {
+        let (lo, hi) = pts.iter().flatten().fold((pts[0][0], pts[0][0]), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        let size = lo.distance(hi);
+        for ci in 0..2 * g - 1 {
+            for cj in 0..2 * g - 1 {
+                let (a, b) = (ci as f64 / 2.0, cj as f64 / 2.0);
+                let pn = s.eval_global(a, b).map_err(|e| e.to_string())?.point;
+                let (uv, _, _) = piece_point(dom, k, a / gl, b / gl);
+                let dist = pn.distance(patch.eval_derivs(uv, form).p);
+                if !(dist <= FIT_REJECT * size) {
+                    return Err(format!(
+                        "the fit strays {dist:.3e} from the GB surface at grid parameter ({a}, {b}) (piece size {size:.3e})"
+                    ));
+                }
+            }
+        }
+    }
+    Ok((s, which))
 }
