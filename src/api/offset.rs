@@ -359,28 +359,12 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     // 1. Raw grid data per slot, from the slot's own patch (patches in parallel, written in
     // patch order: the same result as a serial loop).
     let mut raw = vec![Raw::default(); total];
-    let per_patch: Vec<Vec<(usize, Raw)>> = surface
-        .patches
-        .par_iter()
-        .enumerate()
-        .map(|(p, patch)| {
-            let mut out = Vec::new();
-            let Some(dom) = &domains[p] else { return out };
-            for k in 0..patch.sides() {
-                for i in 0..g {
-                    for j in 0..g {
-                        let (uv, ps, pt) = piece_point(dom, k, i as f64 / gl, j as f64 / gl);
-                        let sd = patch.eval_derivs(uv, form);
-                        if let Some((x, n, nu, nv)) = normal_jet(&sd, ps / gl, pt / gl) {
-                            out.push((grid_slots.id(p, k, i, j), Raw { x, n, nu, nv, ok: true }));
-                        }
-                    }
-                }
-            }
-            out
-        })
-        .collect();
-    for (id, r) in per_patch.into_iter().flatten() {
+    let per_patch = per_grid_point(surface, &domains, g, |p, patch, dom, k, i, j| {
+        let (uv, ps, pt) = piece_point(dom, k, i as f64 / gl, j as f64 / gl);
+        let sd = patch.eval_derivs(uv, form);
+        normal_jet(&sd, ps / gl, pt / gl).map(|(x, n, nu, nv)| (grid_slots.id(p, k, i, j), Raw { x, n, nu, nv, ok: true }))
+    });
+    for (id, r) in per_patch {
         raw[id] = r;
     }
 
@@ -535,71 +519,57 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
             Some(at)
         })
         .collect();
-    let per_patch: Vec<Vec<DenseSample>> = surface
-        .patches
-        .par_iter()
-        .enumerate()
-        .map(|(p, patch)| {
-            let mut out = Vec::new();
-            let Some(dom) = &domains[p] else { return out };
-            for k in 0..patch.sides() {
-                let piece = &pieces[first_piece[p] + k];
-                for i in 0..r {
-                    for j in 0..r {
-                        let (s, t) = (i as f64 / rl, j as f64 / rl);
-                        let mut o = DenseSample { id: sample_slots.id(p, k, i, j), patch: p, piece: k, s, t, frame: usize::MAX, ..Default::default() };
-                        let (uv, _, _) = piece_point(dom, k, s, t);
-                        let sd = patch.eval_derivs(uv, form);
-                        let gb_n = sd.su.cross(sd.sv).normalize_or_zero();
-                        let mut done = false;
-                        if let Some(pn) = &piece.pn {
-                            if let Ok(e) = pn.eval_global(s * gl, t * gl) {
-                                o.surf = e.point;
-                                o.offs = e.offset(d);
-                                o.pn_ok = true;
-                                o.frame = piece_frame[p][k].unwrap_or(usize::MAX);
-                                done = true;
-                                o.fit_error = (e.point - sd.p).length();
-                                // Residuals by fourth-order central differences inside one Coons
-                                // cell (x is only G1 across cells, so a stencil must not straddle
-                                // a cell boundary).
-                                let (ci, cj) = (((s * gl).floor() as usize).min(g - 2), ((t * gl).floor() as usize).min(g - 2));
-                                let (uc, vc) = ((s * gl - ci as f64).clamp(2.0 * h, 1.0 - 2.0 * h), (t * gl - cj as f64).clamp(2.0 * h, 1.0 - 2.0 * h));
-                                let at = |u: f64, v: f64| pn.eval(ci, cj, u, v);
-                                let diff = |dir: (f64, f64)| -> Option<(DVec3, DVec3)> {
-                                    let e = |k: f64| at(uc + k * h * dir.0, vc + k * h * dir.1).ok();
-                                    let (m2, m1, p1, p2) = (e(-2.0)?, e(-1.0)?, e(1.0)?, e(2.0)?);
-                                    let f = |g: &dyn Fn(&crate::offset::pn::PnSample) -> DVec3| g(&m2) - g(&p2) + (g(&p1) - g(&m1)) * 8.0;
-                                    Some((f(&|x| x.point), f(&|x| x.offset(d))))
-                                };
-                                if let (Ok(c), Some(du_), Some(dv_)) = (at(uc, vc), diff((1.0, 0.0)), diff((0.0, 1.0))) {
-                                    for (xu, ou) in [du_, dv_] {
-                                        if xu.length() > 0.0 {
-                                            o.normal_residual = o.normal_residual.max(c.normal.dot(xu).abs() / xu.length());
-                                        }
-                                        if ou.length() > 0.0 && !is_cusp(&sd, d) {
-                                            o.offset_error = o.offset_error.max(c.normal.dot(ou).abs() / ou.length());
-                                        }
-                                    }
-                                    if !is_cusp(&sd, d) {
-                                        o.offset_error = o.offset_error.max(((c.offset(d) - c.point).length() - d.abs()).abs());
-                                    }
-                                }
-                            }
+    let per_patch = per_grid_point(surface, &domains, r, |p, patch, dom, k, i, j| {
+        let piece = &pieces[first_piece[p] + k];
+        let (s, t) = (i as f64 / rl, j as f64 / rl);
+        let mut o = DenseSample { id: sample_slots.id(p, k, i, j), patch: p, piece: k, s, t, frame: usize::MAX, ..Default::default() };
+        let (uv, _, _) = piece_point(dom, k, s, t);
+        let sd = patch.eval_derivs(uv, form);
+        let gb_n = sd.su.cross(sd.sv).normalize_or_zero();
+        let mut done = false;
+        if let Some(pn) = &piece.pn {
+            if let Ok(e) = pn.eval_global(s * gl, t * gl) {
+                o.surf = e.point;
+                o.offs = e.offset(d);
+                o.pn_ok = true;
+                o.frame = piece_frame[p][k].unwrap_or(usize::MAX);
+                done = true;
+                o.fit_error = (e.point - sd.p).length();
+                // Residuals by fourth-order central differences inside one Coons
+                // cell (x is only G1 across cells, so a stencil must not straddle
+                // a cell boundary).
+                let (ci, cj) = (((s * gl).floor() as usize).min(g - 2), ((t * gl).floor() as usize).min(g - 2));
+                let (uc, vc) = ((s * gl - ci as f64).clamp(2.0 * h, 1.0 - 2.0 * h), (t * gl - cj as f64).clamp(2.0 * h, 1.0 - 2.0 * h));
+                let at = |u: f64, v: f64| pn.eval(ci, cj, u, v);
+                let diff = |dir: (f64, f64)| -> Option<(DVec3, DVec3)> {
+                    let e = |k: f64| at(uc + k * h * dir.0, vc + k * h * dir.1).ok();
+                    let (m2, m1, p1, p2) = (e(-2.0)?, e(-1.0)?, e(1.0)?, e(2.0)?);
+                    let f = |g: &dyn Fn(&crate::offset::pn::PnSample) -> DVec3| g(&m2) - g(&p2) + (g(&p1) - g(&m1)) * 8.0;
+                    Some((f(&|x| x.point), f(&|x| x.offset(d))))
+                };
+                if let (Ok(c), Some(du_), Some(dv_)) = (at(uc, vc), diff((1.0, 0.0)), diff((0.0, 1.0))) {
+                    for (xu, ou) in [du_, dv_] {
+                        if xu.length() > 0.0 {
+                            o.normal_residual = o.normal_residual.max(c.normal.dot(xu).abs() / xu.length());
                         }
-                        if !done {
-                            o.surf = sd.p;
-                            o.offs = sd.p + gb_n * d;
+                        if ou.length() > 0.0 && !is_cusp(&sd, d) {
+                            o.offset_error = o.offset_error.max(c.normal.dot(ou).abs() / ou.length());
                         }
-                        o.cusp = cusp_radius(&sd, d);
-                        out.push(o);
+                    }
+                    if !is_cusp(&sd, d) {
+                        o.offset_error = o.offset_error.max(((c.offset(d) - c.point).length() - d.abs()).abs());
                     }
                 }
             }
-            out
-        })
-        .collect();
-    for o in per_patch.into_iter().flatten() {
+        }
+        if !done {
+            o.surf = sd.p;
+            o.offs = sd.p + gb_n * d;
+        }
+        o.cusp = cusp_radius(&sd, d);
+        Some(o)
+    });
+    for o in per_patch {
         surf[o.id] = o.surf;
         offs[o.id] = o.offs;
         pn_ok[o.id] = o.pn_ok;
@@ -668,6 +638,30 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     report.two_manifold = check.is_two_manifold();
     report.seconds = start.elapsed().as_secs_f64();
     Ok(Offset { positions, triangles, pieces, report })
+}
+
+/// `f(p, patch, domain, k, i, j)` at every point (i, j) of the m × m grid of every piece k of
+/// every patch p with a domain: patches in parallel, the results in patch, piece and grid order
+/// (the order of a serial loop), `None`s left out.
+fn per_grid_point<T: Send>(
+    surface: &Surface,
+    domains: &[Option<Domain>],
+    m: usize,
+    f: impl Fn(usize, &Patch, &Domain, usize, usize, usize) -> Option<T> + Sync,
+) -> Vec<T> {
+    let per_patch: Vec<Vec<T>> = surface
+        .patches
+        .par_iter()
+        .enumerate()
+        .map(|(p, patch)| {
+            let Some(dom) = &domains[p] else { return Vec::new() };
+            (0..patch.sides())
+                .flat_map(|k| (0..m).flat_map(move |i| (0..m).map(move |j| (k, i, j))))
+                .filter_map(|(k, i, j)| f(p, patch, dom, k, i, j))
+                .collect()
+        })
+        .collect();
+    per_patch.into_iter().flatten().collect()
 }
 
 /// One dense sample of step 5 of [`offset_surface`], before it is merged into the arrays and
