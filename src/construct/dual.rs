@@ -230,34 +230,31 @@ pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mu
     let mut cage = prep.cage_dual(mesh);
     let mut crease_warnings = Vec::new();
     if prep.mesh.has_creases() {
-        // Creases split the vertex patches along closed sharp chains (docs/math.md#dual-creases);
-        // the split needs the smooth surface S₀ it starts from (assembled only when an edge is
-        // cut; an empty surface otherwise, which the split does not read).
-        let smooth = if super::dual_crease::cut_edges(&prep.mesh).0.iter().any(|&c| c) {
-            ticker.within(PREPARE, NETWORK, |t| super::network::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?
-        } else {
-            Surface { patches: Vec::new(), neighbors: Vec::new(), sources: Vec::new(), curves: Vec::new(), warnings: Vec::new(), cage: Vec::new(), creases: Vec::new() }
-        };
-        let (split, edges, corners) = super::dual_crease::split_creases(&prep.mesh, &net, &smooth, &cage, opts);
+        // Creases split the vertex patches along closed sharp chains (docs/math.md#dual-creases),
+        // starting from the smooth surface S₀ (assembled only when an edge is cut).
+        let cuts = super::dual_crease::cuts(&prep.mesh);
         let v = |x: VertexId| prep.vertex_origin.get(x.idx()).copied().unwrap_or(x.idx());
-        if let Some((a, b)) = edges.first() {
+        if let Some((a, b)) = cuts.ignored_edges.first() {
             crease_warnings.push(format!(
                 "the dual structure builds creases only along closed chains of sharp interior edges: {} sharp edge(s) left smooth, the first ({}, {}) (docs/math.md#dual-creases; the topology structure builds them all)",
-                edges.len(),
+                cuts.ignored_edges.len(),
                 v(*a),
                 v(*b)
             ));
         }
-        if let Some(c) = corners.first() {
+        if let Some(c) = cuts.ignored_corners.first() {
             crease_warnings.push(format!(
                 "the dual structure builds corners only where three or more sharp edges meet: corner sharpness ignored at {} vertex(es), the first {} (docs/math.md#dual-creases)",
-                corners.len(),
+                cuts.ignored_corners.len(),
                 v(*c)
             ));
         }
-        if let Some(split) = split {
-            net = split.net;
-            cage = split.cage;
+        if cuts.any() {
+            let smooth = ticker.within(PREPARE, NETWORK, |t| super::network::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?;
+            if let Some(split) = super::dual_crease::split_creases(&prep.mesh, &cuts, &net, &smooth, &cage, opts) {
+                net = split.net;
+                cage = split.cage;
+            }
         }
     }
     let (mut s, splits) = ticker.within(NETWORK, 1.0, |t| super::network::assemble_split(&net, opts, t)).map_err(|e| prep.error(e, true))?;

@@ -60,27 +60,55 @@
 //! tests/creases.rs). Sharpness exactly 0 takes none of these steps.
 
 use crate::gb::Evaluate;
-use super::network::{CurveNetwork, PatchLayout, SideUse};
+use super::network::{side_points, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{CageSector, Patch, SectorMap, Surface};
 use crate::gb::Domain;
 use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, VertexId};
 use crate::options::ConvertOptions;
 use glam::{DVec2, DVec3};
 
-/// What [`split_creases`] did: the new network, the cage rows of its patches (when the unsplit
-/// ones were given) and the sharp input that it could not build, by prepared-mesh elements.
+/// What [`split_creases`] made: the new network and the cage rows of its patches (when the
+/// unsplit ones were given).
 pub struct CreaseSplit {
     pub net: CurveNetwork,
     pub cage: Vec<Vec<CageSector>>,
-    /// Sharp edges left smooth (not on a closed chain of interior sharp edges), as vertex pairs.
+}
+
+/// Which sharp input of a mesh the dual structure builds ([`cuts`]), by prepared-mesh elements.
+pub struct Cuts {
+    /// Per edge: cut (on a closed chain of interior sharp edges).
+    pub cut: Vec<bool>,
+    /// Sharp edges left smooth, as vertex pairs (origin and target of the edge's half-edge 0).
     pub ignored_edges: Vec<(VertexId, VertexId)>,
     /// Vertices whose corner sharpness is ignored (fewer than three cut edges).
     pub ignored_corners: Vec<VertexId>,
 }
 
+impl Cuts {
+    /// True when some edge is cut (the patches are split).
+    pub fn any(&self) -> bool {
+        self.cut.iter().any(|&c| c)
+    }
+}
+
+/// The cuts of `mesh` (module doc): its cut edges, and the sharp edges and corners left out.
+pub fn cuts(mesh: &HalfEdgeMesh) -> Cuts {
+    let (cut, ignored) = cut_edges(mesh);
+    let ignored_edges = ignored
+        .iter()
+        .map(|&e| {
+            let h = mesh.edge_halfedge(e, 0);
+            (mesh.origin(h), mesh.target(h))
+        })
+        .collect();
+    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
+    let ignored_corners = mesh.vertices().filter(|&v| mesh.vertex_crease(v) > 0.0 && n_cut(v) < 3).collect();
+    Cuts { cut, ignored_edges, ignored_corners }
+}
+
 /// The cut edges of `mesh` (see the module doc): the 2-core of its interior sharp edges between
 /// interior vertices. Returns (cut flag per edge, the sharp edges left out).
-pub fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
+fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
     let mut cut = vec![false; mesh.n_edges()];
     let mut count = vec![0usize; mesh.n_vertices()];
     let mut ignored = Vec::new();
@@ -217,27 +245,19 @@ fn mid_constraint(curve: &[DVec3; 4], s0: crate::gb::SurfaceDerivs, d0: DVec3, d
 }
 
 /// Splits the dual network `net` of `mesh` (built by [`super::dual::dual_network`], its patch v
-/// the vertex v) along the closed chains of sharp edges (module doc). `smooth` is the surface
-/// assembled from `net` (S₀), `cage` its cage rows (or empty). `None` when no edge is cut; the
-/// ignored sharp input is then reported through the second value.
+/// the vertex v) along the cut edges of `cuts` (module doc). `smooth` is the surface assembled
+/// from `net` (S₀), `cage` its cage rows (or empty). `None` when no edge is cut.
 pub fn split_creases(
     mesh: &HalfEdgeMesh,
+    cuts: &Cuts,
     net: &CurveNetwork,
     smooth: &Surface,
     cage: &[Vec<CageSector>],
     opts: &ConvertOptions,
-) -> (Option<CreaseSplit>, Vec<(VertexId, VertexId)>, Vec<VertexId>) {
-    let (cut, ignored) = cut_edges(mesh);
-    let ends = |e: EdgeId| {
-        let h = mesh.edge_halfedge(e, 0);
-        (mesh.origin(h), mesh.target(h))
-    };
-    let ignored_edges: Vec<(VertexId, VertexId)> = ignored.iter().map(|&e| ends(e)).collect();
-    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
-    let ignored_corners: Vec<VertexId> =
-        mesh.vertices().filter(|&v| mesh.vertex_crease(v) > 0.0 && n_cut(v) < 3).collect();
-    if !cut.iter().any(|&c| c) {
-        return (None, ignored_edges, ignored_corners);
+) -> Option<CreaseSplit> {
+    let cut = &cuts.cut;
+    if !cuts.any() {
+        return None;
     }
     let k = opts.fullness;
     let mut out = net.clone();
@@ -297,8 +317,8 @@ pub fn split_creases(
         let lay = &net.patches[v.idx()];
         // Both hold for the dual patch of an interior vertex; if not, nothing is split (the
         // network built so far is dropped, never left half-split).
-        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { return (None, ignored_edges, ignored_corners) };
-        let Ok(dom) = Domain::regular(n) else { return (None, ignored_edges, ignored_corners) };
+        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { return None };
+        let Ok(dom) = Domain::regular(n) else { return None };
         let eval = |uv: DVec2| patch.eval_derivs(uv, opts.weights);
         // Per cut side j (index into js): node, direction towards V, halves as patch V traverses
         // side j: first (corner j−1 → F), second (F → corner j), with their SideUses.
@@ -471,17 +491,7 @@ pub fn split_creases(
         }
         for (i, (sides_out, twists, cage_row)) in parts.into_iter().enumerate() {
             let m = sides_out.len();
-            let pts: Vec<[DVec3; 4]> = sides_out
-                .iter()
-                .map(|&u| {
-                    let c = out.curves[u.curve];
-                    if u.reversed {
-                        rev(c)
-                    } else {
-                        c
-                    }
-                })
-                .collect();
+            let pts: Vec<[DVec3; 4]> = sides_out.iter().map(|&u| side_points(&out, u)).collect();
             let twists: Vec<DVec3> = (0..m)
                 .map(|i| twists[i].unwrap_or_else(|| pts[i][2] + pts[(i + 1) % m][1] - pts[i][3]))
                 .collect();
@@ -497,15 +507,14 @@ pub fn split_creases(
                     .into_iter()
                     .map(|c| c.unwrap_or(CageSector { face: u32::MAX, corner: u32::MAX, map: SectorMap::Vertex }))
                     .collect();
+                // Parts after the first are appended in patch order.
                 if index < out_cage.len() {
                     out_cage[index] = r;
                 } else {
-                    out_cage.resize(index, Vec::new());
                     out_cage.push(r);
                 }
             }
         }
     }
-    let split = CreaseSplit { net: out, cage: out_cage, ignored_edges: ignored_edges.clone(), ignored_corners: ignored_corners.clone() };
-    (Some(split), ignored_edges, ignored_corners)
+    Some(CreaseSplit { net: out, cage: out_cage })
 }

@@ -61,7 +61,7 @@ pub struct CurveNetwork {
 type Use = (usize, usize, bool);
 
 /// Control points of the side as the patch traverses it.
-fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
+pub(super) fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
     let c = net.curves[u.curve];
     if u.reversed {
         [c[3], c[2], c[1], c[0]]

@@ -70,12 +70,7 @@ impl Folds {
     /// The folds the tessellation found on its own samples ([`crate::tessellate::fold`]): a
     /// patch folds where it has a folded sample or a flipped triangle.
     pub fn of_tessellation(mesh: &SurfaceMesh) -> Folds {
-        let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
-        for &t in &mesh.flipped_triangles {
-            if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
-                *f = true;
-            }
-        }
+        let folded = folded_patches(mesh);
         let mut out = Folds { flipped_triangles: mesh.flipped_triangles.len(), ..Folds::default() };
         for (p, (f, &is)) in mesh.patch_folds.iter().zip(&folded).enumerate() {
             if !is {
@@ -89,6 +84,17 @@ impl Folds {
         }
         out
     }
+}
+
+/// Per patch of the tessellation `mesh`: it folds (a folded sample or a flipped triangle).
+fn folded_patches(mesh: &SurfaceMesh) -> Vec<bool> {
+    let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
+    for &t in &mesh.flipped_triangles {
+        if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
+            *f = true;
+        }
+    }
+    folded
 }
 
 /// Vertices where the cage itself turns back: an incident face's Newell normal lies more than
@@ -118,12 +124,7 @@ pub fn cage_fold_vertices(cage: &crate::mesh::HalfEdgeMesh) -> Vec<bool> {
 /// ([`cage_fold_vertices`]): their number and the first such cage vertex.
 pub fn folds_at_cage_folds(mesh: &SurfaceMesh, sources: &[crate::construct::PatchSource], cage: &crate::mesh::HalfEdgeMesh) -> (usize, Option<usize>) {
     use crate::construct::PatchSource;
-    let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
-    for &t in &mesh.flipped_triangles {
-        if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
-            *f = true;
-        }
-    }
+    let folded = folded_patches(mesh);
     if !folded.iter().any(|&f| f) {
         return (0, None);
     }
