@@ -11,6 +11,8 @@ their `foreach_set` copies the buffer at once, while `loops.foreach_set("vertex_
 import bpy
 import numpy as np
 
+from . import native
+
 
 def _set_corner_verts(mesh, idx):
     """Corner vertex indices: the `.corner_vert` attribute (Blender 4+) is ~100x faster than
@@ -221,36 +223,13 @@ def read_face_data(mesh, order, n_corners):
 
 def _keep_corners(values, sizes, f, c, st):
     """The keep-corners rule (docs/math.md#cage-corners) at points (f, c, σ, τ): cage face f,
-    corner c, coordinates st (N,2); `values` (sum sizes, k) per cage face corner. Points with an
-    unknown face or corner get 0. float32, like Blender's UVs and weights.
-
-    The rule's four values (the corner's, the next edge midpoint's, the face centre's, the
-    previous edge midpoint's) are tabulated once per cage corner; per point there are four
-    gathers and three lerps, (1−τ)·lerp(corner, next, σ) + τ·lerp(previous, centre, σ), with no
-    other temporaries. A 40k-quad torus at r = 2 (2.56 M loops, one UV map): 1.57 s before,
-    0.33-0.46 s alone, 0.9 s inside Blender."""
-    sizes = np.asarray(sizes, dtype=np.int64)
-    nf = len(sizes)
-    starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
-    face_of = np.repeat(np.arange(nf), sizes)
-    pos = np.arange(len(values)) - starts[face_of]
-    v = np.asarray(values, dtype=np.float32)
-    nxt = v[starts[face_of] + (pos + 1) % sizes[face_of]]
-    prv = v[starts[face_of] + (pos + sizes[face_of] - 1) % sizes[face_of]]
-    centre = (np.add.reduceat(np.asarray(values, dtype=np.float64), starts, axis=0) / sizes[:, None]).astype(np.float32)
-    valid = (f >= 0) & (f < nf)
-    fv = np.where(valid, f, 0)
-    valid &= (c >= 0) & (c < sizes[fv])
-    g = np.where(valid, starts[fv] + np.where(valid, c, 0), 0)
-    s = np.asarray(st[:, 0], dtype=np.float32)[:, None]
-    t = np.asarray(st[:, 1], dtype=np.float32)[:, None]
-    out = np.take(v, g, axis=0)
-    out += s * (np.take(0.5 * (v + nxt), g, axis=0) - out)
-    low = np.take(0.5 * (v + prv), g, axis=0)
-    low += s * (np.take(centre[face_of], g, axis=0) - low)
-    out += t * (low - out)
-    out[~valid] = 0.0
-    return out
+    corner c, coordinates st (N,2); `values` (sum sizes, k) per cage face corner. Computed by the
+    library (`gbsurf_cage_loop_values`, one definition for every adapter; 2.56 M loops of a
+    40k-quad torus: 1.57 s in numpy, then 0.9 s tabulated in numpy inside Blender). Points with
+    an unknown face or corner (0xFFFFFFFF) get 0. float32, like Blender's UVs and weights."""
+    corners = np.stack([np.asarray(f, dtype=np.int64), np.asarray(c, dtype=np.int64)], axis=1)
+    corners = np.where(corners < 0, 0xFFFFFFFF, corners).astype(np.uint32)
+    return native.cage_loop_values(sizes, values, (), corners, st)
 
 
 def _loop_corners(cage_corner, st, loop_corner):
@@ -274,14 +253,16 @@ def cage_loop_values(values, face_sizes, cage_corner, cage_coords, loop_corner=N
     midpoints' values and the face centre's (the mean over the face's corners), at the loop's
     cage coordinates. `cage_corner` (F,2), `cage_coords` (m·F,2), m corners per output face;
     `loop_corner` (m·F,2) the triangle layout's per-corner cage corners (used in place of the
-    face's when not empty). Faces with an unknown cage corner get 0. numpy only."""
-    values = np.asarray(values, dtype=np.float64)
-    sizes = np.asarray(face_sizes, dtype=np.int64)
+    face's when not empty). Faces with an unknown cage corner get 0; a corner outside the cage
+    raises `native.GbsurfError`. Computed by the library (`native.cage_loop_values`), float32."""
+    values = np.asarray(values)
     st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
-    corners = _loop_corners(cage_corner, st, loop_corner)
-    if len(sizes) == 0 or corners is None:
-        return np.zeros((len(st), values.shape[1]), dtype=np.float64)
-    return _keep_corners(values, sizes, corners[:, 0], corners[:, 1], st)
+    n_loop = np.size(loop_corner) // 2 if loop_corner is not None else 0
+    n_face = np.size(cage_corner) // 2
+    fits = n_loop == len(st) if n_loop else n_face > 0 and len(st) % n_face == 0
+    if len(face_sizes) == 0 or not fits:
+        return np.zeros((len(st), values.shape[1]), dtype=np.float32)
+    return native.cage_loop_values(face_sizes, values, cage_corner, loop_corner, st)
 
 
 def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coords, faces, n_vertices,
@@ -292,7 +273,7 @@ def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coord
     vertices. Each output vertex is evaluated at one of its face corners (the rule is continuous:
     every corner gives the same value, up to rounding). `faces` (F, m) output faces, `n_vertices` their vertex
     count, `loop_corner` as in `cage_loop_values`; vertices of no face, or of a face with no cage
-    coordinates, get 0. numpy only."""
+    coordinates, get 0. The values come from the library (`_keep_corners`)."""
     values = np.asarray(values, dtype=np.float64)
     sizes = np.asarray(face_sizes, dtype=np.int64)
     st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)

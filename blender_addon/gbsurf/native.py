@@ -209,6 +209,8 @@ _SIGNATURES = {
     "gbsurf_warning_count": (c_uint32, [_R, _S]),
     "gbsurf_warning_message": (c_uint32, [_R, c_size_t, POINTER(c_char_p)]),
     "gbsurf_result_report": (c_uint32, [_R, POINTER(Report)]),
+    "gbsurf_cage_loop_values": (c_uint32, [POINTER(c_uint32), c_size_t, POINTER(c_float), c_size_t, c_size_t, POINTER(c_uint32), c_size_t,
+                                           POINTER(c_uint32), c_size_t, POINTER(c_double), c_size_t, POINTER(c_float), c_size_t]),
     # Exact offsets (wrapped in offset_native.py).
     "gbsurf_offset": (c_uint32, [POINTER(c_double), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32),
                                  c_size_t, POINTER(Options), c_double, c_size_t, c_uint32, POINTER(OffsetReport), POINTER(_R)]),
@@ -438,6 +440,29 @@ def convert(positions, face_sizes, face_indices, options=None, progress=None,
         return _unpack(lib, handle, want_patches, want_curves, want_control_net)
     finally:
         lib.gbsurf_result_free(handle)
+
+
+def cage_loop_values(face_sizes, values, face_corner, loop_corner, coords):
+    """A cage attribute per cage face corner (`values` (sum face_sizes, k)) at the output's face
+    corners, by the library's keep-corners rule (docs/math.md#cage-corners): `face_corner` (F,2)
+    per output face, `loop_corner` (N,2) per loop or empty, `coords` (N,2) per loop. Returns (N, k)
+    float32; loops with an unknown cage corner (0xFFFFFFFF) get 0. Raises `GbsurfError` for sizes
+    that do not fit (a corner outside `face_sizes` names the loop and the corner)."""
+    lib = load()
+    sizes = np.ascontiguousarray(face_sizes, dtype=np.uint32).reshape(-1)
+    vals = np.asarray(values, dtype=np.float32)
+    k = vals.shape[1] if vals.ndim == 2 else 1
+    vals = np.ascontiguousarray(vals.reshape(-1))
+    fc = np.ascontiguousarray(face_corner, dtype=np.uint32).reshape(-1)
+    lc = np.ascontiguousarray(loop_corner if loop_corner is not None else (), dtype=np.uint32).reshape(-1)
+    st = np.ascontiguousarray(coords, dtype=np.float64).reshape(-1)
+    out = np.empty((st.size // 2, k), dtype=np.float32)
+    u32 = POINTER(c_uint32)
+    _check(lib, lib.gbsurf_cage_loop_values(
+        sizes.ctypes.data_as(u32), sizes.size, vals.ctypes.data_as(POINTER(c_float)), vals.size, k,
+        fc.ctypes.data_as(u32), fc.size, lc.ctypes.data_as(u32), lc.size,
+        st.ctypes.data_as(POINTER(c_double)), st.size, out.ctypes.data_as(POINTER(c_float)), out.size))
+    return out
 
 
 def _unpack(lib, h, want_patches, want_curves, want_control_net):

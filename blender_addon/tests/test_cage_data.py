@@ -135,13 +135,18 @@ def test_source_without_materials_keeps_the_colour_material():
 def test_cage_loop_values_is_the_keep_corners_rule():
     # One quad face with corner values 0, 1, 2, 3: corner, edge midpoints, centre.
     values = np.array([[0.0], [1.0], [2.0], [3.0]])
-    corner = np.array([[0, 1], [0, 7], [5, 0]], dtype=np.uint32)
+    unknown = 0xFFFFFFFF
+    corner = np.array([[0, 1], [0, unknown], [unknown, 0]], dtype=np.uint32)
     coords = np.array([[0, 0], [1, 0], [1, 1], [0, 1]] * 3, dtype=np.float64)
     out = mod().mesh_io.cage_loop_values(values, [4], corner, coords)
     assert out[:4, 0].tolist() == [1.0, 1.5, 1.5, 0.5]
     assert out[4:, 0].tolist() == [0.0] * 8  # unknown corner, unknown face
+    # A corner the cage does not have (sizes of another cage) is an error naming it.
+    for bad, word in (([[0, 7]], "corner 7"), ([[5, 0]], "cage face 5")):
+        with pytest.raises(mod().native.GbsurfError, match=word):
+            mod().mesh_io.cage_loop_values(values, [4], np.array(bad, dtype=np.uint32), coords[:4])
     # Per-loop cage corners (the triangle layout) take the place of the face's.
-    loops = np.array([[0, 1], [0, 2], [0, 3], [0, 9]], dtype=np.uint32)
+    loops = np.array([[0, 1], [0, 2], [0, 3], [0, unknown]], dtype=np.uint32)
     st = np.array([[0, 0]] * 4, dtype=np.float64)
     out = mod().mesh_io.cage_loop_values(values, [4], [[0, 0]], st, loops)
     assert out[:, 0].tolist() == [1.0, 2.0, 3.0, 0.0]

@@ -876,6 +876,94 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_loop_corner(
     view_array("gbsurf_mesh_cage_loop_corner", result, |r| Ok(r.mesh.cage_loop_corner.as_flattened()), data, len)
 }
 
+/// Carries an attribute of the control mesh, given per cage face corner, to the output's face
+/// corners by Subdivision Surface's "keep corners" rule (docs/math.md#cage-corners): at cage
+/// coordinates (σ, τ) in corner k of face f, bilinear between a_k, ½(a_k + a_{k+1}), the face
+/// mean and ½(a_k + a_{k−1}). For UV maps (dim 2), colours, weights per corner.
+///
+/// - `face_sizes[n_faces]`: the corner count of every face of the control mesh the result was
+///   built from, in input order;
+/// - `values[values_len]`: `dim` floats per cage face corner, in face-corner order
+///   (`values_len` = dim × Σ face_sizes);
+/// - `face_corner[face_corner_len]`, `loop_corner[loop_corner_len]`, `coords[coords_len]`: the
+///   result's `gbsurf_mesh_cage_corner`, `gbsurf_mesh_cage_loop_corner` (may be empty: NULL, 0)
+///   and `gbsurf_mesh_cage_coords` views, or copies of them;
+/// - `out[out_len]`: receives `dim` floats per output face corner (`out_len` = dim ×
+///   coords_len / 2), in the order of the corners of `gbsurf_mesh_quads` (quad layout) or
+///   `gbsurf_mesh_triangles` (triangle layout). Corners with an unknown cage corner get 0.
+///
+/// Errors: `_COUNT` (lengths that do not match, dim = 0, a face with fewer than 3 corners),
+/// `_INDEX` (a cage corner outside `face_sizes`: sizes of another cage), `_NAN` (non-finite
+/// coordinates), `_NULL`. `out` is written only on success.
+///
+/// # Safety
+/// Every pointer points to its length of readable values (`out`: writable, not overlapping the
+/// inputs); NULL only with length 0.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_cage_loop_values(
+    face_sizes: *const u32,
+    n_faces: usize,
+    values: *const f32,
+    values_len: usize,
+    dim: usize,
+    face_corner: *const u32,
+    face_corner_len: usize,
+    loop_corner: *const u32,
+    loop_corner_len: usize,
+    coords: *const f64,
+    coords_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> u32 {
+    boundary("gbsurf_cage_loop_values", || {
+        // SAFETY: pointer/length pairs (contract).
+        let (sizes, values, face_corner, loop_corner, coords) = unsafe {
+            (
+                slice_arg(face_sizes, n_faces, "face_sizes")?,
+                slice_arg(values, values_len, "values")?,
+                slice_arg(face_corner, face_corner_len, "face_corner")?,
+                slice_arg(loop_corner, loop_corner_len, "loop_corner")?,
+                slice_arg(coords, coords_len, "coords")?,
+            )
+        };
+        let pairs = |len: usize, arg: &str| {
+            if len % 2 == 0 {
+                Ok(())
+            } else {
+                Err(FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: {len} values, not pairs")))
+            }
+        };
+        pairs(face_corner.len(), "face_corner")?;
+        pairs(loop_corner.len(), "loop_corner")?;
+        pairs(coords.len(), "coords")?;
+        let (face_corner, _) = face_corner.as_chunks::<2>();
+        let (loop_corner, _) = loop_corner.as_chunks::<2>();
+        let (coords, _) = coords.as_chunks::<2>();
+        let want = coords.len().checked_mul(dim).unwrap_or(usize::MAX);
+        if out_len != want {
+            return Err(FfiError::new(GBSURF_ERR_COUNT, format!("out_len is {out_len}: {} face corners × dim {dim} = {want} floats are written", coords.len())));
+        }
+        let out: &mut [f32] = if want == 0 {
+            &mut []
+        } else {
+            let out = non_null_mut(out, "out")?;
+            // SAFETY: `out` has out_len writable floats (contract), not aliased by the inputs.
+            unsafe { std::slice::from_raw_parts_mut(out, out_len) }
+        };
+        let loops = gbsurf::tessellate::CageLoops { face_corner, loop_corner, coords };
+        gbsurf::tessellate::cage_loop_values_into(sizes, values, dim, loops, out).map_err(|e| {
+            use gbsurf::tessellate::CageValuesError as E;
+            let code = match e {
+                E::FaceOutOfRange { .. } | E::CornerOutOfRange { .. } => GBSURF_ERR_INDEX,
+                E::NotFinite { .. } => GBSURF_ERR_NAN,
+                _ => GBSURF_ERR_COUNT,
+            };
+            FfiError::new(code, e.to_string())
+        })?;
+        Ok(())
+    })
+}
+
 /// View of the per-triangle patch index (patch methods: the patch it was sampled from;
 /// subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
 /// `*data` is valid until the handle is freed.

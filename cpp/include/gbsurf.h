@@ -570,6 +570,43 @@ uint32_t gbsurf_mesh_cage_loop_corner(const GbsurfResult *result,
                                       const uint32_t **data,
                                       size_t *len);
 
+// Carries an attribute of the control mesh, given per cage face corner, to the output's face
+// corners by Subdivision Surface's "keep corners" rule (docs/math.md#cage-corners): at cage
+// coordinates (σ, τ) in corner k of face f, bilinear between a_k, ½(a_k + a_{k+1}), the face
+// mean and ½(a_k + a_{k−1}). For UV maps (dim 2), colours, weights per corner.
+//
+// - `face_sizes[n_faces]`: the corner count of every face of the control mesh the result was
+//   built from, in input order;
+// - `values[values_len]`: `dim` floats per cage face corner, in face-corner order
+//   (`values_len` = dim × Σ face_sizes);
+// - `face_corner[face_corner_len]`, `loop_corner[loop_corner_len]`, `coords[coords_len]`: the
+//   result's `gbsurf_mesh_cage_corner`, `gbsurf_mesh_cage_loop_corner` (may be empty: NULL, 0)
+//   and `gbsurf_mesh_cage_coords` views, or copies of them;
+// - `out[out_len]`: receives `dim` floats per output face corner (`out_len` = dim ×
+//   coords_len / 2), in the order of the corners of `gbsurf_mesh_quads` (quad layout) or
+//   `gbsurf_mesh_triangles` (triangle layout). Corners with an unknown cage corner get 0.
+//
+// Errors: `_COUNT` (lengths that do not match, dim = 0, a face with fewer than 3 corners),
+// `_INDEX` (a cage corner outside `face_sizes`: sizes of another cage), `_NAN` (non-finite
+// coordinates), `_NULL`. `out` is written only on success.
+//
+// # Safety
+// Every pointer points to its length of readable values (`out`: writable, not overlapping the
+// inputs); NULL only with length 0.
+uint32_t gbsurf_cage_loop_values(const uint32_t *face_sizes,
+                                 size_t n_faces,
+                                 const float *values,
+                                 size_t values_len,
+                                 size_t dim,
+                                 const uint32_t *face_corner,
+                                 size_t face_corner_len,
+                                 const uint32_t *loop_corner,
+                                 size_t loop_corner_len,
+                                 const double *coords,
+                                 size_t coords_len,
+                                 float *out,
+                                 size_t out_len);
+
 // View of the per-triangle patch index (patch methods: the patch it was sampled from;
 // subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.
 // `*data` is valid until the handle is freed.

@@ -182,6 +182,23 @@ public:
     /// face and the position of the vertex in it (UINT32_MAX when unknown).
     span<uint32_t> cage_corner() const& { return view(gbsurf_mesh_cage_corner); }
     span<uint32_t> cage_corner() const&& = delete;
+    /// An attribute of the control mesh given per face corner (`dim` floats per corner, in the
+    /// face-corner order of the faces of `face_sizes`, the mesh this result was built from) at
+    /// every output face corner, by Subdivision Surface's "keep corners" rule
+    /// (docs/math.md#cage-corners): `dim` floats per corner of `quads()` (or of `triangles()` in
+    /// the triangle layout). For UV maps: dim = 2. Throws `error` (_COUNT, _INDEX) when the
+    /// sizes or lengths do not fit.
+    std::vector<float> cage_loop_values(const std::vector<uint32_t>& face_sizes, const std::vector<float>& values,
+                                        std::size_t dim) const {
+        span<uint32_t> fc = view(gbsurf_mesh_cage_corner);
+        span<uint32_t> lc = view(gbsurf_mesh_cage_loop_corner);
+        span<double> st = view(gbsurf_mesh_cage_coords);
+        std::vector<float> out(st.size() / 2 * dim);
+        check(gbsurf_cage_loop_values(face_sizes.data(), face_sizes.size(), values.data(), values.size(), dim,
+                                      fc.data(), fc.size(), lc.data(), lc.size(), st.data(), st.size(), out.data(),
+                                      out.size()));
+        return out;
+    }
     /// Patch (or, for subdivision, input face) index per vertex.
     span<uint32_t> patch_index() const& { return view(gbsurf_mesh_patch_index); }
     span<uint32_t> patch_index() const&& = delete;

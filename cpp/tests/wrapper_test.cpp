@@ -109,6 +109,44 @@ int main() {
         CHECK(code_of([&] { (void)a.curve_cubic_points(a.curve_count()); }) == GBSURF_ERR_INDEX);
     }
 
+    // Cage attributes at the output's face corners (keep corners): the cage positions per face
+    // corner as the attribute; at a loop in cage corner (f, k) with coordinates (0, 0) the value
+    // is that corner's vertex, at (1, 1) the face centre; sizes of another cage are an error.
+    {
+        std::vector<float> values;
+        for (uint32_t v : F)
+            for (int c = 0; c < 3; ++c) values.push_back(static_cast<float>(P[3 * v + c]));
+        const auto uv = a.cage_loop_values(S, values, 3);
+        const auto corner = a.cage_corner();
+        std::size_t loops = uv.size() / 3, at_vertex = 0, at_centre = 0;
+        CHECK(loops == 4 * a.quad_count());
+        std::vector<double> coords;
+        {
+            const double* d = nullptr;
+            std::size_t len = 0;
+            CHECK(gbsurf_mesh_cage_coords(a.get(), &d, &len) == GBSURF_OK && len == 2 * loops);
+            coords.assign(d, d + len);
+        }
+        bool exact = true;
+        for (std::size_t i = 0; i < loops; ++i) {
+            const uint32_t f = corner[2 * (i / 4)], k = corner[2 * (i / 4) + 1];
+            const double s = coords[2 * i], t = coords[2 * i + 1];
+            for (int c = 0; c < 3; ++c) {
+                if (s == 0 && t == 0) exact = exact && uv[3 * i + c] == values[3 * (4 * f + k) + c];
+                if (s == 1 && t == 1) {
+                    float mean = 0;
+                    for (int j = 0; j < 4; ++j) mean += values[3 * (4 * f + j) + c];
+                    exact = exact && std::abs(uv[3 * i + c] - mean / 4) < 1e-6f;
+                }
+            }
+            at_vertex += s == 0 && t == 0;
+            at_centre += s == 1 && t == 1;
+        }
+        CHECK(exact && at_vertex > 0 && at_centre > 0);
+        CHECK(code_of([&] { (void)a.cage_loop_values({4, 4}, std::vector<float>(24), 3); }) == GBSURF_ERR_INDEX);
+        CHECK(code_of([&] { (void)a.cage_loop_values(S, std::vector<float>(5), 3); }) == GBSURF_ERR_COUNT);
+    }
+
     // Validity in the report: the unit cube is valid; with its corner (1, 1, 1) pulled inside to
     // (-0.5, -0.5, -0.5) the dual surface folds, and the fold sites name folded patches.
     {

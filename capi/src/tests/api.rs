@@ -1020,3 +1020,62 @@ fn triangle_layout_cage_views_match_rust() {
         gbsurf_result_free(r);
     }
 }
+
+/// `gbsurf_cage_loop_values` on the views of a result equals the Rust API's keep-corners values,
+/// in both layouts, and names every wrong argument.
+#[test]
+fn cage_loop_values_through_the_views() {
+    let (p, s, f) = cube();
+    // The cage positions per face corner as the attribute (dim 3).
+    let values: Vec<f32> = f.iter().flat_map(|&v| [0, 1, 2].map(|c| p[3 * v as usize + c] as f32)).collect();
+    let faces = f.chunks(4).map(<[u32]>::to_vec).collect();
+    let mesh = gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces);
+    for layout in [GBSURF_LAYOUT_QUADS, GBSURF_LAYOUT_TRIANGLES] {
+        let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+        // SAFETY: writable struct, then initialized.
+        let mut o = unsafe {
+            gbsurf_options_init(o.as_mut_ptr());
+            o.assume_init()
+        };
+        o.layout = layout;
+        o.resolution = 3;
+        let mut r = null_mut();
+        // SAFETY: valid arrays and out pointer.
+        assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut r) }, GBSURF_OK, "{}", last());
+        let opts = gbsurf::api::ConvertOptions {
+            layout: if layout == GBSURF_LAYOUT_QUADS { gbsurf::gb::Layout::Quads } else { gbsurf::gb::Layout::Triangles },
+            resolution: 3,
+            ..gbsurf::api::ConvertOptions::default()
+        };
+        let want = gbsurf::api::convert(&mesh, &opts, None).unwrap().mesh.cage_loop_values(&s, &values, 3).unwrap();
+        // SAFETY: `r` is a live handle; the views live until it is freed; outputs are locals.
+        unsafe {
+            let (mut fc, mut fl, mut lc, mut ll, mut cc, mut cl) = (null(), 0usize, null(), 0usize, null(), 0usize);
+            assert_eq!(gbsurf_mesh_cage_corner(r, &mut fc, &mut fl), GBSURF_OK);
+            assert_eq!(gbsurf_mesh_cage_loop_corner(r, &mut lc, &mut ll), GBSURF_OK);
+            assert_eq!(gbsurf_mesh_cage_coords(r, &mut cc, &mut cl), GBSURF_OK);
+            let mut out = vec![0f32; 3 * cl / 2];
+            let call = |values: *const f32, vlen: usize, dim: usize, out: *mut f32, olen: usize| {
+                gbsurf_cage_loop_values(s.as_ptr(), s.len(), values, vlen, dim, fc, fl, lc, ll, cc, cl, out, olen)
+            };
+            assert_eq!(call(values.as_ptr(), values.len(), 3, out.as_mut_ptr(), out.len()), GBSURF_OK, "{}", last());
+            assert_eq!(out, want);
+            // Wrong arguments: each its code and a message naming it; `out` untouched.
+            let before = out.clone();
+            assert_eq!(call(null(), values.len(), 3, out.as_mut_ptr(), out.len()), GBSURF_ERR_NULL);
+            assert!(last().contains("values"), "{}", last());
+            assert_eq!(call(values.as_ptr(), values.len() - 1, 3, out.as_mut_ptr(), out.len()), GBSURF_ERR_COUNT);
+            assert!(last().contains("cage values"), "{}", last());
+            assert_eq!(call(values.as_ptr(), values.len(), 3, out.as_mut_ptr(), out.len() - 1), GBSURF_ERR_COUNT);
+            assert!(last().contains("out_len"), "{}", last());
+            assert_eq!(call(values.as_ptr(), values.len(), 0, out.as_mut_ptr(), 0), GBSURF_ERR_COUNT);
+            assert_eq!(call(values.as_ptr(), values.len(), 3, null_mut(), out.len()), GBSURF_ERR_NULL);
+            let three = [4u32; 3];
+            let code = gbsurf_cage_loop_values(three.as_ptr(), 3, values.as_ptr(), 36, 3, fc, fl, lc, ll, cc, cl, out.as_mut_ptr(), out.len());
+            assert_eq!(code, GBSURF_ERR_INDEX, "{}", last());
+            assert!(last().contains("cage face"), "{}", last());
+            assert_eq!(out, before);
+            gbsurf_result_free(r);
+        }
+    }
+}

@@ -1,0 +1,161 @@
+//! Attributes of the control mesh carried to the output's face corners (docs/math.md#cage-corners):
+//! the "keep corners" rule of Subdivision Surface, for UV maps and any other per-face-corner data.
+//!
+//! For an output face corner (loop) in cage corner (f, k) at cage coordinates (σ, τ):
+//!
+//! a(σ, τ) = (1−τ)·[(1−σ)·a_k + σ·½(a_k + a_{k+1})] + τ·[(1−σ)·½(a_k + a_{k−1}) + σ·ā],
+//!
+//! a_k the value at corner k of face f, a_{k±1} its neighbours in the face, ā the mean over the
+//! face's corners. The four values are tabulated once per cage corner; each loop then costs four
+//! reads and three lerps. One definition for every adapter: the Blender add-on, C and C++ call it
+//! through `gbsurf_cage_loop_values`.
+
+use rayon::prelude::*;
+
+/// Where the output's face corners lie in the cage (the arrays of [`super::SurfaceMesh`]).
+#[derive(Clone, Copy, Debug)]
+pub struct CageLoops<'a> {
+    /// Per output face: its cage corner `[face, corner]` ([`super::SurfaceMesh::cage_corner`]).
+    pub face_corner: &'a [[u32; 2]],
+    /// Per loop: its own cage corner (the triangle layout's
+    /// [`super::SurfaceMesh::cage_loop_corner`]), or empty: then every loop takes its face's, the
+    /// loops of face i being `m·i .. m·i + m` with m = loops / faces.
+    pub loop_corner: &'a [[u32; 2]],
+    /// Per loop: (σ, τ) in its cage corner ([`super::SurfaceMesh::cage_coords`]).
+    pub coords: &'a [[f64; 2]],
+}
+
+/// Why cage values could not be interpolated; indices as the caller gave them.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CageValuesError {
+    #[error("the value dimension is 0 (give at least one value per face corner)")]
+    ZeroDimension,
+    #[error("cage face {face} has {size} corners: a face needs at least 3")]
+    FaceTooSmall { face: usize, size: u32 },
+    #[error("{what}: {got} values where {expected} are needed")]
+    WrongLength { what: &'static str, expected: usize, got: usize },
+    #[error("{loops} face corners cannot be split evenly over {faces} output faces")]
+    UnevenFaces { loops: usize, faces: usize },
+    #[error("output face corner {index} lies in cage face {face}, but the cage has {faces} faces (the face sizes are not those of the cage the result was built from)")]
+    FaceOutOfRange { index: usize, face: u32, faces: usize },
+    #[error("output face corner {index} lies in corner {corner} of cage face {face}, which has {size} corners (the face sizes are not those of the cage the result was built from)")]
+    CornerOutOfRange { index: usize, face: u32, corner: u32, size: u32 },
+    #[error("cage coordinates of output face corner {index} are not finite")]
+    NotFinite { index: usize },
+}
+
+/// Loops per parallel task.
+const CHUNK: usize = 1 << 14;
+
+/// The keep-corners values (module doc) of `values` (`dim` values per cage face corner, in
+/// face-corner order of the faces of sizes `face_sizes`) at every loop of `loops`: `dim` values
+/// per loop, in loop order. Loops in an unknown cage corner (`u32::MAX`, e.g. a hand-built
+/// surface) get 0. Values are f32 (like Blender's UVs and weights); the face means are summed
+/// in f64.
+pub fn cage_loop_values(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>) -> Result<Vec<f32>, CageValuesError> {
+    let mut out = vec![0f32; loops.coords.len().saturating_mul(dim)];
+    cage_loop_values_into(face_sizes, values, dim, loops, &mut out)?;
+    Ok(out)
+}
+
+/// [`cage_loop_values`] written into `out` (`dim` × loops values; the C ABI's buffer). `out` is
+/// written only when every input is valid.
+pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>, out: &mut [f32]) -> Result<(), CageValuesError> {
+    if dim == 0 {
+        return Err(CageValuesError::ZeroDimension);
+    }
+    let mut starts = Vec::with_capacity(face_sizes.len() + 1);
+    let mut total = 0usize;
+    for (face, &size) in face_sizes.iter().enumerate() {
+        if size < 3 {
+            return Err(CageValuesError::FaceTooSmall { face, size });
+        }
+        starts.push(total);
+        total += size as usize;
+    }
+    starts.push(total);
+    if values.len() != total * dim {
+        return Err(CageValuesError::WrongLength { what: "cage values", expected: total * dim, got: values.len() });
+    }
+    let n = loops.coords.len();
+    if out.len() != n * dim {
+        return Err(CageValuesError::WrongLength { what: "output values", expected: n * dim, got: out.len() });
+    }
+    let per_face = if !loops.loop_corner.is_empty() {
+        if loops.loop_corner.len() != n {
+            return Err(CageValuesError::WrongLength { what: "per-loop cage corners", expected: n, got: loops.loop_corner.len() });
+        }
+        0
+    } else if n == 0 {
+        1
+    } else if loops.face_corner.is_empty() || n % loops.face_corner.len() != 0 {
+        return Err(CageValuesError::UnevenFaces { loops: n, faces: loops.face_corner.len() });
+    } else {
+        n / loops.face_corner.len()
+    };
+    let corner_of = |i: usize| if per_face == 0 { loops.loop_corner[i] } else { loops.face_corner[i / per_face] };
+    // Every loop's corner is checked before anything is written; the first bad loop is named.
+    let bad = |i: usize| -> Option<CageValuesError> {
+        let [f, k] = corner_of(i);
+        if f == u32::MAX || k == u32::MAX {
+            return None;
+        }
+        match face_sizes.get(f as usize) {
+            None => Some(CageValuesError::FaceOutOfRange { index: i, face: f, faces: face_sizes.len() }),
+            Some(&size) if k >= size => Some(CageValuesError::CornerOutOfRange { index: i, face: f, corner: k, size }),
+            _ if !loops.coords[i].iter().all(|x| x.is_finite()) => Some(CageValuesError::NotFinite { index: i }),
+            _ => None,
+        }
+    };
+    if let Some(i) = (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| bad(i).is_some()) {
+        return Err(bad(i).expect("found above"));
+    }
+    // Per cage corner g: [a_k, ½(a_k + a_{k+1}), ā, ½(a_k + a_{k−1})], dim values each.
+    let mut table = vec![0f32; 4 * total * dim];
+    table.par_chunks_mut(4 * dim * 64).enumerate().for_each(|(chunk, rows)| {
+        for (r, row) in rows.chunks_mut(4 * dim).enumerate() {
+            let g = chunk * 64 + r;
+            let f = starts.partition_point(|&s| s <= g) - 1;
+            let (s, size) = (starts[f], starts[f + 1] - starts[f]);
+            let k = g - s;
+            let at = |j: usize| &values[(s + j) * dim..(s + j + 1) * dim];
+            let (a, next, prev) = (at(k), at((k + 1) % size), at((k + size - 1) % size));
+            for d in 0..dim {
+                let mean = (0..size).map(|j| at(j)[d] as f64).sum::<f64>() / size as f64;
+                row[d] = a[d];
+                row[dim + d] = 0.5 * (a[d] + next[d]);
+                row[2 * dim + d] = mean as f32;
+                row[3 * dim + d] = 0.5 * (a[d] + prev[d]);
+            }
+        }
+    });
+    out.par_chunks_mut(CHUNK * dim).enumerate().for_each(|(chunk, part)| {
+        for (j, o) in part.chunks_mut(dim).enumerate() {
+            let i = chunk * CHUNK + j;
+            let [f, k] = corner_of(i);
+            if f == u32::MAX || k == u32::MAX {
+                o.fill(0.0);
+                continue;
+            }
+            let g = starts[f as usize] + k as usize;
+            let row = &table[4 * g * dim..4 * (g + 1) * dim];
+            let [s, t] = loops.coords[i].map(|x| x as f32);
+            for d in 0..dim {
+                let low = row[d] + s * (row[dim + d] - row[d]);
+                let high = row[3 * dim + d] + s * (row[2 * dim + d] - row[3 * dim + d]);
+                o[d] = low + t * (high - low);
+            }
+        }
+    });
+    Ok(())
+}
+
+impl super::SurfaceMesh {
+    /// [`cage_loop_values`] at this mesh's face corners (quads, or triangles in the triangle
+    /// layout; empty for the subdivision methods), for the cage of sizes `face_sizes` it was
+    /// built from.
+    pub fn cage_loop_values(&self, face_sizes: &[u32], values: &[f32], dim: usize) -> Result<Vec<f32>, CageValuesError> {
+        let loops = CageLoops { face_corner: &self.cage_corner, loop_corner: &self.cage_loop_corner, coords: &self.cage_coords };
+        cage_loop_values(face_sizes, values, dim, loops)
+    }
+}
