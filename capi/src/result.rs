@@ -926,20 +926,11 @@ pub unsafe extern "C" fn gbsurf_cage_loop_values(
                 slice_arg(coords, coords_len, "coords")?,
             )
         };
-        let pairs = |len: usize, arg: &str| {
-            if len % 2 == 0 {
-                Ok(())
-            } else {
-                Err(FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: {len} values, not pairs")))
-            }
-        };
-        pairs(face_corner.len(), "face_corner")?;
-        pairs(loop_corner.len(), "loop_corner")?;
-        pairs(coords.len(), "coords")?;
-        let (face_corner, _) = face_corner.as_chunks::<2>();
-        let (loop_corner, _) = loop_corner.as_chunks::<2>();
-        let (coords, _) = coords.as_chunks::<2>();
-        let want = coords.len().checked_mul(dim).unwrap_or(usize::MAX);
+        fn pairs<'a, T: bytemuck::Pod>(flat: &'a [T], arg: &str) -> FfiResult<&'a [[T; 2]]> {
+            bytemuck::try_cast_slice(flat).map_err(|_| FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: {} values, not pairs", flat.len())))
+        }
+        let (face_corner, loop_corner, coords) = (pairs(face_corner, "face_corner")?, pairs(loop_corner, "loop_corner")?, pairs(coords, "coords")?);
+        let want = coords.len().saturating_mul(dim);
         if out_len != want {
             return Err(FfiError::new(GBSURF_ERR_COUNT, format!("out_len is {out_len}: {} face corners × dim {dim} = {want} floats are written", coords.len())));
         }

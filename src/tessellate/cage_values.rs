@@ -81,19 +81,23 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
     if out.len() != n * dim {
         return Err(CageValuesError::WrongLength { what: "output values", expected: n * dim, got: out.len() });
     }
+    // Loops per output face, or None when every loop has its own corner.
     let per_face = if !loops.loop_corner.is_empty() {
         if loops.loop_corner.len() != n {
             return Err(CageValuesError::WrongLength { what: "per-loop cage corners", expected: n, got: loops.loop_corner.len() });
         }
-        0
+        None
     } else if n == 0 {
-        1
+        Some(1)
     } else if loops.face_corner.is_empty() || n % loops.face_corner.len() != 0 {
         return Err(CageValuesError::UnevenFaces { loops: n, faces: loops.face_corner.len() });
     } else {
-        n / loops.face_corner.len()
+        Some(n / loops.face_corner.len())
     };
-    let corner_of = |i: usize| if per_face == 0 { loops.loop_corner[i] } else { loops.face_corner[i / per_face] };
+    let corner_of = |i: usize| match per_face {
+        None => loops.loop_corner[i],
+        Some(m) => loops.face_corner[i / m],
+    };
     // Every loop's corner is checked before anything is written; the first bad loop is named.
     let bad = |i: usize| -> Option<CageValuesError> {
         let [f, k] = corner_of(i);
