@@ -1,6 +1,7 @@
 //! Times a conversion and its validity checks separately on a quad torus:
-//! `cargo run --release --example validity_timing -- [a b] [resolution] [dual|topology]`
-//! (defaults: 100 × 100 quads, the default resolution, dual); a first argument ending in `.obj`
+//! `cargo run --release --example validity_timing -- [a b] [resolution] [dual|topology] [quads|triangles]`
+//! (defaults: 100 × 100 quads, the default options of [`ConvertOptions::default`]: quad layout,
+//! resolution 2, dual; `triangles` takes the triangle layout); a first argument ending in `.obj`
 //! reads that model instead of the torus. `FOLD_LEVEL=L` overrides the fold sampling level of
 //! the dense reference check ([`gbsurf::quality::find_folds`]), timed separately after the
 //! conversion with and without its checks.
@@ -13,7 +14,10 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let num = |i: usize, d: usize| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let (a, b) = (num(1, 100), num(2, 100));
-    let mut opts = ConvertOptions::triangles_r8();
+    let mut opts = ConvertOptions::default();
+    if args.get(5).map(String::as_str) == Some("triangles") {
+        opts.layout = gbsurf::options::Layout::Triangles;
+    }
     opts.resolution = num(3, opts.resolution);
     if args.get(4).map(String::as_str) == Some("topology") {
         opts.method = Method::Topology;
@@ -40,6 +44,7 @@ fn main() {
         c.report.self_intersections
     );
     let surface = c.surface.as_ref().expect("surface");
+    phases(&mesh, &opts, &c);
     let t = Instant::now();
     let folds = gbsurf::quality::find_folds(surface, level, opts.weights);
     let t_folds = t.elapsed().as_secs_f64();
@@ -72,6 +77,46 @@ fn main() {
         c.mesh.triangles.len(),
         folds.patches,
         100.0 * checks / (total - checks)
+    );
+}
+
+/// The checks of one conversion, phase by phase, as `convert` runs them on its output `c`:
+/// the in-pass fold test (tessellation with it minus without it), the mesh check, the
+/// self-intersection search (with its certificates), the cage search and the curvature maximum.
+fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api::Conversion) {
+    use gbsurf::tessellate::surface::tessellate_surface_checked;
+    let surface = c.surface.as_ref().expect("surface");
+    let time = |f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        f();
+        t.elapsed().as_secs_f64()
+    };
+    let tess = |folds: bool| {
+        // Best of 2: the tessellation dominates and the machine is shared.
+        (0..2)
+            .map(|_| time(&mut || drop(tessellate_surface_checked(surface, opts.sampling(), opts.weights, folds, None).expect("tessellation"))))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (t_with, t_without) = (tess(true), tess(false));
+    let m = &c.mesh;
+    let mut closed = false;
+    let t_check = time(&mut || closed = gbsurf::quality::check_mesh(&m.positions, &m.triangles).is_closed_manifold());
+    let mut si = 0;
+    let t_si = time(&mut || {
+        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, closed, &mut gbsurf::progress::Ticker::none()).expect("not cancelled")
+    });
+    let mut ci = 0;
+    let t_cage = time(&mut || ci = gbsurf::quality::cage_self_intersections(mesh));
+    let t_h = time(&mut || {
+        std::hint::black_box(gbsurf::quality::validity::max_abs_mean_curvature_times_diagonal(&m.positions, &m.mean_curvature));
+    });
+    let folds = t_with - t_without;
+    let checks = folds + t_si + t_cage + t_h;
+    println!(
+        "phases: tessellation {t_without:.3} s + in-pass folds {folds:.3} s; mesh check {t_check:.3} s; self-intersections {t_si:.3} s [{si}]; cage {t_cage:.3} s [{ci}]; |H| max {t_h:.4} s; checks {checks:.3} s = {:.1} % of convert {:.3} s, {:.1} % of the rest (mesh check counted as conversion)",
+        100.0 * checks / c.report.seconds,
+        c.report.seconds,
+        100.0 * checks / (c.report.seconds - checks)
     );
 }
 

@@ -221,12 +221,84 @@ fn certify_star(positions: &[DVec3], loops: &PatchLoops, cones: &[Option<(DVec3,
     if !cs.iter().all(|&(axis, cos)| a.dot(axis).clamp(-1.0, 1.0).acos() + cos.clamp(-1.0, 1.0).acos() < limit) {
         return false;
     }
+    let mut walk = Vec::new();
+    if star_loop(loops, q, patches, &mut walk) {
+        return star_shaped(positions, &walk, q, a);
+    }
+    single_loop(star_edges(loops, patches)).is_some_and(|lp| star_shaped(positions, &lp, q, a))
+}
+
+/// The directed edges of the loops of `patches`.
+fn star_edges(loops: &PatchLoops, patches: &[u32]) -> Vec<(u32, u32)> {
     let mut edges = Vec::new();
     for &p in patches {
         let lp = loops.of(p as usize);
         edges.extend((0..lp.len()).map(|k| (lp[k], lp[(k + 1) % lp.len()])));
     }
-    single_loop(edges).is_some_and(|lp| star_shaped(positions, &lp, q, a))
+    edges
+}
+
+/// The boundary loop of the star of node `q` made of `patches`, in the common case, without
+/// sorting (the stars of a smooth surface are almost all of this kind): into `walk`, true when
+/// found; false sends the star to [`single_loop`], which decides every case.
+///
+/// Every loop has q at exactly one corner, no edge from a vertex to itself and at least three
+/// sides; leaving q, patch p runs along its out-side (q to its next corner), its outer part, and
+/// back along its in-side (its last corner to q). Starting from the first patch, the next one is
+/// a patch whose out-side is the current in-side reversed, until the walk returns to the first
+/// patch having used each once, and the outer parts concatenated have distinct vertices (at
+/// least three). Then the in-sides and out-sides cancel in pairs in the chain of all loops'
+/// edges, so the chain is the walk, a simple loop: exactly the loop [`single_loop`] returns (up
+/// to the starting vertex, which [`star_shaped`] does not depend on).
+fn star_loop(loops: &PatchLoops, q: u32, patches: &[u32], walk: &mut Vec<u32>) -> bool {
+    let m = loops.per_side;
+    walk.clear();
+    if m == 0 || patches.is_empty() || patches.len() > 64 {
+        return false;
+    }
+    // Per patch: its loop and the position of q in it.
+    let mut at = [(&[][..], 0usize); 64];
+    for (slot, &p) in at.iter_mut().zip(patches) {
+        let lp = loops.of(p as usize);
+        let len = lp.len();
+        if len % m != 0 || len <= 2 * m || (0..len).any(|k| lp[k] == lp[(k + 1) % len]) {
+            return false;
+        }
+        let mut corner = lp.iter().enumerate().step_by(m).filter(|x| *x.1 == q).map(|x| x.0);
+        let (Some(k), None) = (corner.next(), corner.next()) else { return false };
+        *slot = (lp, k);
+    }
+    let at = &at[..patches.len()];
+    let vertex = |(lp, k): (&[u32], usize), j: usize| lp[(k + j) % lp.len()];
+    let mut used = 0u64;
+    let mut cur = 0;
+    for _ in 0..patches.len() {
+        used |= 1 << cur;
+        let (lp, k) = at[cur];
+        let len = lp.len();
+        walk.extend((m..len - m).map(|j| vertex((lp, k), j)));
+        // The patch whose out-side (q, …, its first corner) is this in-side reversed.
+        let next = (0..patches.len()).find(|&o| (0..=m).all(|j| vertex(at[o], j) == vertex((lp, k), len - j)));
+        match next {
+            Some(0) if used.count_ones() as usize == patches.len() => {
+                cur = 0;
+                break;
+            }
+            Some(o) if used & (1 << o) == 0 => cur = o,
+            _ => return false,
+        }
+    }
+    if cur != 0 || used.count_ones() as usize != patches.len() || walk.len() < 3 {
+        walk.clear();
+        return false;
+    }
+    let mut sorted = walk.clone();
+    sorted.sort_unstable();
+    if sorted.windows(2).any(|w| w[0] == w[1]) {
+        walk.clear();
+        return false;
+    }
+    true
 }
 
 /// A patch alone as a region (see the module doc, "Regions"): conditions (1) and (2) for its
@@ -258,9 +330,12 @@ fn certify_patch(positions: &[DVec3], triangles: &[[u32; 3]], lp: &[u32], cone: 
 /// small stars it would cost more than it saves).
 pub const CORE_MIN_PATCHES: usize = 8;
 
+/// The nodes of a tessellation ([`node_groups`]).
+type Nodes = (Vec<(u32, u32)>, Vec<(usize, usize)>);
+
 /// The nodes of `loops`: (corner vertex, patch) pairs sorted by vertex, and the range of each
 /// vertex's pairs (its star).
-fn node_groups(loops: &PatchLoops) -> (Vec<(u32, u32)>, Vec<(usize, usize)>) {
+fn node_groups(loops: &PatchLoops) -> Nodes {
     let mut corners: Vec<(u32, u32)> = (0..loops.len()).flat_map(|p| loops.corners(p).map(move |v| (v, p as u32))).collect();
     corners.par_sort_unstable();
     corners.dedup();
@@ -300,24 +375,29 @@ impl Certified {
     /// quad layout, the stars of more than [`CORE_MIN_PATCHES`] patches that are not certified
     /// get their cores tried (see the module doc).
     pub fn of_mesh_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<Certified, Cancelled> {
-        let mut c = Certified::of_patches_ticked(&mesh.positions, &mesh.triangles, &mesh.patch_loops, ticker)?;
+        let (mut c, nodes) = Certified::of_patches_nodes(&mesh.positions, &mesh.triangles, &mesh.patch_loops, ticker)?;
         if !mesh.quads.is_empty() && mesh.face_corner.len() == mesh.quads.len() && 2 * mesh.quads.len() == mesh.triangles.len() {
-            let sector: Vec<u32> = (0..mesh.triangles.len()).map(|t| mesh.face_corner[t / 2]).collect();
-            c.add_cores(&mesh.positions, &mesh.triangles, &mesh.patch_loops, sector);
+            let sector = || (0..mesh.triangles.len()).map(|t| mesh.face_corner[t / 2]).collect();
+            c.add_cores(&mesh.positions, &mesh.triangles, nodes, sector);
         }
         Ok(c)
     }
 
     /// Tries the cores of the uncertified stars of more than [`CORE_MIN_PATCHES`] patches
-    /// (`sector[t]`: the patch corner whose sector holds triangle t).
-    fn add_cores(&mut self, positions: &[DVec3], triangles: &[[u32; 3]], loops: &PatchLoops, sector: Vec<u32>) {
+    /// (`nodes`: those of [`node_groups`]; `sector()[t]`: the patch corner whose sector holds
+    /// triangle t, made only when some star is that large).
+    fn add_cores(&mut self, positions: &[DVec3], triangles: &[[u32; 3]], nodes: Nodes, sector: impl FnOnce() -> Vec<u32>) {
         let np = self.patches();
-        if np == 0 || sector.len() != triangles.len() {
+        // Nodes with their patches, as in the stars.
+        let (corners, mut groups) = nodes;
+        groups.retain(|&(s, e)| e - s > CORE_MIN_PATCHES);
+        if np == 0 || groups.is_empty() {
             return;
         }
-        // Nodes with their patches, as in the stars.
-        let (corners, mut groups) = node_groups(loops);
-        groups.retain(|&(s, e)| e - s > CORE_MIN_PATCHES);
+        let sector = sector();
+        if sector.len() != triangles.len() {
+            return;
+        }
         let tri_start = &self.tri_start;
         let found: Vec<Vec<(u32, u32)>> = groups
             .par_iter()
@@ -380,6 +460,17 @@ impl Certified {
         loops: &PatchLoops,
         ticker: &mut Ticker<'_>,
     ) -> Result<Certified, Cancelled> {
+        Certified::of_patches_nodes(positions, triangles, loops, ticker).map(|c| c.0)
+    }
+
+    /// [`Certified::of_patches_ticked`] with the nodes it grouped (empty when the loops do not
+    /// match the triangles), for [`Certified::add_cores`].
+    fn of_patches_nodes(
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        loops: &PatchLoops,
+        ticker: &mut Ticker<'_>,
+    ) -> Result<(Certified, Nodes), Cancelled> {
         let np = loops.len();
         let consistent = np > 0
             && loops.triangles.len() == np + 1
@@ -387,7 +478,7 @@ impl Certified {
             && loops.triangles.windows(2).all(|w| w[0] <= w[1])
             && loops.ids.iter().all(|&v| (v as usize) < positions.len());
         if !consistent {
-            return Ok(Certified::none());
+            return Ok((Certified::none(), Nodes::default()));
         }
         let cones: Vec<Option<(DVec3, f64)>> = (0..np)
             .into_par_iter()
@@ -439,7 +530,8 @@ impl Certified {
             }
         }
         star_start.push(member.len());
-        Ok(Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect(), cores: Vec::new(), sector: Vec::new() })
+        let c = Certified { tri_start: loops.triangles.clone(), star_start, stars: member.into_iter().map(|m| m.1).collect(), cores: Vec::new(), sector: Vec::new() };
+        Ok((c, (corners, groups)))
     }
 
     /// Number of patches lying in at least one certified star.
@@ -455,6 +547,11 @@ impl Certified {
     /// The certified stars containing patch p (ascending).
     fn stars_of(&self, p: usize) -> &[u32] {
         self.star_start.get(p..p + 2).map_or(&[], |w| &self.stars[w[0]..w[1]])
+    }
+
+    /// The triangles of patch p are `tri_start()[p]..tri_start()[p + 1]`.
+    pub(crate) fn tri_start(&self) -> &[usize] {
+        &self.tri_start
     }
 
     /// The patch of triangle t, if the certificate covers it.
@@ -636,4 +733,102 @@ pub fn star_shaped_about_centroid(positions: &[DVec3], triangles: &[[u32; 3]]) -
         let [a, b, c] = t.map(|v| positions[v as usize]);
         (a - o).dot((b - a).cross(c - a)) > 0.0
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::api::{convert_unchecked, ConvertOptions, Method};
+    use crate::gb::Layout;
+
+    /// The undirected-edge-free form of a loop: its directed edges, sorted.
+    fn edges_of(lp: &[u32]) -> Vec<(u32, u32)> {
+        let mut e: Vec<(u32, u32)> = (0..lp.len()).map(|k| (lp[k], lp[(k + 1) % lp.len()])).collect();
+        e.sort_unstable();
+        e
+    }
+
+    /// Every star of `loops`: where [`star_loop`] finds a loop, [`single_loop`] finds the same
+    /// one (as directed edges). Returns how many stars took the sort-free path.
+    fn same_loops(loops: &PatchLoops) -> usize {
+        let (corners, groups) = node_groups(loops);
+        let mut fast = 0;
+        let mut walk = Vec::new();
+        for &(s, e) in &groups {
+            let ps: Vec<u32> = corners[s..e].iter().map(|c| c.1).collect();
+            if star_loop(loops, corners[s].0, &ps, &mut walk) {
+                fast += 1;
+                let slow = single_loop(star_edges(loops, &ps)).expect("the general path finds a loop too");
+                assert_eq!(edges_of(&walk), edges_of(&slow), "star of {}", corners[s].0);
+            }
+        }
+        fast
+    }
+
+    #[test]
+    fn the_sort_free_star_loop_is_the_general_one() {
+        let models = [
+            crate::mesh::generate::torus(12, 8, 10.0, 3.0).unwrap(),
+            crate::mesh::generate::uv_sphere(8, 5).unwrap(),
+            crate::mesh::generate::prism(7).unwrap(),
+            crate::mesh::generate::cone(9).unwrap(),
+        ];
+        for mesh in &models {
+            for method in [Method::Dual, Method::Topology] {
+                for (layout, r) in [(Layout::Quads, 1), (Layout::Quads, 2), (Layout::Triangles, 3)] {
+                    let opts = ConvertOptions { method, layout, resolution: r, ..Default::default() };
+                    let c = convert_unchecked(mesh, &opts).unwrap();
+                    let loops = &c.mesh.patch_loops;
+                    let fast = same_loops(loops);
+                    // The interior stars of these closed surfaces all take the sort-free path.
+                    assert_eq!(fast, node_groups(loops).1.len(), "{method:?} {layout:?} r = {r}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_sort_free_star_loop_refuses_what_it_cannot_prove() {
+        // A torus tessellation, then damaged loops: each damage sends the stars touching it to
+        // the general path (or both paths agree), never to a different loop.
+        let opts = ConvertOptions { method: Method::Dual, resolution: 2, ..Default::default() };
+        let mesh = crate::mesh::generate::torus(6, 5, 10.0, 3.0).unwrap();
+        let base = convert_unchecked(&mesh, &opts).unwrap().mesh.patch_loops;
+        let (corners, groups) = node_groups(&base);
+        let star = |loops: &PatchLoops, g: usize| -> (bool, Vec<u32>) {
+            let (s, e) = groups[g];
+            let ps: Vec<u32> = corners[s..e].iter().map(|c| c.1).collect();
+            let mut walk = Vec::new();
+            (star_loop(loops, corners[s].0, &ps, &mut walk), ps)
+        };
+        let (ok, ps) = star(&base, 0);
+        assert!(ok);
+        let first = ps[0] as usize;
+        let (a, b) = (base.start[first], base.start[first + 1]);
+        // 1. An edge from a vertex to itself in an out-side (q repeated): refused by both.
+        let mut dup = base.clone();
+        let q = corners[groups[0].0].0;
+        let k = dup.ids[a..b].iter().position(|&v| v == q).unwrap();
+        let len = b - a;
+        dup.ids[a + (k + 1) % len] = q;
+        assert!(!star(&dup, 0).0);
+        assert!(single_loop(star_edges(&dup, &ps)).is_none());
+        // 2. A patch loop reversed: its sides no longer cancel, no sort-free loop.
+        let mut rev = base.clone();
+        rev.ids[a..b].reverse();
+        assert!(!star(&rev, 0).0);
+        // 3. An outer vertex of one patch renamed to another vertex of the star's boundary: the
+        //    walk repeats a vertex, refused (the general path refuses too).
+        let mut rep = base.clone();
+        let m = rep.per_side;
+        let outer = (k + m + 1) % len;
+        let other = (k + 2 * m) % len;
+        rep.ids[a + outer] = rep.ids[a + other];
+        assert!(!star(&rep, 0).0);
+        assert!(single_loop(star_edges(&rep, &ps)).is_none());
+        // Every other star of the damaged loops still agrees with the general path.
+        for loops in [&dup, &rev, &rep] {
+            same_loops(loops);
+        }
+    }
 }

@@ -645,8 +645,18 @@ fn chunk_layout(positions: &[DVec3], kept: &[u32], kept_tris: &[[u32; 3]], certi
     if certified.patches() > 0 {
         let mut start = vec![0];
         // Chunks of a patch with certified core sectors also break at every sector change.
-        let piece = |t: usize| {
-            let p = certified.patch_of(t);
+        // `kept` ascends, so the patch of each triangle is found by walking the patch starts
+        // once (the value of `Certified::patch_of`, without a search per triangle).
+        let tri_start = certified.tri_start();
+        let end = tri_start.last().copied().unwrap_or(0);
+        let mut at = 0usize;
+        let mut piece = |t: usize| {
+            let p = (t < end).then(|| {
+                while tri_start[at + 1] <= t {
+                    at += 1;
+                }
+                at
+            });
             let sector = p.filter(|&p| certified.has_cores(p)).and_then(|_| certified.sector_of(t));
             (p, sector)
         };

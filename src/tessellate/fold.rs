@@ -17,6 +17,11 @@ use glam::{DVec2, DVec3};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sectors {
     pub at: Vec<(u32, f64)>,
+    /// The distinct values of `at` (samples on one ray from the centre share their foot), so a
+    /// patch evaluates each reference normal once ([`patch_folds`]).
+    feet: Vec<(u32, f64)>,
+    /// Per sample: the index of its (i, s) in `feet`.
+    foot: Vec<u32>,
 }
 
 impl Sectors {
@@ -46,7 +51,23 @@ impl Sectors {
                 (best.0, best.1)
             })
             .collect();
-        Sectors { at }
+        Sectors::of_feet(at)
+    }
+
+    /// The sectors with their distinct feet (equal where the bits of s are).
+    fn of_feet(at: Vec<(u32, f64)>) -> Sectors {
+        let mut index: std::collections::HashMap<(u32, u64), u32> = std::collections::HashMap::new();
+        let mut feet = Vec::new();
+        let foot = at
+            .iter()
+            .map(|&(i, s)| {
+                *index.entry((i, s.to_bits())).or_insert_with(|| {
+                    feet.push((i, s));
+                    feet.len() as u32 - 1
+                })
+            })
+            .collect();
+        Sectors { at, feet, foot }
     }
 }
 
@@ -99,16 +120,21 @@ pub struct PatchFolds {
 /// their `sectors`. Samples with an undefined normal (zero or non-finite, e.g. at a collapsed
 /// corner) and samples whose reference normal is undefined are skipped: the sign means nothing
 /// there.
+///
+/// Each distinct foot's reference normal is evaluated once per patch (the same values as per
+/// sample: [`ribbon_normal`] is a function of the ribbon and s).
 pub fn patch_folds(patch: &Patch, sectors: &Sectors, uv: &[DVec2], points: &[SurfacePoint]) -> PatchFolds {
     let ribbons = patch.ribbons();
     let mut out = PatchFolds::default();
     let mut worst = 0.0f64;
-    for (k, ((&x, sp), &(i, s))) in uv.iter().zip(points).zip(&sectors.at).enumerate() {
+    // None: the sector names a missing ribbon.
+    let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal(r, s))).collect();
+    for (k, ((&x, sp), &f)) in uv.iter().zip(points).zip(&sectors.foot).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
             continue;
         }
-        let Some(ribbon) = ribbons.get(i as usize) else { continue };
-        let rel = sp.normal.dot(ribbon_normal(ribbon, s));
+        let Some(Some(normal)) = reference.get(f as usize) else { continue };
+        let rel = sp.normal.dot(*normal);
         if rel < 0.0 {
             out.samples.push(k as u32);
             if rel < worst {
@@ -142,4 +168,51 @@ pub fn flipped_triangles(positions: &[DVec3], normals: &[DVec3], triangles: &[[u
         })
         .map(|(k, _)| k as u32)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::api::{convert_unchecked, ConvertOptions, Method};
+    use crate::tessellate::evaluator::PatchEvaluator;
+
+    #[test]
+    fn one_reference_normal_per_foot_gives_the_per_sample_verdicts() {
+        // The dual cube with every central point moved 40 along x folds (as the sideways pulls
+        // of tests/quality_validity.rs do); the verdicts per sample, with the reference normal
+        // evaluated for every sample, are those of patch_folds, folded or not.
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube.obj");
+        let mesh = crate::mesh::read_polymesh(path).unwrap().0;
+        let mut folded = 0;
+        for (method, pull) in [(Method::Dual, false), (Method::Dual, true), (Method::Topology, false)] {
+            for r in [1, 2, 3] {
+                let opts = ConvertOptions { method, resolution: r, ..Default::default() };
+                let mut surface = convert_unchecked(&mesh, &opts).unwrap().surface.unwrap();
+                for p in surface.patches.iter_mut().filter(|_| pull) {
+                    let crate::construct::Patch::Gb(g) = p else { panic!("dual cube patches are GB") };
+                    g.center += DVec3::new(40.0, 0.0, 0.0);
+                }
+                let eval = crate::tessellate::evaluator::GbSurfaceEvaluator::new(&surface, opts.sampling(), opts.weights).unwrap();
+                for (p, patch) in surface.patches.iter().enumerate() {
+                    let n = patch.sides();
+                    let layout = crate::gb::SampleLayout::new(&eval.domain(n), opts.sampling()).unwrap();
+                    let sectors = Sectors::new(&eval.domain(n), &layout.uv);
+                    assert!(sectors.feet.len() < sectors.at.len());
+                    let mut buf = Vec::new();
+                    eval.evaluate(&surface, p, &layout, &mut buf);
+                    let got = patch_folds(patch, &sectors, &layout.uv, &buf);
+                    let ribbons = patch.ribbons();
+                    let expected: Vec<u32> = (0..buf.len() as u32)
+                        .filter(|&k| {
+                            let (sp, (i, s)) = (&buf[k as usize], sectors.at[k as usize]);
+                            sp.normal != DVec3::ZERO && sp.normal.is_finite() && sp.normal.dot(ribbon_normal(&ribbons[i as usize], s)) < 0.0
+                        })
+                        .collect();
+                    assert_eq!(got.samples, expected, "{method:?} r = {r}, patch {p}");
+                    folded += expected.len();
+                }
+            }
+        }
+        assert!(folded > 0, "the pulled central points fold");
+    }
 }
