@@ -11,7 +11,10 @@
 //! (`data[((tile·N + c)·3 + q)·TILE + lane]`). The kernel walks the control points once per
 //! tile (inner loop over control points, contiguous memory), broadcasting each control
 //! coordinate and updating 9 accumulators that each hold the TILE samples as SIMD lanes: no
-//! horizontal sums, no shuffles, no allocation.
+//! horizontal sums, no shuffles, no allocation. The kernel runs on the code path the CPU offers,
+//! chosen at run time in safe code ([`SimdPath`]; the one place is `Rows::run`): 4-lane fused
+//! multiply-adds with AVX2 + FMA, else the portable 2-lane kernel (multiply, then add: the
+//! results of builds without dispatch). Normals are computed 4 at a time in the same pass.
 //! A table is a pure kernel, like a stencil table: weights × control points → samples. It knows
 //! the domain points it was built for ([`SampleLayout`]) but nothing of meshes; emitting samples
 //! as triangles and keeping tables between patches or conversions belong to
