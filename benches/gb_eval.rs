@@ -4,10 +4,12 @@
 //! n = 3..8, d = 3 and 5, r = 16 and 64. Criterion measures each case briefly; a summary table
 //! with the table/direct ratio is printed at the end. The summary also gives the cost of the
 //! conversion's path: a table with second derivatives ([`GbTable::eval_tile_derivs`]) giving
-//! position, normal, mean and Gaussian curvature per point.
+//! position, normal, mean and Gaussian curvature per point. "table" is the runtime-dispatched
+//! path (AVX2 + FMA where the CPU has them, in a portable build), "portable" the fallback
+//! ([`SimdPath::Portable`]).
 
 use criterion::{black_box, BenchmarkId, Criterion, Throughput};
-use gbsurf::gb::table::{ControlSoa, GbTable};
+use gbsurf::gb::table::{ControlSoa, GbTable, SimdPath, TILE};
 use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
 use gbsurf::DVec3;
 use std::time::Duration;
@@ -103,6 +105,9 @@ fn main() {
                 g.finish();
 
                 let t = ns_per_point(samples, || table.eval_all(&ctrls[0], &mut pos, &mut nrm));
+                let tp = ns_per_point(samples, || {
+                    table.eval_all_with(SimdPath::Portable, &ctrls[0], &mut pos, &mut nrm)
+                });
                 let tb = ns_per_point(samples * BATCH, || {
                     table.eval_batch(&ctrls, &mut bpos, &mut bnrm)
                 });
@@ -114,15 +119,15 @@ fn main() {
                 let mut curv = Vec::with_capacity(samples);
                 let d2 = ns_per_point(samples, || {
                     curv.clear();
-                    for k in 0..t2.tile_count() {
-                        for f in t2.eval_tile_derivs(k, &ctrls[0]).iter().take(samples - k * gbsurf::gb::table::TILE) {
+                    t2.for_each_tile_derivs(&ctrls[0], |k, frames, normals| {
+                        for (f, n) in frames.iter().zip(normals).take(samples - k * TILE) {
                             let c = f.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
-                            curv.push((f.p, f.normal().unwrap_or(DVec3::ZERO), c));
+                            curv.push((f.p, n.unwrap_or(DVec3::ZERO), c));
                         }
-                    }
+                    });
                     black_box(&curv);
                 });
-                summary.push((n, d, r, samples, mib, t, tb, dt, d2));
+                summary.push((n, d, r, samples, mib, t, tp, tb, dt, d2));
             }
         }
     }
@@ -130,11 +135,12 @@ fn main() {
         "\nGB evaluation, ns per point (position + unit normal), 1 thread, median of 5 x 60 ms;"
     );
     println!("cpu = thread CPU time (per-core cost on a shared machine), wall = elapsed time");
-    println!("  n  d   r samples  MiB  table cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)  +curvature cpu/wall");
-    for (n, d, r, s, mib, t, tb, dt, d2) in summary {
+    println!("table = runtime-dispatched path (AVX2 + FMA when the CPU has them), portable = SimdPath::Portable");
+    println!("  n  d   r samples  MiB  table cpu/wall  portable cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)  +curvature cpu/wall");
+    for (n, d, r, s, mib, t, tp, tb, dt, d2) in summary {
         println!(
-            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}  {:7.1}/{:<7.1}",
-            t.1, t.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1, d2.1, d2.0
+            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:8.1}/{:<8.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}  {:7.1}/{:<7.1}",
+            t.1, t.0, tp.1, tp.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1, d2.1, d2.0
         );
     }
     c.final_summary();

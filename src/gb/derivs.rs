@@ -213,6 +213,28 @@ impl SurfaceDerivs {
         Some(c / l2.sqrt())
     }
 
+    /// [`SurfaceDerivs::normal`] of `L` samples at once from their S_u and S_v as lanes
+    /// (`su[axis][lane]`): lane by lane the same operations in the same order (so the same
+    /// bits), zero where `normal` gives `None`. Branch-free so that it vectorizes: the weight
+    /// tables' dispatched pass computes 4 normals with one vector square root and divisions.
+    #[inline(always)]
+    pub fn normal_lanes<const L: usize>(su: [&[f64; L]; 3], sv: [&[f64; L]; 3]) -> [[f64; L]; 3] {
+        let mut out = [[0.0; L]; 3];
+        for l in 0..L {
+            let (ax, ay, az) = (su[0][l], su[1][l], su[2][l]);
+            let (bx, by, bz) = (sv[0][l], sv[1][l], sv[2][l]);
+            let c = [ay * bz - by * az, az * bx - bz * ax, ax * by - bx * ay];
+            let l2 = (c[0] * c[0]) + (c[1] * c[1]) + (c[2] * c[2]);
+            let scale = ((ax * ax) + (ay * ay) + (az * az)) * ((bx * bx) + (by * by) + (bz * bz));
+            let ok = l2 > DEGENERATE_REL * scale && l2.is_finite() && l2 != 0.0;
+            let s = l2.sqrt();
+            for (o, c) in out.iter_mut().zip(c) {
+                o[l] = if ok { c / s } else { 0.0 };
+            }
+        }
+        out
+    }
+
     /// First fundamental form (E, F, G).
     pub fn first_fundamental_form(&self) -> (f64, f64, f64) {
         (

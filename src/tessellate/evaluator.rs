@@ -216,7 +216,13 @@ fn table_error(patch: usize, e: TableError) -> TessellateError {
 /// normal computed once.
 #[inline]
 fn surface_point(d: &SurfaceDerivs) -> SurfacePoint {
-    let Some(n) = d.normal() else {
+    surface_point_with(d, d.normal())
+}
+
+/// [`surface_point`] with the normal `d.normal()` already computed.
+#[inline]
+fn surface_point_with(d: &SurfaceDerivs, normal: Option<DVec3>) -> SurfacePoint {
+    let Some(n) = normal else {
         return SurfacePoint { position: d.p, ..Default::default() };
     };
     let (h, k) = d.mean_and_gaussian(n).unwrap_or((0.0, 0.0));
@@ -295,17 +301,6 @@ impl GbSurfaceEvaluator {
     }
 }
 
-/// Pushes the samples of a table, tile by tile, onto `out`; `tile(t)` evaluates tile t.
-#[inline]
-fn push_tiles(samples: usize, tiles: usize, out: &mut Vec<SurfacePoint>, tile: impl Fn(usize) -> [SurfaceDerivs; TILE]) {
-    for t in 0..tiles {
-        let frames = tile(t);
-        for d in frames.iter().take(samples - t * TILE) {
-            out.push(surface_point(d));
-        }
-    }
-}
-
 impl PatchEvaluator for GbSurfaceEvaluator {
     fn domain(&self, n: usize) -> Vec<DVec2> {
         gb_domain(n)
@@ -343,7 +338,12 @@ impl PatchEvaluator for GbSurfaceEvaluator {
             if ctrl.len() != table.control_count() || table.sample_count() != samples {
                 return;
             }
-            push_tiles(samples, table.tile_count(), out, |k| table.eval_tile_derivs(k, &ctrl));
+            // One dispatched pass (AVX2 + FMA where the CPU has them) for the sums and the
+            // per-sample normal and curvature.
+            table.for_each_tile_derivs(&ctrl, |t, frames, normals| {
+                let lanes = samples - t * TILE;
+                out.extend(frames.iter().zip(normals).take(lanes).map(|(d, &n)| surface_point_with(d, n)));
+            });
         });
     }
 }
