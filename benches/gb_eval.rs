@@ -3,7 +3,7 @@
 //! direct evaluation ([`GbPatch::eval_derivs_with_form`] with a reused evaluator), for
 //! n = 3..8, d = 3 and 5, r = 16 and 64. Criterion measures each case briefly; a summary table
 //! with the table/direct ratio is printed at the end. The summary also gives the cost of the
-//! conversion's path: a table with second derivatives ([`GbTable::eval_tile_derivs`]) giving
+//! conversion's path: a table with second derivatives ([`GbTable::for_each_tile_derivs`]) giving
 //! position, normal, mean and Gaussian curvature per point. "table" is the runtime-dispatched
 //! path (AVX2 + FMA where the CPU has them, in a portable build), "portable" the fallback
 //! ([`SimdPath::Portable`]).

@@ -1,5 +1,5 @@
 //! Fairness of the crease curves of a converted cage:
-//! `cargo run --release --example crease_fairness -- MODEL.obj [dual|topology] [sharpness-scale]`.
+//! `cargo run --release --example crease_fairness -- MODEL.obj [dual|topology]`.
 //!
 //! For every shared patch side with sharpness above 0 (a crease curve, each once) it samples the
 //! curve's curvature κ = |c′ × c″| / |c′|³ and the crease angle θ (the angle between the two
@@ -120,7 +120,7 @@ fn main() {
     if std::env::var("ALL").is_ok() {
         for (k, c) in creases.iter().enumerate().filter(|(k, _)| ranges[*k] > 20.0) {
             let t: Vec<String> = c.theta.iter().map(|x| format!("{x:.0}")).collect();
-            println!("curve {k} from {:.3} to {:.3}: {}", c.pts[0], c.pts[3], t.join(" "));
+            println!("curve {k} from {:.3} to {:.3}: {}", c.pts[0], c.pts[c.pts.len() - 1], t.join(" "));
         }
     }
     for w in &c.warnings {

@@ -19,6 +19,10 @@ pub const MAX_GBP_DEGREE: usize = 40;
 /// Largest number of sides the `.gbp` reader accepts.
 pub const MAX_GBP_SIDES: usize = 1024;
 
+/// Largest number of values per face corner that `tessellate::cage_values` carries (a UV map
+/// has 2, an RGBA colour 4; the bound keeps a wrong count from overflowing the buffer sizes).
+pub const MAX_CAGE_VALUE_DIM: usize = 256;
+
 /// Largest tessellation resolution (samples per patch side; n·r² triangles per patch).
 pub const MAX_RESOLUTION: usize = 1024;
 

@@ -98,7 +98,14 @@ fn wrong_inputs_are_typed_errors() {
     let loops = CageLoops { face_corner: &quad, loop_corner: &[], coords: &coords };
     let v8 = [0f32; 8];
     assert_eq!(cage_loop_values(&[4], &v8, 0, loops), Err(CageValuesError::ZeroDimension));
-    assert_eq!(cage_loop_values(&[4], &v8[..7], 2, loops), Err(CageValuesError::WrongLength { what: "cage values", expected: 8, got: 7 }));
+    assert_eq!(
+        cage_loop_values(&[4], &v8[..7], 2, loops),
+        Err(CageValuesError::WrongLength { what: "values (dim per cage face corner)", expected: 8, got: 7 })
+    );
+    // A huge dimension is refused before any size is computed from it.
+    let max = gbsurf::limits::MAX_CAGE_VALUE_DIM;
+    assert_eq!(cage_loop_values(&[4], &v8, 1 << 62, loops), Err(CageValuesError::DimensionTooLarge { dim: 1 << 62, max }));
+    assert_eq!(cage_loop_values(&[], &[], usize::MAX, CageLoops { face_corner: &[], loop_corner: &[], coords: &[] }), Err(CageValuesError::DimensionTooLarge { dim: usize::MAX, max }));
     assert_eq!(cage_loop_values(&[2, 2], &v8, 2, loops), Err(CageValuesError::FaceTooSmall { face: 0, size: 2 }));
     let far = [[3u32, 0u32]];
     let e = cage_loop_values(&[4], &v8, 2, CageLoops { face_corner: &far, ..loops }).unwrap_err();
@@ -116,7 +123,7 @@ fn wrong_inputs_are_typed_errors() {
     );
     assert_eq!(
         cage_loop_values(&[4], &v8, 2, CageLoops { face_corner: &quad, loop_corner: &[[0, 0]; 3], coords: &coords }),
-        Err(CageValuesError::WrongLength { what: "per-loop cage corners", expected: 4, got: 3 })
+        Err(CageValuesError::WrongLength { what: "loop_corner pairs (one per coords pair)", expected: 4, got: 3 })
     );
     let nan = [[f64::NAN, 0.0]; 4];
     assert_eq!(cage_loop_values(&[4], &v8, 2, CageLoops { coords: &nan, ..loops }), Err(CageValuesError::NotFinite { index: 0 }));

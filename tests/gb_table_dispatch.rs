@@ -73,9 +73,11 @@ proptest! {
             prop_assert!((p0[s] - p1[s]).abs().max_element() <= 1e-14 * size * ctrl.len() as f64, "sample {}: {} vs {}", s, p0[s], p1[s]);
             // Normals: both unit (or both undefined) and close where S_u × S_v is not tiny.
             let f = table.eval_tile_derivs_with(SimdPath::Portable, s / TILE, &ctrl)[s % TILE];
-            let well = f.su.cross(f.sv).length() > 1e-6 * f.su.length() * f.sv.length();
-            if well {
-                prop_assert!((n0[s] - n1[s]).length() <= 1e-10, "sample {}: {} vs {}", s, n0[s], n1[s]);
+            // The derivatives differ by rounding (≈ 1e-14 relative); the normal's error grows as
+            // 1/sin of the angle between S_u and S_v, so the bound does too.
+            let sin = f.su.cross(f.sv).length() / (f.su.length() * f.sv.length());
+            if sin > 1e-6 {
+                prop_assert!((n0[s] - n1[s]).length() <= 1e-12 / sin, "sample {}: {} vs {} (sin {})", s, n0[s], n1[s], sin);
             }
         }
     }

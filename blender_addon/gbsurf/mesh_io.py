@@ -253,16 +253,10 @@ def cage_loop_values(values, face_sizes, cage_corner, cage_coords, loop_corner=N
     midpoints' values and the face centre's (the mean over the face's corners), at the loop's
     cage coordinates. `cage_corner` (F,2), `cage_coords` (m·F,2), m corners per output face;
     `loop_corner` (m·F,2) the triangle layout's per-corner cage corners (used in place of the
-    face's when not empty). Faces with an unknown cage corner get 0; a corner outside the cage
-    raises `native.GbsurfError`. Computed by the library (`native.cage_loop_values`), float32."""
-    values = np.asarray(values)
-    st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
-    n_loop = np.size(loop_corner) // 2 if loop_corner is not None else 0
-    n_face = np.size(cage_corner) // 2
-    fits = n_loop == len(st) if n_loop else n_face > 0 and len(st) % n_face == 0
-    if len(face_sizes) == 0 or not fits:
-        return np.zeros((len(st), values.shape[1]), dtype=np.float32)
-    return native.cage_loop_values(face_sizes, values, cage_corner, loop_corner, st)
+    face's when not empty). Faces with an unknown cage corner get 0; a corner outside the cage or
+    arrays that do not fit raise `native.GbsurfError`. Computed by the library
+    (`native.cage_loop_values`), float32."""
+    return native.cage_loop_values(face_sizes, values, cage_corner, loop_corner, cage_coords)
 
 
 def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coords, faces, n_vertices,

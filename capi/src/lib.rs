@@ -281,6 +281,34 @@ pub(crate) unsafe fn slice_arg<'a, T>(p: *const T, len: usize, arg: &str) -> Ffi
     Ok(unsafe { std::slice::from_raw_parts(p, len) })
 }
 
+/// [`slice_arg`] for an output array: the same NULL, alignment and size checks, and the array must
+/// not overlap any of `inputs` (byte ranges; writing into an input being read is undefined
+/// behaviour), which is a count error naming both.
+///
+/// # Safety
+/// `p` must point to `len` writable values of `T` when non-null, not otherwise referenced while
+/// the returned slice lives.
+pub(crate) unsafe fn slice_arg_mut<'a, T>(p: *mut T, len: usize, arg: &str, inputs: &[(&str, *const u8, usize)]) -> FfiResult<&'a mut [T]> {
+    if len == 0 {
+        return Ok(&mut []);
+    }
+    let bytes = len
+        .checked_mul(std::mem::size_of::<T>())
+        .filter(|&b| b <= isize::MAX as usize)
+        .ok_or_else(|| FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: length {len} is larger than any array can be")))?;
+    let p = non_null_mut(p, arg)?;
+    let (lo, hi) = (p as usize, p as usize + bytes);
+    for &(name, q, qbytes) in inputs {
+        let (qlo, qhi) = (q as usize, (q as usize).saturating_add(qbytes));
+        if qbytes > 0 && lo < qhi && qlo < hi {
+            return Err(FfiError::new(GBSURF_ERR_COUNT, format!("{arg} overlaps the input `{name}`")));
+        }
+    }
+    // SAFETY: `len` writable elements at `p`, not aliased (contract; overlap with the inputs
+    // checked above).
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
+}
+
 // ---------------------------------------------------------------------------------------------
 // Version and error queries
 // ---------------------------------------------------------------------------------------------

@@ -892,13 +892,14 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_loop_corner(
 ///   coords_len / 2), in the order of the corners of `gbsurf_mesh_quads` (quad layout) or
 ///   `gbsurf_mesh_triangles` (triangle layout). Corners with an unknown cage corner get 0.
 ///
-/// Errors: `_COUNT` (lengths that do not match, dim = 0, a face with fewer than 3 corners),
+/// Errors: `_COUNT` (lengths that do not match, dim = 0 or above 256, a face with fewer than 3
+/// corners, `out` overlapping an input),
 /// `_INDEX` (a cage corner outside `face_sizes`: sizes of another cage), `_NAN` (non-finite
 /// coordinates), `_NULL`. `out` is written only on success.
 ///
 /// # Safety
-/// Every pointer points to its length of readable values (`out`: writable, not overlapping the
-/// inputs); NULL only with length 0.
+/// Every pointer points to its length of readable values (`out`: writable); NULL only with
+/// length 0. An `out` that overlaps an input is refused (`_COUNT`).
 #[no_mangle]
 pub unsafe extern "C" fn gbsurf_cage_loop_values(
     face_sizes: *const u32,
@@ -926,21 +927,27 @@ pub unsafe extern "C" fn gbsurf_cage_loop_values(
                 slice_arg(coords, coords_len, "coords")?,
             )
         };
-        fn pairs<'a, T: bytemuck::Pod>(flat: &'a [T], arg: &str) -> FfiResult<&'a [[T; 2]]> {
-            bytemuck::try_cast_slice(flat).map_err(|_| FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: {} values, not pairs", flat.len())))
+        fn pairs<'a, T>(flat: &'a [T], arg: &str) -> FfiResult<&'a [[T; 2]]> {
+            match flat.as_chunks::<2>() {
+                (pairs, []) => Ok(pairs),
+                _ => Err(FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: {} values, not pairs", flat.len()))),
+            }
         }
         let (face_corner, loop_corner, coords) = (pairs(face_corner, "face_corner")?, pairs(loop_corner, "loop_corner")?, pairs(coords, "coords")?);
         let want = coords.len().saturating_mul(dim);
         if out_len != want {
             return Err(FfiError::new(GBSURF_ERR_COUNT, format!("out_len is {out_len}: {} face corners × dim {dim} = {want} floats are written", coords.len())));
         }
-        let out: &mut [f32] = if want == 0 {
-            &mut []
-        } else {
-            let out = non_null_mut(out, "out")?;
-            // SAFETY: `out` has out_len writable floats (contract), not aliased by the inputs.
-            unsafe { std::slice::from_raw_parts_mut(out, out_len) }
-        };
+        let bytes = |x: usize, size: usize| x.saturating_mul(size);
+        let inputs = [
+            ("face_sizes", face_sizes as *const u8, bytes(n_faces, 4)),
+            ("values", values.as_ptr() as *const u8, bytes(values.len(), 4)),
+            ("face_corner", face_corner.as_ptr() as *const u8, bytes(face_corner.len(), 8)),
+            ("loop_corner", loop_corner.as_ptr() as *const u8, bytes(loop_corner.len(), 8)),
+            ("coords", coords.as_ptr() as *const u8, bytes(coords.len(), 16)),
+        ];
+        // SAFETY: `out` has out_len writable floats (contract); overlap with the inputs is refused.
+        let out = unsafe { slice_arg_mut(out, out_len, "out", &inputs)? };
         let loops = gbsurf::tessellate::CageLoops { face_corner, loop_corner, coords };
         gbsurf::tessellate::cage_loop_values_into(sizes, values, dim, loops, out).map_err(|e| {
             use gbsurf::tessellate::CageValuesError as E;

@@ -50,7 +50,7 @@ type Half = wide::f64x2;
 /// Which code evaluates the tiles of a weight table (see [`WeightTable::eval_all_with`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SimdPath {
-    /// The best the CPU offers, detected at run time (`pulp::Arch::new()`): on x86-64 with AVX2
+    /// The best the CPU offers, detected at run time (`pulp::x86::V3::try_new()`): on x86-64 with AVX2
     /// and FMA, 4-lane fused multiply-adds (results within a few ulp of the portable path's:
     /// the sums round once per term instead of twice); otherwise the portable path.
     #[default]

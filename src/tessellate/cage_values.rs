@@ -10,6 +10,7 @@
 //! reads and three lerps. One definition for every adapter: the Blender add-on, C and C++ call it
 //! through `gbsurf_cage_loop_values`.
 
+use crate::limits::MAX_CAGE_VALUE_DIM;
 use rayon::prelude::*;
 
 /// Where the output's face corners lie in the cage (the arrays of [`super::SurfaceMesh`]).
@@ -30,11 +31,13 @@ pub struct CageLoops<'a> {
 pub enum CageValuesError {
     #[error("the value dimension is 0 (give at least one value per face corner)")]
     ZeroDimension,
+    #[error("{dim} values per face corner: at most {max} are carried")]
+    DimensionTooLarge { dim: usize, max: usize },
     #[error("cage face {face} has {size} corners: a face needs at least 3")]
     FaceTooSmall { face: usize, size: u32 },
-    #[error("{what}: {got} values where {expected} are needed")]
+    #[error("{what}: {got} where {expected} are needed")]
     WrongLength { what: &'static str, expected: usize, got: usize },
-    #[error("{loops} face corners cannot be split evenly over {faces} output faces")]
+    #[error("face_corner: {faces} output faces (pairs) cannot share the {loops} face corners of coords evenly")]
     UnevenFaces { loops: usize, faces: usize },
     #[error("output face corner {index} lies in cage face {face}, but the cage has {faces} faces (the face sizes are not those of the cage the result was built from)")]
     FaceOutOfRange { index: usize, face: u32, faces: usize },
@@ -64,6 +67,9 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
     if dim == 0 {
         return Err(CageValuesError::ZeroDimension);
     }
+    if dim > MAX_CAGE_VALUE_DIM {
+        return Err(CageValuesError::DimensionTooLarge { dim, max: MAX_CAGE_VALUE_DIM });
+    }
     let mut starts = Vec::with_capacity(face_sizes.len() + 1);
     let mut total = 0usize;
     for (face, &size) in face_sizes.iter().enumerate() {
@@ -74,17 +80,21 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
         total += size as usize;
     }
     starts.push(total);
-    if values.len() != total * dim {
-        return Err(CageValuesError::WrongLength { what: "cage values", expected: total * dim, got: values.len() });
+    // dim ≤ MAX_CAGE_VALUE_DIM and every length below isize::MAX bytes: no product overflows,
+    // but a wrong count must never wrap, so the products are checked anyway.
+    let expected = total.checked_mul(dim).unwrap_or(usize::MAX);
+    if values.len() != expected {
+        return Err(CageValuesError::WrongLength { what: "values (dim per cage face corner)", expected, got: values.len() });
     }
     let n = loops.coords.len();
-    if out.len() != n * dim {
-        return Err(CageValuesError::WrongLength { what: "output values", expected: n * dim, got: out.len() });
+    let expected = n.checked_mul(dim).unwrap_or(usize::MAX);
+    if out.len() != expected {
+        return Err(CageValuesError::WrongLength { what: "out (dim per coords pair)", expected, got: out.len() });
     }
     // Loops per output face, or None when every loop has its own corner.
     let per_face = if !loops.loop_corner.is_empty() {
         if loops.loop_corner.len() != n {
-            return Err(CageValuesError::WrongLength { what: "per-loop cage corners", expected: n, got: loops.loop_corner.len() });
+            return Err(CageValuesError::WrongLength { what: "loop_corner pairs (one per coords pair)", expected: n, got: loops.loop_corner.len() });
         }
         None
     } else if n == 0 {
@@ -114,7 +124,15 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
     if let Some(i) = (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| bad(i).is_some()) {
         return Err(bad(i).expect("found above"));
     }
-    // Per cage corner g: [a_k, ½(a_k + a_{k+1}), ā, ½(a_k + a_{k−1})], dim values each.
+    // Per face its mean (summed in f64), then per cage corner g: [a_k, ½(a_k + a_{k+1}), ā,
+    // ½(a_k + a_{k−1})], dim values each.
+    let mut means = vec![0f32; face_sizes.len() * dim];
+    means.par_chunks_mut(dim).enumerate().for_each(|(f, m)| {
+        let (s, size) = (starts[f], starts[f + 1] - starts[f]);
+        for (d, x) in m.iter_mut().enumerate() {
+            *x = ((s..s + size).map(|j| values[j * dim + d] as f64).sum::<f64>() / size as f64) as f32;
+        }
+    });
     let mut table = vec![0f32; 4 * total * dim];
     table.par_chunks_mut(4 * dim * 64).enumerate().for_each(|(chunk, rows)| {
         for (r, row) in rows.chunks_mut(4 * dim).enumerate() {
@@ -125,10 +143,9 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
             let at = |j: usize| &values[(s + j) * dim..(s + j + 1) * dim];
             let (a, next, prev) = (at(k), at((k + 1) % size), at((k + size - 1) % size));
             for d in 0..dim {
-                let mean = (0..size).map(|j| at(j)[d] as f64).sum::<f64>() / size as f64;
                 row[d] = a[d];
                 row[dim + d] = 0.5 * (a[d] + next[d]);
-                row[2 * dim + d] = mean as f32;
+                row[2 * dim + d] = means[f * dim + d];
                 row[3 * dim + d] = 0.5 * (a[d] + prev[d]);
             }
         }

@@ -16,7 +16,8 @@ use glam::{DVec2, DVec3};
 /// Per sample of a layout: its domain triangle i and its foot s ∈ [0, 1] on side i.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sectors {
-    pub at: Vec<(u32, f64)>,
+    /// Per sample: (i, s). Private with `feet` and `foot`, which are derived from it.
+    at: Vec<(u32, f64)>,
     /// The distinct values of `at` (samples on one ray from the centre share their foot), so a
     /// patch evaluates each reference normal once ([`patch_folds`]).
     feet: Vec<(u32, f64)>,
@@ -25,6 +26,11 @@ pub struct Sectors {
 }
 
 impl Sectors {
+    /// Per sample: its domain triangle i and its foot s on side i.
+    pub fn at(&self) -> &[(u32, f64)] {
+        &self.at
+    }
+
     /// The sectors of the samples `uv` in the domain polygon `domain` (counter-clockwise,
     /// vertex i ends side i): each sample goes to the domain triangle whose smaller weight on
     /// (v_{i−1}, v_i) is largest (the one containing it), s = c/(b + c) (½ at the centre).

@@ -1065,7 +1065,17 @@ fn cage_loop_values_through_the_views() {
             assert_eq!(call(null(), values.len(), 3, out.as_mut_ptr(), out.len()), GBSURF_ERR_NULL);
             assert!(last().contains("values"), "{}", last());
             assert_eq!(call(values.as_ptr(), values.len() - 1, 3, out.as_mut_ptr(), out.len()), GBSURF_ERR_COUNT);
-            assert!(last().contains("cage values"), "{}", last());
+            assert!(last().contains("values (dim per cage face corner)"), "{}", last());
+            // A huge dim is a count error, never a panic; an `out` on top of an input is refused.
+            assert_eq!(call(values.as_ptr(), values.len(), 1 << 62, out.as_mut_ptr(), out.len()), GBSURF_ERR_COUNT);
+            assert_eq!(call(values.as_ptr(), 0, usize::MAX, null_mut(), usize::MAX), GBSURF_ERR_COUNT, "{}", last());
+            let mut alias = values.clone();
+            alias.resize(out.len().max(values.len()), 0.0);
+            let (pm, len) = (alias.as_mut_ptr(), alias.len());
+            assert!(len >= out.len());
+            let code = gbsurf_cage_loop_values(s.as_ptr(), s.len(), pm as *const f32, values.len(), 3, fc, fl, lc, ll, cc, cl, pm, out.len());
+            assert_eq!(code, GBSURF_ERR_COUNT, "{}", last());
+            assert!(last().contains("out overlaps the input `values`"), "{}", last());
             assert_eq!(call(values.as_ptr(), values.len(), 3, out.as_mut_ptr(), out.len() - 1), GBSURF_ERR_COUNT);
             assert!(last().contains("out_len"), "{}", last());
             assert_eq!(call(values.as_ptr(), values.len(), 0, out.as_mut_ptr(), 0), GBSURF_ERR_COUNT);
