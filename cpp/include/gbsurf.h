@@ -586,13 +586,14 @@ uint32_t gbsurf_mesh_cage_loop_corner(const GbsurfResult *result,
 //   coords_len / 2), in the order of the corners of `gbsurf_mesh_quads` (quad layout) or
 //   `gbsurf_mesh_triangles` (triangle layout). Corners with an unknown cage corner get 0.
 //
-// Errors: `_COUNT` (lengths that do not match, dim = 0, a face with fewer than 3 corners),
+// Errors: `_COUNT` (lengths that do not match, dim = 0 or above 256, a face with fewer than 3
+// corners, `out` overlapping an input),
 // `_INDEX` (a cage corner outside `face_sizes`: sizes of another cage), `_NAN` (non-finite
 // coordinates), `_NULL`. `out` is written only on success.
 //
 // # Safety
-// Every pointer points to its length of readable values (`out`: writable, not overlapping the
-// inputs); NULL only with length 0.
+// Every pointer points to its length of readable values (`out`: writable); NULL only with
+// length 0. An `out` that overlaps an input is refused (`_COUNT`).
 uint32_t gbsurf_cage_loop_values(const uint32_t *face_sizes,
                                  size_t n_faces,
                                  const float *values,

@@ -56,20 +56,25 @@ const CHUNK: usize = 1 << 14;
 /// surface) get 0. Values are f32 (like Blender's UVs and weights); the face means are summed
 /// in f64.
 pub fn cage_loop_values(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>) -> Result<Vec<f32>, CageValuesError> {
-    let mut out = vec![0f32; loops.coords.len().saturating_mul(dim)];
+    check_dim(dim)?;
+    let mut out = vec![0f32; loops.coords.len() * dim];
     cage_loop_values_into(face_sizes, values, dim, loops, &mut out)?;
     Ok(out)
+}
+
+/// 0 < dim ≤ [`MAX_CAGE_VALUE_DIM`].
+fn check_dim(dim: usize) -> Result<(), CageValuesError> {
+    match dim {
+        0 => Err(CageValuesError::ZeroDimension),
+        d if d > MAX_CAGE_VALUE_DIM => Err(CageValuesError::DimensionTooLarge { dim, max: MAX_CAGE_VALUE_DIM }),
+        _ => Ok(()),
+    }
 }
 
 /// [`cage_loop_values`] written into `out` (`dim` × loops values; the C ABI's buffer). `out` is
 /// written only when every input is valid.
 pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>, out: &mut [f32]) -> Result<(), CageValuesError> {
-    if dim == 0 {
-        return Err(CageValuesError::ZeroDimension);
-    }
-    if dim > MAX_CAGE_VALUE_DIM {
-        return Err(CageValuesError::DimensionTooLarge { dim, max: MAX_CAGE_VALUE_DIM });
-    }
+    check_dim(dim)?;
     let mut starts = Vec::with_capacity(face_sizes.len() + 1);
     let mut total = 0usize;
     for (face, &size) in face_sizes.iter().enumerate() {
