@@ -419,8 +419,16 @@ def write_triangles(mesh, positions, triangles):
 
 def set_face_materials(mesh, material_index):
     """Per-face material index (numpy, one value per polygon), e.g. the cage face's material
-    carried to every output face descending from it."""
-    mesh.polygons.foreach_set("material_index", np.ascontiguousarray(material_index, dtype=np.int32).reshape(-1))
+    carried to every output face descending from it. Written through the generic face attribute
+    `material_index` (640k faces: 0.001 s, where `polygons.foreach_set` takes 0.19 s); a mesh
+    without that attribute has index 0 everywhere, so all-zero indices add nothing."""
+    idx = np.ascontiguousarray(material_index, dtype=np.int32).reshape(-1)
+    attr = mesh.attributes.get("material_index")
+    if attr is None:
+        if not idx.any():
+            return
+        attr = mesh.attributes.new("material_index", 'INT', 'FACE')
+    attr.data.foreach_set("value", idx)
 
 
 def write_polygons(mesh, positions, face_sizes, face_indices, edges=None):
