@@ -15,6 +15,9 @@ use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use std::collections::{BTreeSet, HashMap};
 
+mod common_cage;
+use common_cage::cage_point;
+
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
 
 fn model(name: &str) -> PolyMesh {
@@ -24,18 +27,6 @@ fn model(name: &str) -> PolyMesh {
 fn mesh(cage: &PolyMesh, method: Method, layout: Layout, r: usize) -> SurfaceMesh {
     let opts = ConvertOptions { method, layout, resolution: r, ..Default::default() };
     convert(cage, &opts, None).unwrap_or_else(|e| panic!("{method} {layout:?} r={r}: {e}")).mesh
-}
-
-/// The cage point of (σ, τ) in corner k of face f (the keep-corners rule with the cage's
-/// positions as the attribute).
-fn cage_point(cage: &PolyMesh, [f, k]: [u32; 2], [s, t]: [f64; 2]) -> DVec3 {
-    let face = &cage.faces[f as usize];
-    let n = face.len();
-    let p = |i: usize| cage.positions[face[i % n] as usize];
-    let centre = (0..n).map(p).sum::<DVec3>() / n as f64;
-    let k = k as usize;
-    let (v, next, prev) = (p(k), 0.5 * (p(k) + p(k + 1)), 0.5 * (p(k) + p(k + n - 1)));
-    v * ((1.0 - s) * (1.0 - t)) + next * (s * (1.0 - t)) + centre * (s * t) + prev * ((1.0 - s) * t)
 }
 
 /// (cage corner, σ, τ bits) of a loop, for exact comparison.

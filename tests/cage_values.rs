@@ -11,6 +11,9 @@ use gbsurf::tessellate::{cage_loop_values, CageLoops, CageValuesError};
 use glam::DVec3;
 use proptest::prelude::*;
 
+mod common_cage;
+use common_cage::cage_point;
+
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
 
 fn model(name: &str) -> PolyMesh {
@@ -52,17 +55,6 @@ proptest! {
             prop_assert!((got as f64 - want).abs() <= 1e-4 * (1.0 + want.abs()), "{} vs {}", got, want);
         }
     }
-}
-
-/// The keep-corners point of the cage's own positions, in f64 (an independent evaluation).
-fn cage_point(cage: &PolyMesh, [f, k]: [u32; 2], [s, t]: [f64; 2]) -> DVec3 {
-    let face = &cage.faces[f as usize];
-    let n = face.len();
-    let p = |i: usize| cage.positions[face[i % n] as usize];
-    let centre = (0..n).map(p).sum::<DVec3>() / n as f64;
-    let k = k as usize;
-    let (v, next, prev) = (p(k), 0.5 * (p(k) + p(k + 1)), 0.5 * (p(k) + p(k + n - 1)));
-    v * ((1.0 - s) * (1.0 - t)) + next * (s * (1.0 - t)) + centre * (s * t) + prev * ((1.0 - s) * t)
 }
 
 #[test]
