@@ -86,13 +86,13 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
     }
     starts.push(total);
     // dim ≤ MAX_CAGE_VALUE_DIM and every length below isize::MAX bytes: no product overflows,
-    // but a wrong count must never wrap, so the products are checked anyway.
-    let expected = total.checked_mul(dim).unwrap_or(usize::MAX);
+    // but a wrong count must never wrap, so the products saturate (and then cannot match).
+    let expected = total.saturating_mul(dim);
     if values.len() != expected {
         return Err(CageValuesError::WrongLength { what: "values (dim per cage face corner)", expected, got: values.len() });
     }
     let n = loops.coords.len();
-    let expected = n.checked_mul(dim).unwrap_or(usize::MAX);
+    let expected = n.saturating_mul(dim);
     if out.len() != expected {
         return Err(CageValuesError::WrongLength { what: "out (dim per coords pair)", expected, got: out.len() });
     }
@@ -104,7 +104,7 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
         None
     } else if n == 0 {
         Some(1)
-    } else if loops.face_corner.is_empty() || n % loops.face_corner.len() != 0 {
+    } else if loops.face_corner.is_empty() || !n.is_multiple_of(loops.face_corner.len()) {
         return Err(CageValuesError::UnevenFaces { loops: n, faces: loops.face_corner.len() });
     } else {
         Some(n / loops.face_corner.len())
