@@ -366,14 +366,37 @@ class Conversion:
     """
 
 
-def _view(lib, fn, handle, ctype, *args):
+class _Handle:
+    """Owns a result handle: it is freed when this object goes, i.e. after the last zero-copy
+    view of it (each view's buffer holds a reference to its `_Handle`)."""
+
+    def __init__(self, lib, handle):
+        self._lib, self._handle = lib, handle
+
+    def __del__(self):
+        try:
+            self._lib.gbsurf_result_free(self._handle)
+        except Exception:  # interpreter shutdown: nothing left to free into
+            pass
+
+
+def _view(lib, fn, handle, ctype, *args, owner=None):
+    """A result array as numpy: a copy, or with `owner` (a `_Handle`) a read-only view of the
+    library's own memory that keeps the handle alive (no copy: 0.3 s of copying on a 40k-quad
+    torus at r = 2)."""
     data = POINTER(ctype)()
     n = c_size_t()
     _check(lib, fn(handle, *args, ctypes.byref(data), ctypes.byref(n)))
     dtype = {c_double: np.float64, c_uint8: np.uint8}.get(ctype, np.uint32)
     if n.value == 0:
         return np.zeros(0, dtype=dtype)
-    return np.ctypeslib.as_array(data, shape=(n.value,)).copy()
+    if owner is None:
+        return np.ctypeslib.as_array(data, shape=(n.value,)).copy()
+    buf = (ctype * n.value).from_address(ctypes.addressof(data.contents))
+    buf._owner = owner
+    view = np.frombuffer(buf, dtype=dtype)
+    view.flags.writeable = False
+    return view
 
 
 def _count(lib, fn, handle, *args):
@@ -436,10 +459,8 @@ def convert(positions, face_sizes, face_indices, options=None, progress=None,
             lib.gbsurf_result_free(handle)
         raise failure[0]
     _check(lib, status)
-    try:
-        return _unpack(lib, handle, want_patches, want_curves, want_control_net)
-    finally:
-        lib.gbsurf_result_free(handle)
+    # The mesh arrays are views of the result; the handle is freed with the last of them.
+    return _unpack(lib, handle, want_patches, want_curves, want_control_net, _Handle(lib, handle))
 
 
 def cage_loop_values(face_sizes, values, face_corner, loop_corner, coords):
@@ -465,24 +486,24 @@ def cage_loop_values(face_sizes, values, face_corner, loop_corner, coords):
     return out
 
 
-def _unpack(lib, h, want_patches, want_curves, want_control_net):
+def _unpack(lib, h, want_patches, want_curves, want_control_net, owner=None):
     c = Conversion()
-    c.positions = _view(lib, lib.gbsurf_mesh_positions, h, c_double).reshape(-1, 3)
-    c.normals = _view(lib, lib.gbsurf_mesh_normals, h, c_double).reshape(-1, 3)
-    c.triangles = _view(lib, lib.gbsurf_mesh_triangles, h, c_uint32).reshape(-1, 3)
-    c.quads = _view(lib, lib.gbsurf_mesh_quads, h, c_uint32).reshape(-1, 4)
+    c.positions = _view(lib, lib.gbsurf_mesh_positions, h, c_double, owner=owner).reshape(-1, 3)
+    c.normals = _view(lib, lib.gbsurf_mesh_normals, h, c_double, owner=owner).reshape(-1, 3)
+    c.triangles = _view(lib, lib.gbsurf_mesh_triangles, h, c_uint32, owner=owner).reshape(-1, 3)
+    c.quads = _view(lib, lib.gbsurf_mesh_quads, h, c_uint32, owner=owner).reshape(-1, 4)
     c.faces = c.quads if len(c.quads) else c.triangles
-    c.face_corner = _view(lib, lib.gbsurf_mesh_face_corner, h, c_uint32)
-    c.cage_corner = _view(lib, lib.gbsurf_mesh_cage_corner, h, c_uint32).reshape(-1, 2)
-    c.cage_coords = _view(lib, lib.gbsurf_mesh_cage_coords, h, c_double).reshape(-1, 2)
-    c.cage_loop_corner = _view(lib, lib.gbsurf_mesh_cage_loop_corner, h, c_uint32).reshape(-1, 2)
-    triangle_patch = _view(lib, lib.gbsurf_mesh_triangle_patch, h, c_uint32)
+    c.face_corner = _view(lib, lib.gbsurf_mesh_face_corner, h, c_uint32, owner=owner)
+    c.cage_corner = _view(lib, lib.gbsurf_mesh_cage_corner, h, c_uint32, owner=owner).reshape(-1, 2)
+    c.cage_coords = _view(lib, lib.gbsurf_mesh_cage_coords, h, c_double, owner=owner).reshape(-1, 2)
+    c.cage_loop_corner = _view(lib, lib.gbsurf_mesh_cage_loop_corner, h, c_uint32, owner=owner).reshape(-1, 2)
+    triangle_patch = _view(lib, lib.gbsurf_mesh_triangle_patch, h, c_uint32, owner=owner)
     c.face_patch = triangle_patch[::2] if len(c.quads) else triangle_patch
-    c.patch_index = _view(lib, lib.gbsurf_mesh_patch_index, h, c_uint32)
-    c.mean_curvature = _view(lib, lib.gbsurf_mesh_mean_curvature, h, c_double)
-    c.gaussian_curvature = _view(lib, lib.gbsurf_mesh_gaussian_curvature, h, c_double)
-    c.g1_deviation = _view(lib, lib.gbsurf_mesh_g1_deviation, h, c_double)
-    c.fold = _view(lib, lib.gbsurf_mesh_fold, h, c_uint8)
+    c.patch_index = _view(lib, lib.gbsurf_mesh_patch_index, h, c_uint32, owner=owner)
+    c.mean_curvature = _view(lib, lib.gbsurf_mesh_mean_curvature, h, c_double, owner=owner)
+    c.gaussian_curvature = _view(lib, lib.gbsurf_mesh_gaussian_curvature, h, c_double, owner=owner)
+    c.g1_deviation = _view(lib, lib.gbsurf_mesh_g1_deviation, h, c_double, owner=owner)
+    c.fold = _view(lib, lib.gbsurf_mesh_fold, h, c_uint8, owner=owner)
     rep = Report()
     rep.struct_size = ctypes.sizeof(Report)
     _check(lib, lib.gbsurf_result_report(h, ctypes.byref(rep)))
