@@ -345,7 +345,9 @@ def make_options(**overrides):
 
 
 class Conversion:
-    """Everything copied out of a result handle (plain numpy arrays; the handle is freed).
+    """A conversion's data as numpy: the mesh arrays below are read-only views of the result's
+    own memory, which stays alive as long as any of them does (`_Handle`); the curves, the
+    control net and the patches are copies.
 
     positions (V,3) float64, normals (V,3), triangles (T,3) uint32, quads (Q,4) uint32 (quad
     layout; quad k is triangles 2k, 2k+1), faces (the quads when there are any, else the
@@ -394,9 +396,8 @@ def _view(lib, fn, handle, ctype, *args, owner=None):
         return np.ctypeslib.as_array(data, shape=(n.value,)).copy()
     buf = (ctype * n.value).from_address(ctypes.addressof(data.contents))
     buf._owner = owner
-    view = np.frombuffer(buf, dtype=dtype)
-    view.flags.writeable = False
-    return view
+    # A read-only buffer: the flag cannot be switched back on, so nothing writes library memory.
+    return np.frombuffer(memoryview(buf).toreadonly(), dtype=dtype)
 
 
 def _count(lib, fn, handle, *args):

@@ -196,10 +196,13 @@ class OBJECT_OT_gbsurf_convert(ConvertOptionsMixin, bpy.types.Operator):
             return {'RUNNING_MODAL'}
         wm.event_timer_remove(self._timer)
         wm.progress_end()
+        # The results leave the operator instance here (it may be kept for redo, and each
+        # result's arrays keep the library's result alive).
+        convs, self._convs = self._convs, []
         if self._progress.cancel:
             self.report({'WARNING'}, "GB Surface: cancelled, nothing created")
             return {'CANCELLED'}
-        done = [(self._sources[i], conv) for i, conv in self._convs]
+        done = [(self._sources[i], conv) for i, conv in convs]
         failures = self._failures + self._errors
         return self._build(context, done, failures, len(done) + len(failures))
 
