@@ -221,17 +221,6 @@ def read_face_data(mesh, order, n_corners):
     return FaceData(mi, uv_maps, active.name if active is not None else None)
 
 
-def _keep_corners(values, sizes, f, c, st):
-    """The keep-corners rule (docs/math.md#cage-corners) at points (f, c, σ, τ): cage face f,
-    corner c, coordinates st (N,2); `values` (sum sizes, k) per cage face corner. Computed by the
-    library (`gbsurf_cage_loop_values`, one definition for every adapter; 2.56 M loops of a
-    40k-quad torus: 1.57 s in numpy, then 0.9 s tabulated in numpy inside Blender). Points with
-    an unknown face or corner (0xFFFFFFFF) get 0. float32, like Blender's UVs and weights."""
-    corners = np.stack([np.asarray(f, dtype=np.int64), np.asarray(c, dtype=np.int64)], axis=1)
-    corners = np.where(corners < 0, 0xFFFFFFFF, corners).astype(np.uint32)
-    return native.cage_loop_values(sizes, values, (), corners, st)
-
-
 def _loop_corners(cage_corner, st, loop_corner):
     """Per loop (face corner of the output) its cage corner (N,2) int64: `loop_corner` (N,2)
     when given (the triangle layout: each corner's own), else its face's `cage_corner` (F,2)
@@ -267,7 +256,8 @@ def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coord
     vertices. Each output vertex is evaluated at one of its face corners (the rule is continuous:
     every corner gives the same value, up to rounding). `faces` (F, m) output faces, `n_vertices` their vertex
     count, `loop_corner` as in `cage_loop_values`; vertices of no face, or of a face with no cage
-    coordinates, get 0. The values come from the library (`_keep_corners`)."""
+    coordinates, get 0. The values come from the library (`native.cage_loop_values` at one loop
+    per vertex)."""
     values = np.asarray(values, dtype=np.float64)
     sizes = np.asarray(face_sizes, dtype=np.int64)
     st = np.asarray(cage_coords, dtype=np.float64).reshape(-1, 2)
@@ -282,7 +272,7 @@ def cage_vertex_values(values, face_sizes, face_indices, cage_corner, cage_coord
     has = np.flatnonzero(loop >= 0)
     lp = loop[has]
     corner_values = values[np.asarray(face_indices, dtype=np.int64)]
-    out[has] = _keep_corners(corner_values, sizes, corners[lp, 0], corners[lp, 1], st[lp])
+    out[has] = native.cage_loop_values(sizes, corner_values, (), corners[lp], st[lp])
     return out
 
 
