@@ -297,7 +297,7 @@ pub(crate) unsafe fn slice_arg_mut<'a, T>(p: *mut T, len: usize, arg: &str, inpu
         .filter(|&b| b <= isize::MAX as usize)
         .ok_or_else(|| FfiError::new(GBSURF_ERR_COUNT, format!("{arg}: length {len} is larger than any array can be")))?;
     let p = non_null_mut(p, arg)?;
-    let (lo, hi) = (p as usize, p as usize + bytes);
+    let (lo, hi) = (p as usize, (p as usize).saturating_add(bytes));
     for &(name, q, qbytes) in inputs {
         let (qlo, qhi) = (q as usize, (q as usize).saturating_add(qbytes));
         if qbytes > 0 && lo < qhi && qlo < hi {
