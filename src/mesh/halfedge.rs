@@ -85,6 +85,9 @@ pub struct HalfEdgeMesh {
     vertex_crease: Vec<f64>,
 }
 
+/// Faces (and vertices) between two progress ticks of [`HalfEdgeMesh::from_checked_polymesh_ticked`].
+const TICK_FACES: usize = 4096;
+
 impl HalfEdgeMesh {
     /// Validates `mesh` (see [`super::validate`]), drops isolated vertices and builds the
     /// half-edge structure. Errors name elements in the input numbering.
@@ -108,8 +111,19 @@ impl HalfEdgeMesh {
     /// [`check_polymesh`] but not the single-fan check. Used for subdivision levels, whose
     /// topology follows from a validated input.
     pub(crate) fn from_checked_polymesh(mesh: &PolyMesh) -> Result<Self, MeshError> {
+        Self::from_checked_polymesh_ticked(mesh, &mut |_, _| Ok(()))
+    }
+
+    /// [`Self::from_checked_polymesh`] calling `tick(done, total)` every [`TICK_FACES`] faces
+    /// and vertices (total = faces + vertices) so a caller can report progress and cancel; its
+    /// error ends the build.
+    pub(crate) fn from_checked_polymesh_ticked<E: From<MeshError>>(
+        mesh: &PolyMesh,
+        tick: &mut dyn FnMut(usize, usize) -> Result<(), E>,
+    ) -> Result<Self, E> {
         let (clean, original_vertex, warnings) = drop_isolated(mesh);
         let nv = clean.positions.len();
+        let total = clean.faces.len() + nv;
         let n_corners: usize = clean.faces.iter().map(Vec::len).sum();
         let mut edge_of: FxHashMap<(u32, u32), u32> = fx_map(n_corners);
         let mut he_origin = Vec::with_capacity(n_corners + 8);
@@ -119,6 +133,9 @@ impl HalfEdgeMesh {
         let mut face_he = Vec::with_capacity(clean.faces.len());
         let mut hs = Vec::new();
         for (f, face) in clean.faces.iter().enumerate() {
+            if f % TICK_FACES == 0 {
+                tick(f, total)?;
+            }
             let n = face.len();
             hs.clear();
             for i in 0..n {
@@ -160,7 +177,8 @@ impl HalfEdgeMesh {
                         vertex: original_vertex[v] as usize,
                         fans: count_boundary_out(&he_origin, &he_face, v as u32),
                         line: None,
-                    });
+                    }
+                    .into());
                 }
                 boundary_out[v] = h as u32;
                 vertex_he[v] = h as u32;
@@ -176,14 +194,20 @@ impl HalfEdgeMesh {
                         vertex: original_vertex[b] as usize,
                         fans: 2,
                         line: None,
-                    });
+                    }
+                    .into());
                 }
                 he_next[h] = n;
                 he_prev[n as usize] = h as u32;
             }
         }
+        tick(clean.faces.len(), total)?;
+        let positions = match clean {
+            std::borrow::Cow::Borrowed(m) => m.positions.clone(),
+            std::borrow::Cow::Owned(m) => m.positions,
+        };
         let mut m = HalfEdgeMesh {
-            positions: clean.positions,
+            positions,
             he_origin,
             he_next,
             he_prev,
@@ -197,6 +221,9 @@ impl HalfEdgeMesh {
         };
         // Single fan per vertex: the CCW walk from vertex_he must visit every outgoing half-edge.
         for v in 0..nv {
+            if v % TICK_FACES == 0 {
+                tick(total - nv + v, total)?;
+            }
             let walked = m.vertex_outgoing(VertexId(v as u32)).count() as u32;
             if walked != n_out[v] {
                 let fans = m.count_fans(v, n_out[v]);
@@ -204,7 +231,8 @@ impl HalfEdgeMesh {
                     vertex: m.original_vertex[v] as usize,
                     fans,
                     line: None,
-                });
+                }
+                .into());
             }
         }
         m.warnings.shrink_to_fit();
@@ -519,4 +547,48 @@ impl HalfEdgeMesh {
 
 fn count_boundary_out(origin: &[u32], face: &[u32], v: u32) -> usize {
     (0..origin.len()).filter(|&h| origin[h] == v && face[h] == NONE).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ticked build reports increasing progress up to faces + vertices, stops at the first
+    /// tick error, and builds the same mesh as the unticked one.
+    #[test]
+    fn ticked_build_reports_and_stops() {
+        let mesh = crate::mesh::generate::torus(100, 100, 3.0, 1.0).unwrap();
+        let total = mesh.faces.len() + mesh.positions.len();
+        let mut seen = Vec::new();
+        let he = HalfEdgeMesh::from_checked_polymesh_ticked::<MeshError>(&mesh, &mut |d, t| {
+            assert_eq!(t, total);
+            seen.push(d);
+            Ok(())
+        })
+        .unwrap();
+        assert!(seen.len() >= 4 && seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        let plain = HalfEdgeMesh::from_checked_polymesh(&mesh).unwrap();
+        assert_eq!((he.n_faces(), he.he_next.clone(), he.positions.clone()), (plain.n_faces(), plain.he_next, plain.positions));
+        #[derive(Debug, PartialEq)]
+        enum Stop {
+            Mesh,
+            Cancelled,
+        }
+        impl From<MeshError> for Stop {
+            fn from(_: MeshError) -> Self {
+                Stop::Mesh
+            }
+        }
+        let mut calls = 0;
+        let stopped = HalfEdgeMesh::from_checked_polymesh_ticked::<Stop>(&mesh, &mut |_, _| {
+            calls += 1;
+            if calls == 2 {
+                Err(Stop::Cancelled)
+            } else {
+                Ok(())
+            }
+        });
+        assert_eq!(stopped.err(), Some(Stop::Cancelled));
+        assert_eq!(calls, 2);
+    }
 }

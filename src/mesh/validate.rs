@@ -300,12 +300,16 @@ pub(crate) fn scaled_area(pts: &[DVec3]) -> (f64, f64) {
 
 /// Drops vertices used by no face; returns the renumbered mesh, `new → old` vertex map and one
 /// warning per dropped vertex. Assumes indices are in range.
-pub(crate) fn drop_isolated(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>, Vec<MeshWarning>) {
+pub(crate) fn drop_isolated(mesh: &PolyMesh) -> (std::borrow::Cow<'_, PolyMesh>, Vec<u32>, Vec<MeshWarning>) {
     let mut used = vec![false; mesh.positions.len()];
     for face in &mesh.faces {
         for &i in face {
             used[i as usize] = true;
         }
+    }
+    // Nothing to drop (every subdivision level): the mesh itself, numbered as it is.
+    if used.iter().all(|&u| u) {
+        return (std::borrow::Cow::Borrowed(mesh), (0..mesh.positions.len() as u32).collect(), Vec::new());
     }
     let mut new_index = vec![u32::MAX; mesh.positions.len()];
     let mut old = Vec::new();
@@ -325,5 +329,5 @@ pub(crate) fn drop_isolated(mesh: &PolyMesh) -> (PolyMesh, Vec<u32>, Vec<MeshWar
         .iter()
         .map(|f| f.iter().map(|&i| new_index[i as usize]).collect())
         .collect();
-    (PolyMesh::new(positions, faces), old, warnings)
+    (std::borrow::Cow::Owned(PolyMesh::new(positions, faces)), old, warnings)
 }

@@ -239,7 +239,9 @@ fn subdivide_levels(
     let (mut mesh, mut ancestor) = ticker.within(0.0, share(1), |t| one(&first, t))?;
     for k in 1..levels {
         let (next, parent) = ticker.within(share(k), share(k + 1), |t| {
-            let he = HalfEdgeMesh::from_checked_polymesh(&mesh)?;
+            let he = t.within(0.0, HALF_EDGE, |t| {
+                HalfEdgeMesh::from_checked_polymesh_ticked::<SubdivError>(&mesh, &mut |done, total| Ok(t.at(done, total)?))
+            })?;
             t.within(HALF_EDGE, 1.0, |t| one(&Level::of_polymesh(&mesh, Cow::Owned(he)), t))
         })?;
         ancestor = parent.iter().map(|&f| ancestor[f as usize]).collect();
