@@ -22,7 +22,8 @@ fn off(distance: f64, shell: bool) -> OffsetOptions {
 }
 
 /// Torus (all patches 4-sided, all cage vertices of valence 4): wherever two PN pieces in one
-/// frame meet, the shared data make them watertight; the figures are within the tolerances.
+/// frame meet, the shared data make them watertight and G1; the figures are within the
+/// tolerances of issue 9.
 #[test]
 fn torus_pn_pieces_are_watertight_and_exact() {
     let m = model("torus.obj");
@@ -32,8 +33,12 @@ fn torus_pn_pieces_are_watertight_and_exact() {
         println!("{method:?}: {}", serde_json::to_string(r).unwrap());
         assert_eq!(r.unmatched_points, 0);
         assert!(r.max_gap_pn <= 1e-12, "{}", r.max_gap_pn);
+        assert!(r.max_normal_angle_pn <= 1e-9, "{}", r.max_normal_angle_pn);
         assert!(r.max_normal_residual <= 1e-9, "{}", r.max_normal_residual);
-        assert!(r.max_offset_error <= 1e-9, "{}", r.max_offset_error);
+        assert!(r.max_offset_error <= 1e-10, "{}", r.max_offset_error);
+        // The PN pieces stay close to the GB surface (tube radius of the shared torus: about 1).
+        assert!(r.max_fit_error <= FIT_BOUND, "{}", r.max_fit_error);
+        assert!(r.frame_seams > 0, "the torus's normals need both frames");
         assert!(r.pieces > r.singular_pieces && r.singular_pieces > 0);
         assert_eq!(r.cusps, 0);
         assert!(r.closed && r.two_manifold);
@@ -41,6 +46,43 @@ fn torus_pn_pieces_are_watertight_and_exact() {
         assert!(c.is_closed_manifold());
         assert_eq!(c.euler_characteristic, 0);
     }
+}
+
+/// Bound of `max_fit_error` on the shared torus (resolution 8, grid 4): measured 2.7e-3
+/// (topology) and 7.1e-3 (dual).
+const FIT_BOUND: f64 = 1e-2;
+
+/// G1 inside each patch, checked without the report: piece k's edge t = 0 is piece k − 1's edge
+/// s = 0; where both are PN pieces in one frame, their points coincide (1e-12) and their unit
+/// normals agree (1e-9 rad) along the whole edge, between the grid points too.
+#[test]
+fn torus_inner_piece_edges_are_g1() {
+    let m = model("torus.obj");
+    let s = build_surface(&m, &opts(Method::Topology, 4)).unwrap();
+    let o = offset_surface(&s, &opts(Method::Topology, 4), &off(0.05, false)).unwrap();
+    let gl = 3.0; // grid 4: global parameters 0..=3
+    let (mut edges, mut worst_gap, mut worst_angle) = (0, 0.0f64, 0.0f64);
+    for (p, patch) in s.patches.iter().enumerate() {
+        let n = patch.sides();
+        let piece = |k: usize| o.pieces.iter().find(|x| x.patch == p && x.piece == k).and_then(|x| x.pn.as_ref());
+        for k in 0..n {
+            let (Some(a), Some(b)) = (piece(k), piece((k + n - 1) % n)) else { continue };
+            if a.frame().rotation() != b.frame().rotation() {
+                continue;
+            }
+            edges += 1;
+            for step in 0..=60 {
+                let w = gl * step as f64 / 60.0;
+                let (x, y) = (a.eval_global(w, 0.0).unwrap(), b.eval_global(0.0, w).unwrap());
+                worst_gap = worst_gap.max((x.point - y.point).length());
+                worst_angle = worst_angle.max(x.normal.cross(y.normal).length().atan2(x.normal.dot(y.normal)));
+            }
+        }
+    }
+    println!("{edges} inner edges: gap {worst_gap:.3e}, normal angle {worst_angle:.3e} rad");
+    assert!(edges > 0);
+    assert!(worst_gap <= 1e-12, "{worst_gap}");
+    assert!(worst_angle <= 1e-9, "{worst_angle}");
 }
 
 /// The shell of a closed input is closed and two-manifold (two sheets: Euler characteristic 2·χ);
@@ -59,17 +101,33 @@ fn shells_are_closed() {
 }
 
 /// Cube: valence-3 vertices and (dual) 3-sided patches cannot share derivative rays; the report
-/// says so, and the PN pieces still satisfy the PN identities exactly.
+/// says so, and the PN pieces still satisfy the PN identities exactly. What the report can
+/// promise here: each PN piece is exact (residual, offset error), the two sides' normals agree at
+/// shared samples, the output is closed (welded by topology). `max_gap` and `max_gap_pn` (frame
+/// seams, grid edges ending at unmatched points) have a ceiling, not a zero: on the cube at most
+/// twice the fit error (docs/math/pn.md §11, "Ceiling of max_gap").
 #[test]
 fn cube_reports_unmatched_points() {
     for method in [Method::Topology, Method::Dual] {
         let o = offset(&model("cube.obj"), &opts(method, 6), &off(0.05, false)).unwrap();
         let r = &o.report;
+        println!("{method:?}: {}", serde_json::to_string(r).unwrap());
         assert_eq!(r.unmatched_points, 8, "{method:?}");
-        assert!(r.max_normal_residual <= 1e-9 && r.max_offset_error <= 1e-9, "{r:?}");
-        assert!(r.max_fit_error < 0.1 && r.max_gap >= r.max_gap_pn);
+        assert!(r.max_normal_residual <= 1e-9 && r.max_offset_error <= 1e-10, "{r:?}");
+        // The two sides' normals at a shared sample agree (along a piece edge n depends only on
+        // the edge's own data), but their positions do not where the edge ends at an unmatched
+        // point: `max_gap_pn` is not small here, unlike on the torus.
+        assert!(r.max_normal_angle_pn <= 1e-9 && r.max_gap_pn <= r.max_gap, "{r:?}");
+        assert!(r.frame_seams > 0, "{r:?}");
+        assert!(r.max_fit_error < CUBE_FIT_BOUND, "{r:?}");
+        assert!(r.max_gap >= r.max_gap_pn && r.max_gap <= 2.0 * r.max_fit_error, "{r:?}");
+        assert!(r.closed && r.two_manifold);
     }
 }
+
+/// Bound of `max_fit_error` on the shared cube (side 2; resolution 6, grid 4, d = 0.05):
+/// measured 1.55e-2 (topology) and 3.25e-2 (dual); `max_gap` 1.85e-2 and 3.55e-2.
+const CUBE_FIT_BOUND: f64 = 5e-2;
 
 /// A large inward distance on the torus's outside produces cusps, counted and located.
 #[test]
@@ -102,6 +160,11 @@ fn rational_export_matches_samples() {
     let pats = o.rational_patches().unwrap();
     let pn_pieces = o.pieces.iter().filter(|p| p.pn.is_some()).count();
     assert_eq!(pats.len(), pn_pieces * 9);
+    // The holes of the export: exactly the singular pieces, each with its reason.
+    let holes = o.singular_pieces();
+    assert_eq!(holes.len(), o.report.singular_pieces);
+    assert!(!holes.is_empty() && holes.iter().all(|(_, _, why)| !why.is_empty()));
+    assert!(holes.iter().all(|(p, k, _)| pats.iter().all(|(q, l, ..)| (q, l) != (p, k))));
     let piece = o.pieces.iter().find(|p| p.pn.is_some()).unwrap();
     let pn = piece.pn.as_ref().unwrap();
     let (_, _, i, j, r) = pats.iter().find(|(p, k, ..)| *p == piece.patch && *k == piece.piece).unwrap();

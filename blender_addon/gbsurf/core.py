@@ -294,6 +294,12 @@ def live_source(result):
     return src
 
 
+def has_source(obj):
+    """True for the objects made from a source with stored settings, which Update and live mode
+    regenerate: GB results and exact offset surfaces (offset_ops)."""
+    return obj.gbsurf.is_result or obj.gbsurf.is_offset
+
+
 def is_result_part(obj):
     """True for GB results and for their curve-network / control-net objects."""
     if obj.gbsurf.is_result:

@@ -1,4 +1,4 @@
-"""Live mode: a result with `gbsurf.live` regenerates when its source's geometry or transform
+"""Live mode: a result (or an exact offset surface, `offset_ops`) with `gbsurf.live` regenerates when its source's geometry or transform
 changes (and when its own settings change), and on frame changes when the evaluated source
 (animated modifiers, shape keys, armatures, drivers, ...) differs from the one last converted:
 the frame handler reads the evaluated mesh and compares its digest (`core.source_digest`) with
@@ -20,7 +20,7 @@ are stored in the result's `info` and printed.
 import bpy
 from bpy.app.handlers import persistent
 
-from . import core, mesh_io
+from . import core, mesh_io, offset_ops
 
 _busy = False
 _in_undo = False
@@ -37,14 +37,30 @@ def request_update(obj):
 
 
 def _live_results():
-    return [o for o in bpy.data.objects if o.gbsurf.is_result and o.gbsurf.live]
+    return [o for o in bpy.data.objects if core.has_source(o) and o.gbsurf.live]
 
 
-def _regenerate(obj, depsgraph):
+def _regenerate(obj, depsgraph, data=None):
+    """Regenerates a live result or offset surface from its source; `data`: the source's mesh
+    already read without vertex groups (frame changes). A failure is stored in the object's info
+    (and, with `data`, its digest, so the same frame is not retried), never raised."""
+    s = obj.gbsurf
     try:
-        core.apply(obj, core.compute_for(obj, None, depsgraph))
-    except core.ConvertError as e:
-        obj.gbsurf.info = f"Live update failed: {e}"
+        if s.is_offset:
+            offset_ops.regenerate(obj, depsgraph, data)
+        elif data is None:
+            core.apply(obj, core.compute_for(obj, None, depsgraph))
+        else:
+            src = s.source
+            # Read again with the vertex groups (one pass over the vertices in Python, skipped
+            # for frames whose geometry did not change).
+            if len(src.vertex_groups):
+                data = mesh_io.read_object(src, depsgraph)
+            core.apply(obj, core.compute(src, s.library_options(), s.output_options(), data=data))
+    except (core.ConvertError, offset_ops.OffsetError, mesh_io.Float32RangeError) as e:
+        s.info = f"Live update failed: {e}"
+        if data is not None:
+            s.source_digest = core.source_digest(data)
         print(f"gbsurf live: {e}")
 
 
@@ -114,17 +130,7 @@ def on_frame_change(scene, depsgraph=None):
             core.follow_source(obj, src)
             if core.source_digest(data) == obj.gbsurf.source_digest:
                 continue
-            try:
-                # Read again with the vertex groups (one pass over the vertices in Python,
-                # skipped above for frames whose geometry did not change).
-                if len(src.vertex_groups):
-                    data = mesh_io.read_object(src, depsgraph)
-                core.apply(obj, core.compute(
-                    src, obj.gbsurf.library_options(), obj.gbsurf.output_options(), data=data))
-            except core.ConvertError as e:
-                obj.gbsurf.info = f"Live update failed: {e}"
-                obj.gbsurf.source_digest = core.source_digest(data)  # do not retry every frame
-                print(f"gbsurf live: {e}")
+            _regenerate(obj, depsgraph, data)
     except Exception as e:  # a handler must never raise
         print(f"gbsurf live (frame change): {e}")
     finally:
@@ -138,7 +144,7 @@ def release_deleted_sources():
     pointers = {}
     for o in bpy.data.objects:
         s = o.gbsurf
-        if s.is_result and s.source is not None:
+        if core.has_source(o) and s.source is not None:
             pointers.setdefault(s.source.name, []).append(o)
     released = []
     for name, results in pointers.items():

@@ -28,7 +28,7 @@ from ctypes import (
 
 import numpy as np
 
-ABI_VERSION = 2
+ABI_VERSION = 3
 
 METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
 TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
@@ -118,7 +118,8 @@ class OffsetReport(Structure):
 
     _fields_ = [(n, c_uint64) for n in ("pieces", "singular_pieces")] + [
         (n, c_double) for n in ("max_fit_error", "max_normal_residual", "max_offset_error", "max_gap", "max_gap_pn")] + [
-        ("unmatched_points", c_uint64), ("cusps", c_uint64), ("closed", c_uint32), ("two_manifold", c_uint32), ("seconds", c_double)]
+        ("unmatched_points", c_uint64), ("cusps", c_uint64), ("closed", c_uint32), ("two_manifold", c_uint32), ("seconds", c_double),
+        ("frame_seams", c_uint64), ("max_normal_angle_pn", c_double)]
 
 
 class Creases(Structure):

@@ -1,8 +1,9 @@
 """Exact offsets: `Object > Convert > GB Offset Surface` (`object.gbsurf_offset`, the offset of
 the GB surface of a mesh through PN pieces; `object.gbsurf_offset_update` regenerates it from its
-stored settings) and `Object > Convert > Exact Offset (PH)` (`curve.gbsurf_ph_offset`, a planar
-PH quintic spline through a Bezier curve's points and handle tangents, as an exact order-6 NURBS
-curve, plus its exact rational offset sampled as a POLY curve).
+stored settings, and live mode (handlers.py) through the same `regenerate`) and `Exact Offset (PH)`
+in `Object > Convert`, the edit-mode `Curve` menu and the curve context menus
+(`curve.gbsurf_ph_offset`, a planar PH quintic spline through a Bezier curve's points and handle
+tangents, as an exact order-6 NURBS curve, plus its exact rational offset sampled as a POLY curve).
 
 Everything is computed before any Blender data is created; the sources are never modified.
 """
@@ -51,21 +52,28 @@ def offset_source(obj):
         raise OffsetError(str(e)) from None
 
 
-def compute_offset(src, lib_options, distance, grid, shell, depsgraph=None):
-    """(positions, triangles, report) of the exact offset of `src`'s GB surface. Raises OffsetError."""
+def read_source(src, depsgraph=None):
+    """The (evaluated) mesh of `src` as `mesh_io.read_object` gives it. Raises OffsetError."""
+    try:
+        return mesh_io.read_object(src, depsgraph, vertex_groups=False)
+    except mesh_io.SourceError as e:
+        raise OffsetError(str(e)) from None
+
+
+def compute_offset(src, lib_options, distance, grid, shell, data):
+    """(positions, triangles, report) of the exact offset of the GB surface of `src`'s mesh
+    `data` (from `read_source`). Raises OffsetError."""
     if lib_options["method"] not in PATCH_METHODS:
         raise OffsetError(f"{src.name}: the offset needs a patch method (Dual or Topology), "
                           f"not {lib_options['method']}")
     try:
-        positions, sizes, indices = mesh_io.read_object(src, depsgraph)
+        positions, sizes, indices = data
         if len(sizes) == 0:
             raise OffsetError(f"{src.name}: {core.NO_FACES}")
         opts = native.make_options(**lib_options)
         return offset_native.offset_mesh(positions, sizes, indices, opts, distance, grid, shell)
     except native.GbsurfError as e:
         raise OffsetError(f"{src.name}: {e}{core.evaluated_note(src)}") from None
-    except mesh_io.SourceError as e:
-        raise OffsetError(str(e)) from None
 
 
 def offset_info(positions, report):
@@ -77,7 +85,8 @@ def offset_info(positions, report):
             f"{', closed' if r['closed'] else ''}{', two-manifold' if r['two_manifold'] else ''}")
     problems = []
     if r["max_gap"] > GAP_WARN * max(diag, 1e-300):
-        problems.append(f"gaps up to {r['max_gap']:.3g} between pieces ({r['unmatched_points']} unmatched points)")
+        problems.append(f"gaps up to {r['max_gap']:.3g} between pieces ({r['unmatched_points']} unmatched points, "
+                        f"{r['frame_seams']} frame seams)")
     if r["cusps"]:
         problems.append(f"{r['cusps']} cusp samples (|d| reaches the radius of curvature)")
     return text, ("; ".join(problems) or None)
@@ -97,8 +106,9 @@ def _store(obj, src, lib_options, op):
     s.offset_distance, s.offset_grid, s.offset_shell = op.offset_distance, op.offset_grid, op.offset_shell
 
 
-def build_offset(src, lib_options, op, positions, triangles, info):
-    """Creates `<src.name>.offset` (all or nothing)."""
+def build_offset(src, lib_options, op, positions, triangles, info, data):
+    """Creates `<src.name>.offset` (all or nothing); `data` is the source mesh it was made from
+    (its digest lets live mode skip unchanged frames)."""
     created = []
     try:
         name = src.name + ".offset"
@@ -111,14 +121,46 @@ def build_offset(src, lib_options, op, positions, triangles, info):
         core._place_like(obj, src)
         _store(obj, src, lib_options, op)
         obj.gbsurf.info = info
+        obj.gbsurf.source_digest = core.source_digest(data)
+        core.remember_source_matrix(obj, src)
         return obj
     except Exception:
         core._remove_ids(created)
         raise
 
 
+def regenerate(obj, depsgraph=None, data=None):
+    """Regenerates the offset object `obj` from its source and stored settings (Update, and live
+    mode in handlers.py): a new mesh with the old one's materials, the source followed
+    (`core.follow_source`), info and digest stored. `data`: the source mesh already read
+    (`read_source`). Returns (info, warning); raises OffsetError with nothing changed."""
+    s = obj.gbsurf
+    src, lib_options = offset_source(obj)
+    if data is None:
+        data = read_source(src, depsgraph)
+    positions, triangles, report = compute_offset(
+        src, lib_options, s.offset_distance, s.offset_grid, s.offset_shell, data)
+    info, warning = offset_info(positions, report)
+    old = obj.data
+    mesh = bpy.data.meshes.new(old.name)
+    try:
+        _fill(mesh, positions, triangles)
+    except Exception:
+        bpy.data.meshes.remove(mesh)
+        raise
+    for m in old.materials:
+        mesh.materials.append(m)
+    obj.data = mesh
+    core._remove_orphan(old)
+    mesh.name = obj.name
+    core.follow_source(obj, src)
+    s.info = info
+    s.source_digest = core.source_digest(data)
+    return info, warning
+
+
 def _in_object_mode(cls, context):
-    """The offset operators' poll: Object Mode only, saying so otherwise."""
+    """The surface offset operators' poll: Object Mode only, saying so otherwise."""
     if context.mode != 'OBJECT':
         cls.poll_message_set("Switch to Object Mode")
         return False
@@ -151,11 +193,11 @@ class OBJECT_OT_gbsurf_offset(OffsetOptionsMixin, bpy.types.Operator):
     def execute(self, context):
         try:
             src, lib_options = offset_source(context.active_object)
+            data = read_source(src, context.evaluated_depsgraph_get())
             positions, triangles, report = compute_offset(
-                src, lib_options, self.offset_distance, self.offset_grid, self.offset_shell,
-                context.evaluated_depsgraph_get())
+                src, lib_options, self.offset_distance, self.offset_grid, self.offset_shell, data)
             info, warning = offset_info(positions, report)
-            obj = build_offset(src, lib_options, self, positions, triangles, info)
+            obj = build_offset(src, lib_options, self, positions, triangles, info, data)
         except (OffsetError, mesh_io.Float32RangeError) as e:
             self.report({'ERROR'}, str(e))
             return {'CANCELLED'}
@@ -181,29 +223,11 @@ class OBJECT_OT_gbsurf_offset_update(bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        s = obj.gbsurf
         try:
-            src, lib_options = offset_source(obj)
-            positions, triangles, report = compute_offset(
-                src, lib_options, s.offset_distance, s.offset_grid, s.offset_shell,
-                context.evaluated_depsgraph_get())
-            info, warning = offset_info(positions, report)
-            old = obj.data
-            mesh = bpy.data.meshes.new(old.name)
-            try:
-                _fill(mesh, positions, triangles)
-            except Exception:
-                bpy.data.meshes.remove(mesh)
-                raise
+            info, warning = regenerate(obj, context.evaluated_depsgraph_get())
         except (OffsetError, mesh_io.Float32RangeError) as e:
             self.report({'ERROR'}, str(e))
             return {'CANCELLED'}
-        for m in old.materials:
-            mesh.materials.append(m)
-        obj.data = mesh
-        core._remove_orphan(old)
-        mesh.name = obj.name
-        s.info = info
         _report_figures(self, obj, info, warning)
         return {'FINISHED'}
 
@@ -302,9 +326,16 @@ class CURVE_OT_gbsurf_ph_offset(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return _in_object_mode(cls, context)
+        if context.mode not in {'OBJECT', 'EDIT_CURVE'}:
+            cls.poll_message_set("Switch to Object Mode or edit a curve")
+            return False
+        return True
 
     def execute(self, context):
+        if context.mode == 'EDIT_CURVE':
+            # From the edit-mode Curve menu: leave Edit Mode first (writes the edits to the
+            # curve); the new objects are selected in Object Mode.
+            bpy.ops.object.mode_set(mode='OBJECT')
         src = context.active_object
         try:
             if src is None or src.type != 'CURVE':

@@ -55,7 +55,7 @@ OUTPUT_NAMES = tuple(OUTPUT_DEFAULTS)
 def _settings_changed(self, context):
     # Only the stored settings of a live result regenerate on change (the operator's own copy of
     # these properties is re-run by Blender's redo instead).
-    if isinstance(self, GbsurfSettings) and self.live and self.is_result:
+    if isinstance(self, GbsurfSettings) and self.live and (self.is_result or self.is_offset):
         from . import handlers
         handlers.request_update(self.id_data)
 
@@ -136,12 +136,13 @@ class OffsetOptionsMixin:
 
     offset_distance: FloatProperty(
         name="Distance", description="Signed offset distance (negative: inward)", default=0.1,
-        soft_min=-10.0, soft_max=10.0, subtype='DISTANCE', precision=4)
+        soft_min=-10.0, soft_max=10.0, subtype='DISTANCE', precision=4, update=_settings_changed)
     offset_shell: BoolProperty(
-        name="Solid Shell", description="Close the surface and its offset into a solid", default=False)
+        name="Solid Shell", description="Close the surface and its offset into a solid", default=False,
+        update=_settings_changed)
     offset_grid: IntProperty(
         name="Grid", description="PN pieces per patch side are a Grid x Grid grid (0: the library's default)",
-        min=0, max=64, default=0)
+        min=0, max=64, default=0, update=_settings_changed)
 
 
 def _display_changed(self, context):
@@ -151,7 +152,7 @@ def _display_changed(self, context):
 
 
 def _live_changed(self, context):
-    if self.live and self.is_result:
+    if self.live and (self.is_result or self.is_offset):
         from . import handlers
         handlers.request_update(self.id_data)
 

@@ -1,5 +1,7 @@
-"""UI: the `Object > Convert > GB Surface` menu entry and the Object properties panel of a result
-(source, settings, outputs, colours, Update, Live)."""
+"""UI: the `Object > Convert` entries (GB Surface, GB Offset Surface, Exact Offset (PH)), the
+`Exact Offset (PH)` entry where curves are edited (the edit-mode `Curve` menu and the curve
+context menus), and the Object properties panels of a result and of an offset surface (source,
+settings, Update, Live)."""
 
 import bpy
 
@@ -13,6 +15,21 @@ def menu_convert(self, context):
     self.layout.operator(OBJECT_OT_gbsurf_convert.bl_idname, text="GB Surface")
     self.layout.operator("object.gbsurf_offset", text="GB Offset Surface")
     self.layout.operator("curve.gbsurf_ph_offset", text="Exact Offset (PH)")
+
+
+def menu_curve(self, context):
+    """`Exact Offset (PH)` in the edit-mode Curve menu and the curve context menus (the object
+    context menu only when the active object is a curve)."""
+    obj = context.active_object
+    if obj is None or obj.type != 'CURVE':
+        return
+    self.layout.separator()
+    self.layout.operator("curve.gbsurf_ph_offset", text="Exact Offset (PH)")
+
+
+# Where a curve-editing artist looks (bpy 5.0 names): the header's Curve menu in Edit Mode, its
+# context menu, and the Object Mode context menu.
+CURVE_MENUS = ("VIEW3D_MT_edit_curve", "VIEW3D_MT_edit_curve_context_menu", "VIEW3D_MT_object_context_menu")
 
 
 class _ObjectPropertiesPanel:
@@ -54,7 +71,7 @@ class OBJECT_PT_gbsurf(_ObjectPropertiesPanel, bpy.types.Panel):
 
 
 class OBJECT_PT_gbsurf_offset(_ObjectPropertiesPanel, bpy.types.Panel):
-    """Settings of an exact offset surface: edit them, then Update."""
+    """Settings of an exact offset surface: edit them, then Update (or turn on Live)."""
 
     bl_label = "GB Offset Surface"
 
@@ -72,7 +89,9 @@ class OBJECT_PT_gbsurf_offset(_ObjectPropertiesPanel, bpy.types.Panel):
             layout.prop(s, name)
         if s.info:
             layout.label(text=s.info, icon='INFO')
-        layout.operator(OBJECT_OT_gbsurf_offset_update.bl_idname, text="Update", icon='FILE_REFRESH')
+        row = layout.row(align=True)
+        row.operator(OBJECT_OT_gbsurf_offset_update.bl_idname, text="Update", icon='FILE_REFRESH')
+        row.prop(s, "live", toggle=True, icon='REC' if s.live else 'PLAY')
 
 
 classes = (OBJECT_PT_gbsurf, OBJECT_PT_gbsurf_offset)
@@ -82,9 +101,13 @@ def register():
     for c in classes:
         bpy.utils.register_class(c)
     bpy.types.VIEW3D_MT_object_convert.append(menu_convert)
+    for name in CURVE_MENUS:
+        getattr(bpy.types, name).append(menu_curve)
 
 
 def unregister():
+    for name in CURVE_MENUS:
+        getattr(bpy.types, name).remove(menu_curve)
     bpy.types.VIEW3D_MT_object_convert.remove(menu_convert)
     for c in reversed(classes):
         bpy.utils.unregister_class(c)

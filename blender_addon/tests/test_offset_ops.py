@@ -183,3 +183,127 @@ def test_ph_offset_bad_input():
     bpy.context.scene.collection.objects.link(ob)
     helpers.select_only(ob)
     expect_error(bpy.ops.curve.gbsurf_ph_offset, "zero: segment 0", distance=0.1)
+
+
+# --- live mode and menus ---------------------------------------------------------------------------
+
+def _coords(mesh):
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def test_offset_surface_is_live_like_the_surface():
+    """Live mode (handlers.py) regenerates an offset surface when its source's geometry, its own
+    settings or (through an animated modifier) the frame change, through the path of GB results;
+    without live mode nothing changes."""
+    src = helpers.add_primitive("cube")
+    mod = src.modifiers.new("displace", 'DISPLACE')  # no texture: a push along the normals
+    mod.mid_level, mod.strength = 0.0, 0.0
+    mod.keyframe_insert("strength", frame=1)
+    mod.strength = 1.0
+    mod.keyframe_insert("strength", frame=10)
+    bpy.context.scene.frame_set(1)
+    helpers.select_only(src)
+    out = run_offset(offset_distance=0.1, offset_grid=3)
+    assert out.gbsurf.source_digest, "the offset remembers the source it was made from"
+    e1 = np.ptp(_coords(out.data), axis=0)
+    handlers = helpers.mesh_module().handlers
+    # Live off: a frame change does nothing.
+    mesh = out.data.name
+    bpy.context.scene.frame_set(10)
+    assert out.data.name == mesh
+    bpy.context.scene.frame_set(1)
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    # A frame whose evaluated source changed: regenerated (pushed out by 1 on every side).
+    bpy.context.scene.frame_set(10)
+    e10 = np.ptp(_coords(out.data), axis=0)
+    assert np.all(e10 > e1 + 1.0), (e1, e10)
+    assert "max gap" in out.gbsurf.info
+    bpy.context.scene.frame_set(1)
+    assert np.allclose(np.ptp(_coords(out.data), axis=0), e1, rtol=1e-5)
+    # Its own settings: a larger distance, a shell (two sheets: more vertices).
+    nv = len(out.data.vertices)
+    out.gbsurf.offset_distance = 0.3
+    bpy.context.view_layer.update()
+    assert np.allclose(np.ptp(_coords(out.data), axis=0), e1 + 0.4, rtol=1e-3), np.ptp(_coords(out.data), axis=0)
+    out.gbsurf.offset_shell = True
+    bpy.context.view_layer.update()
+    assert len(out.data.vertices) == 2 * nv
+    rep = meshcheck.check_arrays(*helpers.mesh_arrays(out.data))
+    assert rep.closed and rep.two_manifold and rep.connected_components == 2, rep
+    # The source's edited geometry.
+    out.gbsurf.offset_shell = False
+    bpy.context.view_layer.update()
+    e = np.ptp(_coords(out.data), axis=0)
+    co = _coords(src.data) * 2.0
+    src.data.vertices.foreach_set("co", co.reshape(-1))
+    src.data.update()
+    bpy.context.view_layer.update()
+    assert np.all(np.ptp(_coords(out.data), axis=0) > 1.5 * e), (e, np.ptp(_coords(out.data), axis=0))
+    # A moved source carries the offset along.
+    src.location = (0.0, 4.0, 0.0)
+    bpy.context.view_layer.update()
+    assert tuple(out.matrix_world.translation) == pytest.approx((0.0, 4.0, 0.0))
+    # Settled: another update changes nothing.
+    mesh = out.data
+    bpy.context.view_layer.update()
+    assert out.data == mesh and not handlers._busy
+
+
+def test_offset_live_error_is_stored_not_raised():
+    src = helpers.add_primitive("cube")
+    out = run_offset(offset_distance=0.1)
+    out.gbsurf.live = True
+    bpy.context.view_layer.update()
+    mesh = out.data.name
+    out.gbsurf.method = 'CATMULL_CLARK'  # not a patch method: the offset refuses it
+    bpy.context.view_layer.update()
+    assert out.data.name == mesh
+    assert out.gbsurf.info.startswith("Live update failed") and "patch method" in out.gbsurf.info
+
+
+class _Layout:
+    def __init__(self, log):
+        self.log = log
+
+    def separator(self, **kw):
+        pass
+
+    def operator(self, idname, **kw):
+        self.log.append((idname, kw.get("text")))
+
+
+class _Menu:
+    def __init__(self, log):
+        self.layout = _Layout(log)
+
+
+def test_ph_offset_is_in_the_curve_menus_and_works_from_edit_mode():
+    ui = helpers.mesh_module().ui
+    # Registered in the edit-mode Curve menu and the context menus (bpy 5.0 names), and still in
+    # Object > Convert.
+    for name in ui.CURVE_MENUS:
+        assert ui.menu_curve in getattr(bpy.types, name)._dyn_ui_initialize(), name
+    assert ui.menu_convert in bpy.types.VIEW3D_MT_object_convert._dyn_ui_initialize()
+    bpy.ops.curve.primitive_bezier_circle_add(radius=2.0)
+    src = bpy.context.active_object
+    log = []
+    ui.menu_curve(_Menu(log), bpy.context)
+    assert log == [("curve.gbsurf_ph_offset", "Exact Offset (PH)")]
+    # Only for curves (the object context menu is shared by every object type).
+    cube = helpers.add_primitive("cube")
+    log.clear()
+    ui.menu_curve(_Menu(log), bpy.context)
+    assert log == []
+    helpers.select_only(src)
+    # From Edit Mode (the Curve menu): the operator leaves Edit Mode and adds both curves.
+    bpy.ops.object.mode_set(mode='EDIT')
+    assert bpy.context.mode == 'EDIT_CURVE'
+    assert bpy.ops.curve.gbsurf_ph_offset.poll()
+    assert bpy.ops.curve.gbsurf_ph_offset(distance=0.25, density=8) == {'FINISHED'}
+    assert bpy.context.mode == 'OBJECT'
+    ph, off = ph_objects(src)
+    assert ph.data.splines[0].order_u == 6 and len(off.data.splines[0].points) == 4 * 8 + 1
+    assert cube.name in bpy.data.objects

@@ -71,8 +71,9 @@ pub const GBSURF_ERR_TOO_LARGE: u32 = 14;
 /// points, an offset distance of zero, a singular point (the message names it).
 pub const GBSURF_ERR_DEGENERATE: u32 = 15;
 
-/// ABI version: incremented on every incompatible change of this header.
-pub const GBSURF_ABI_VERSION: u32 = 2;
+/// ABI version: incremented on every incompatible change of this header (3: `GbsurfOffsetReport`
+/// gained `frame_seams` and `max_normal_angle_pn`, so its size changed).
+pub const GBSURF_ABI_VERSION: u32 = 3;
 
 // ---------------------------------------------------------------------------------------------
 // Error state and the panic boundary

@@ -506,7 +506,10 @@ pub unsafe extern "C" fn gbsurf_pn_offset_point(pn: *const GbsurfPn, i: usize, j
     })
 }
 
-/// The exact rational form of patch [i][j] (d = 0) or of its offset at distance d: a rational
+/// The exact rational form of the offset x + d·n of patch [i][j] at signed distance d, or, with
+/// d = 0 exactly, of patch [i][j] itself (the PN surface). Unlike `gbsurf_offset` (and the Rust
+/// `PnSurface::rational_offset`), d = 0 is not an error here: it selects the surface; the two
+/// forms share their weights. A non-finite d is `GBSURF_ERR_NAN`. The result is a rational
 /// tensor-product Bézier patch of degree (`*degree_u`, `*degree_v`) = (11, 11), given by its
 /// homogeneous control points (w·x, w·y, w·z, w): `homogeneous[4 * (a * (degree_v + 1) + b) + c]`.
 /// Weights may be zero or negative. `*written` receives the number of doubles (also on
@@ -548,10 +551,10 @@ pub struct GbsurfOffsetReport {
     pub singular_pieces: u64,
     /// Largest distance between the PN pieces and the GB surface at dense samples.
     pub max_fit_error: f64,
-    /// Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces.
+    /// Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces and of their
+    /// offset (away from cusps), by finite differences.
     pub max_normal_residual: f64,
-    /// Largest deviation of the offset from distance |d| (and of its tangents from ⟂ n) away from
-    /// cusps.
+    /// Largest deviation of | offset point − point | from |d| away from cusps.
     pub max_offset_error: f64,
     /// Largest gap between two pieces' evaluations of a shared sample, and the same between PN
     /// pieces sharing their data and frame.
@@ -564,6 +567,12 @@ pub struct GbsurfOffsetReport {
     pub closed: u32,
     pub two_manifold: u32,
     pub seconds: f64,
+    /// Shared piece edges whose two sides are in different isotropic frames (their gap is in
+    /// `max_gap`, not `max_gap_pn`). Added in ABI version 3.
+    pub frame_seams: u64,
+    /// Largest angle (radians) between two PN pieces' normals at a shared sample, over the pairs
+    /// of `max_gap_pn` (G1 across pieces). Added in ABI version 3.
+    pub max_normal_angle_pn: f64,
 }
 
 /// The offset at signed distance `distance` of the GB surface of a polygon mesh (arrays as in
@@ -624,6 +633,8 @@ pub unsafe extern "C" fn gbsurf_offset(
                 closed: r.closed as u32,
                 two_manifold: r.two_manifold as u32,
                 seconds: r.seconds,
+                frame_seams: r.frame_seams as u64,
+                max_normal_angle_pn: r.max_normal_angle_pn,
             };
             crate::result::put(report, "report", numbers)?;
         }

@@ -355,6 +355,10 @@ pub struct OffsetArgs {
     #[arg(long)]
     shell: bool,
     /// Write the exact rational patches of the offset (degree (11, 11), homogeneous) as JSON.
+    /// Only PN pieces have them: singular pieces (no PN fit; the mesh output covers them with
+    /// the GB surface's x + d·n, which is not rational) are holes in the export, listed under
+    /// "singular_pieces" by patch and piece with the reason, "complete" is false, and a warning
+    /// is printed.
     #[arg(long)]
     export: Option<PathBuf>,
 }
@@ -397,7 +401,27 @@ pub fn offset(args: &OffsetArgs) -> std::result::Result<(), OffsetRunError> {
             .iter()
             .map(|(patch, piece, i, j, r)| with(rational_json(r), "piece", json!({ "patch": patch, "piece": piece, "cell": [i, j] })))
             .collect();
-        let v = json!({ "distance": args.distance, "grid": args.grid, "patches": patches });
+        let holes: Vec<Value> = result
+            .singular_pieces()
+            .iter()
+            .map(|(patch, piece, reason)| json!({ "patch": patch, "piece": piece, "reason": reason }))
+            .collect();
+        if !holes.is_empty() {
+            eprintln!(
+                "warning: --export {}: {} of {} pieces are singular (no PN fit) and have no rational patches; they are listed under \"singular_pieces\" (the mesh output covers them with the GB surface's own offset)",
+                path.display(),
+                holes.len(),
+                result.report.pieces
+            );
+        }
+        let v = json!({
+            "distance": args.distance,
+            "grid": args.grid,
+            "complete": holes.is_empty(),
+            "pieces": result.report.pieces,
+            "patches": patches,
+            "singular_pieces": holes,
+        });
         files.add(path, serde_json::to_string_pretty(&v).unwrap_or_default().as_bytes())?;
     }
     files.commit()?;

@@ -36,6 +36,22 @@ fn offset_writes_mesh_report_and_export() {
     let patches = x["patches"].as_array().unwrap();
     assert_eq!(patches.len() as u64, (pieces - singular) * 9);
     assert_eq!(patches[0]["degree"], serde_json::json!([11, 11]));
+    // The torus has singular pieces (its parabolic lines): the export names its holes, each a
+    // piece without patches, and says so on stderr.
+    assert!(singular > 0);
+    let holes = x["singular_pieces"].as_array().unwrap();
+    assert_eq!(holes.len() as u64, singular);
+    assert_eq!(x["complete"], Value::Bool(false));
+    assert_eq!(x["pieces"].as_u64(), Some(pieces));
+    let key = |v: &Value| (v["patch"].as_u64().unwrap(), v["piece"].as_u64().unwrap());
+    for h in holes {
+        assert!(!h["reason"].as_str().unwrap().is_empty());
+        assert!(patches.iter().all(|p| key(&p["piece"]) != key(h)), "{h}");
+    }
+    let covered: std::collections::HashSet<_> = patches.iter().map(|p| key(&p["piece"])).chain(holes.iter().map(key)).collect();
+    assert_eq!(covered.len() as u64, pieces);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains(&format!("{singular} of {pieces} pieces are singular")), "{stderr}");
     let mesh = gbsurf::api::read_mesh(dir.join("off.obj")).unwrap();
     assert_eq!(mesh.faces.len() as u64, r["triangles"].as_u64().unwrap());
 }

@@ -76,8 +76,9 @@
 // points, an offset distance of zero, a singular point (the message names it).
 #define GBSURF_ERR_DEGENERATE 15
 
-// ABI version: incremented on every incompatible change of this header.
-#define GBSURF_ABI_VERSION 2
+// ABI version: incremented on every incompatible change of this header (3: `GbsurfOffsetReport`
+// gained `frame_seams` and `max_normal_angle_pn`, so its size changed).
+#define GBSURF_ABI_VERSION 3
 
 // Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 #define GBSURF_METHOD_DUAL 0
@@ -305,10 +306,10 @@ typedef struct {
   uint64_t singular_pieces;
   // Largest distance between the PN pieces and the GB surface at dense samples.
   double max_fit_error;
-  // Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces.
+  // Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces and of their
+  // offset (away from cusps), by finite differences.
   double max_normal_residual;
-  // Largest deviation of the offset from distance |d| (and of its tangents from ⟂ n) away from
-  // cusps.
+  // Largest deviation of | offset point − point | from |d| away from cusps.
   double max_offset_error;
   // Largest gap between two pieces' evaluations of a shared sample, and the same between PN
   // pieces sharing their data and frame.
@@ -321,6 +322,12 @@ typedef struct {
   uint32_t closed;
   uint32_t two_manifold;
   double seconds;
+  // Shared piece edges whose two sides are in different isotropic frames (their gap is in
+  // `max_gap`, not `max_gap_pn`). Added in ABI version 3.
+  uint64_t frame_seams;
+  // Largest angle (radians) between two PN pieces' normals at a shared sample, over the pairs
+  // of `max_gap_pn` (G1 across pieces). Added in ABI version 3.
+  double max_normal_angle_pn;
 } GbsurfOffsetReport;
 
 #ifdef __cplusplus
@@ -1133,7 +1140,10 @@ uint32_t gbsurf_pn_offset_point(const GbsurfPn *pn,
                                 double d,
                                 double *point);
 
-// The exact rational form of patch [i][j] (d = 0) or of its offset at distance d: a rational
+// The exact rational form of the offset x + d·n of patch [i][j] at signed distance d, or, with
+// d = 0 exactly, of patch [i][j] itself (the PN surface). Unlike `gbsurf_offset` (and the Rust
+// `PnSurface::rational_offset`), d = 0 is not an error here: it selects the surface; the two
+// forms share their weights. A non-finite d is `GBSURF_ERR_NAN`. The result is a rational
 // tensor-product Bézier patch of degree (`*degree_u`, `*degree_v`) = (11, 11), given by its
 // homogeneous control points (w·x, w·y, w·z, w): `homogeneous[4 * (a * (degree_v + 1) + b) + c]`.
 // Weights may be zero or negative. `*written` receives the number of doubles (also on

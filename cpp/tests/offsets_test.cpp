@@ -130,6 +130,10 @@ int main() {
         CHECK(rep.closed == 1 && rep.two_manifold == 1);
         CHECK(rep.pieces == uint64_t(nu * nv * 4));
         CHECK(rep.max_gap_pn <= 1e-12);
+        // The torus's normals cover the sphere: both isotropic frames are used (seams), and the
+        // PN pieces sharing data in one frame are G1.
+        CHECK(rep.frame_seams > 0);
+        CHECK(rep.max_normal_angle_pn <= 1e-9);
         e = error_of([&] { gbsurf::offset(pos, sizes, idx, 0.0); });
         CHECK(e.first == GBSURF_ERR_INVALID_OPTION && contains(e.second, "--distance 0"));
         e = error_of([&] { gbsurf::offset(pos, sizes, idx, 0.1, gbsurf::options(), 1); });

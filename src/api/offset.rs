@@ -92,19 +92,27 @@ pub struct OffsetReport {
     /// Largest |x_PN(s, t) − x_GB(P(s, t))| over the dense samples of the PN pieces (same
     /// parameters; an upper bound of the distance between the surfaces).
     pub max_fit_error: f64,
-    /// Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces (central
-    /// differences of fourth order, step 1e-4 of a Coons cell, at parameters moved 2e-4 inside
-    /// the cell).
+    /// Largest |n·x_u|/|x_u|, |n·x_v|/|x_v| over dense samples of the PN pieces, and the same
+    /// for the offset o (|n·o_u|/|o_u|, |n·o_v|/|o_v|, away from cusps): central differences of
+    /// fourth order, step 1e-4 of a Coons cell, at parameters moved 2e-4 inside the cell. Their
+    /// rounding error, about ε·|x|/(h·|x_u|), is the floor of this figure (≈ 2e-10 on the shared
+    /// torus).
     pub max_normal_residual: f64,
-    /// Largest | |o − x| − |d| | and |n·o_u|/|o_u|, |n·o_v|/|o_v| over the dense samples of the
-    /// PN pieces away from cusps (o the offset point).
+    /// Largest | |o − x| − |d| | over the dense samples of the PN pieces away from cusps (o the
+    /// offset point). That n is the surface normal is `max_normal_residual`: a normal off by an
+    /// angle θ moves the offset's distance from the surface only by |d|(1 − cos θ) ≈ |d|θ²/2.
     pub max_offset_error: f64,
     /// Largest distance between two pieces' own evaluations of one shared dense sample, on the
     /// offset surface (before welding; the output uses one value per shared sample).
     pub max_gap: f64,
-    /// As `max_gap`, only between two PN pieces in one isotropic frame whose shared data was
-    /// fully resolved (the case the construction makes watertight).
+    /// As `max_gap`, only between two PN pieces in one isotropic frame (the case the construction
+    /// makes watertight). Where a grid edge ends at an unmatched point (`unmatched_points`) the
+    /// two sides' cross derivatives differ along that edge, and so does this figure (≈ 4e-3 on the
+    /// shared cube).
     pub max_gap_pn: f64,
+    /// Largest angle (radians) between the two pieces' unit normals at a shared dense sample,
+    /// over the same pairs as `max_gap_pn` (G1 across the pieces; atan2(|a × b|, a·b)).
+    pub max_normal_angle_pn: f64,
     /// Shared piece edges whose two sides are in different isotropic frames.
     pub frame_seams: usize,
     /// Shared grid points where the derivative rays could not be matched (valence ≠ 4: patch
@@ -129,6 +137,9 @@ pub struct OffsetPiece {
     pub piece: usize,
     /// The PN surface; `None` where the fit was singular (the GB surface is offset directly).
     pub pn: Option<PnSurface>,
+    /// Why the fit was refused, where `pn` is `None` (the text of `singular_sites`, which keeps
+    /// only the first ten).
+    pub singular: Option<String>,
 }
 
 /// The result of [`offset`].
@@ -144,7 +155,9 @@ pub struct Offset {
 
 impl Offset {
     /// The exact rational patches of the offset, degree (11, 11): for every PN piece its
-    /// (N − 1)² Coons patches `(patch, piece, i, j, form)`. Singular pieces have none.
+    /// (N − 1)² Coons patches `(patch, piece, i, j, form)`. Singular pieces have none (the offset
+    /// there is the GB surface's x + d·n, which is not rational): the export is then incomplete,
+    /// with holes at [`Offset::singular_pieces`].
     pub fn rational_patches(&self) -> Result<Vec<(usize, usize, usize, usize, PnRational)>, OffsetError> {
         let mut out = Vec::new();
         for p in &self.pieces {
@@ -163,6 +176,16 @@ impl Offset {
             }
         }
         Ok(out)
+    }
+
+    /// The pieces without a rational form (singular fits): `(patch, piece, reason)`, in piece
+    /// order. Empty exactly when [`Offset::rational_patches`] covers the whole offset.
+    pub fn singular_pieces(&self) -> Vec<(usize, usize, &str)> {
+        self.pieces
+            .iter()
+            .filter(|p| p.pn.is_none())
+            .map(|p| (p.patch, p.piece, p.singular.as_deref().unwrap_or("no PN fit")))
+            .collect()
     }
 }
 
@@ -482,7 +505,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
             match fit {
                 Ok((s, which)) => {
                     frames_p.push(Some(which));
-                    pieces.push(OffsetPiece { patch: p, piece: k, pn: Some(s) });
+                    pieces.push(OffsetPiece { patch: p, piece: k, pn: Some(s), singular: None });
                 }
                 Err(e) => {
                     report.singular_pieces += 1;
@@ -490,7 +513,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
                         report.singular_sites.push(format!("patch {p} piece {k}: {e}"));
                     }
                     frames_p.push(None);
-                    pieces.push(OffsetPiece { patch: p, piece: k, pn: None });
+                    pieces.push(OffsetPiece { patch: p, piece: k, pn: None, singular: Some(e) });
                 }
             }
         }
@@ -505,6 +528,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     let stotal = *sample_slots.offsets.last().unwrap_or(&0);
     let mut surf = vec![DVec3::ZERO; stotal];
     let mut offs = vec![DVec3::ZERO; stotal];
+    let mut nrm = vec![DVec3::ZERO; stotal];
     let mut pn_ok = vec![false; stotal];
     let mut frame_of = vec![usize::MAX; stotal];
     let h = 1e-4;
@@ -531,6 +555,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
             if let Ok(e) = pn.eval_global(s * gl, t * gl) {
                 o.surf = e.point;
                 o.offs = e.offset(d);
+                o.normal = e.normal;
                 o.pn_ok = true;
                 o.frame = piece_frame[p][k].unwrap_or(usize::MAX);
                 done = true;
@@ -553,7 +578,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
                             o.normal_residual = o.normal_residual.max(c.normal.dot(xu).abs() / xu.length());
                         }
                         if ou.length() > 0.0 && !is_cusp(&sd, d) {
-                            o.offset_error = o.offset_error.max(c.normal.dot(ou).abs() / ou.length());
+                            o.normal_residual = o.normal_residual.max(c.normal.dot(ou).abs() / ou.length());
                         }
                     }
                     if !is_cusp(&sd, d) {
@@ -565,6 +590,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
         if !done {
             o.surf = sd.p;
             o.offs = sd.p + gb_n * d;
+            o.normal = gb_n;
         }
         o.cusp = cusp_radius(&sd, d);
         Some(o)
@@ -572,6 +598,7 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
     for o in per_patch {
         surf[o.id] = o.surf;
         offs[o.id] = o.offs;
+        nrm[o.id] = o.normal;
         pn_ok[o.id] = o.pn_ok;
         frame_of[o.id] = o.frame;
         report.max_fit_error = report.max_fit_error.max(o.fit_error);
@@ -595,6 +622,8 @@ pub fn offset_surface(surface: &Surface, options: &ConvertOptions, off: &OffsetO
         report.max_gap = report.max_gap.max(gap);
         if pn_ok[id] && pn_ok[root] && frame_of[id] == frame_of[root] {
             report.max_gap_pn = report.max_gap_pn.max(gap);
+            let angle = nrm[id].cross(nrm[root]).length().atan2(nrm[id].dot(nrm[root]));
+            report.max_normal_angle_pn = report.max_normal_angle_pn.max(angle);
         } else if pn_ok[id] && pn_ok[root] {
             seam_pairs.insert((piece_of(&sample_slots, id), piece_of(&sample_slots, root)));
         }
@@ -675,6 +704,8 @@ struct DenseSample {
     t: f64,
     surf: DVec3,
     offs: DVec3,
+    /// Unit normal of the evaluation (the PN piece's, or the GB surface's for a singular piece).
+    normal: DVec3,
     pn_ok: bool,
     frame: usize,
     fit_error: f64,

@@ -249,6 +249,9 @@ fn offset_gives_the_core_mesh_and_report() {
     assert_eq!((nv, nt), (want.positions.len(), want.triangles.len()));
     assert_eq!(rep.pieces as usize, want.report.pieces);
     assert_eq!(rep.max_gap_pn, want.report.max_gap_pn);
+    assert_eq!((rep.frame_seams as usize, rep.max_normal_angle_pn), (want.report.frame_seams, want.report.max_normal_angle_pn));
+    // The torus's normals cover the sphere: both isotropic frames are used, so there are seams.
+    assert!(rep.frame_seams > 0 && rep.max_normal_angle_pn <= 1e-9, "{rep:?}");
     assert_eq!((rep.closed, rep.two_manifold), (1, 1));
     // SAFETY: the handle from gbsurf_offset, freed once.
     unsafe { gbsurf_result_free(out) };
