@@ -267,6 +267,19 @@ pub struct ConvertOptions {
     /// triangle layout at r = 8 (about an 80k-face one in the default quad layout, 25 samples per quad patch), safe beside Blender and the OS on a 4 GB machine).
     #[serde(default = "default_max_memory_mb")]
     pub max_memory_mb: u64,
+    /// Build the cage maps of the GB methods' output ([`crate::tessellate::SurfaceMesh`]'s
+    /// `cage_corner`, `cage_coords`, `cage_loop_corner`: where every output face and loop lies in
+    /// the control mesh, for carrying UVs and other cage data over). They are the largest
+    /// per-face arrays (72 bytes per output vertex in the quad layout, 148 in the triangle
+    /// layout), so a caller that does not read them saves that much peak memory by turning
+    /// this off; they are then empty. Default on; the command line turns it off (none of its
+    /// outputs reads them). The subdivision methods always fill `cage_corner`.
+    #[serde(default = "default_cage_maps")]
+    pub cage_maps: bool,
+}
+
+fn default_cage_maps() -> bool {
+    true
 }
 
 fn default_max_memory_mb() -> u64 {
@@ -291,6 +304,7 @@ impl Default for ConvertOptions {
             weights: WeightForm::Squared,
             levels: 3,
             max_memory_mb: DEFAULT_MAX_MEMORY_MB,
+            cage_maps: true,
         }
     }
 }

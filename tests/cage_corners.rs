@@ -116,6 +116,28 @@ fn closed_and_open_cages() {
 }
 
 /// A cube with one face's vertex list rotated: the corner index follows the list as written.
+/// Without `cage_maps` the three cage arrays stay empty and everything else is bit-identical
+/// (both layouts, both structures, a closed and an open cage).
+#[test]
+fn without_cage_maps_only_the_cage_arrays_are_empty() {
+    for name in ["torus.obj", "grid_open.obj"] {
+        let cage = model(name);
+        for method in [Method::Dual, Method::Topology] {
+            for layout in [Layout::Quads, Layout::Triangles] {
+                let with = opts(method, layout, 2);
+                let a = convert(&cage, &with, None).unwrap().mesh;
+                let mut b = convert(&cage, &ConvertOptions { cage_maps: false, ..with }, None).unwrap().mesh;
+                assert!(!a.cage_corner.is_empty() && !a.cage_coords.is_empty(), "{name} {method} {layout}");
+                assert!(b.cage_corner.is_empty() && b.cage_coords.is_empty() && b.cage_loop_corner.is_empty(), "{name} {method} {layout}");
+                b.cage_corner = a.cage_corner.clone();
+                b.cage_coords = a.cage_coords.clone();
+                b.cage_loop_corner = a.cage_loop_corner.clone();
+                assert!(a == b, "{name} {method} {layout}: the mesh changed without the cage maps");
+            }
+        }
+    }
+}
+
 #[test]
 fn corner_index_follows_the_face_list() {
     let mut cube = model("cube.obj");

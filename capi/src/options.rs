@@ -119,7 +119,9 @@ impl From<&ConvertOptions> for GbsurfOptions {
     /// The C struct of `o` (`gbsurf_options_init` passes `ConvertOptions::default()`).
     fn from(o: &ConvertOptions) -> Self {
         // No `..`: a new option is a compile error here until the struct has it.
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb } = *o;
+        // `cage_maps` has no field: the C ABI always builds the cage maps (the Blender add-on and
+        // the adapters read them through gbsurf_mesh_cage_*).
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
             method: method.code(),
@@ -193,6 +195,7 @@ impl GbsurfOptions {
             weights,
             levels: self.levels,
             max_memory_mb: self.max_memory_mb,
+            cage_maps: true,
         };
         o.validate()
             .map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;

@@ -239,7 +239,7 @@ fn convert_valid(
         warnings.extend(surface.warnings.iter().cloned());
         ticker.stage(construct, tessellate)?;
         let mut sub = |f: f32| ticker.report(construct + (tessellate - construct) * f).is_ok();
-        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, options.cage_maps, Some(&mut sub))?;
         for p in &surface.patches {
             report.count_sides(p.sides());
         }

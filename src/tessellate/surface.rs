@@ -181,18 +181,6 @@ pub struct WeldStats {
     pub crease_sides: usize,
 }
 
-/// `v` cut into the pieces `starts[p]..starts[p + 1]` (`starts` ascending, ending at most at
-/// `v.len()`).
-pub(crate) fn split_by<'a, T>(mut v: &'a mut [T], starts: &[usize]) -> Vec<&'a mut [T]> {
-    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
-    for w in starts.windows(2) {
-        let (a, b) = std::mem::take(&mut v).split_at_mut(w[1] - w[0]);
-        out.push(a);
-        v = b;
-    }
-    out
-}
-
 /// `len` default values, written in parallel: the first touch of a large fresh allocation (page
 /// faults, zeroing) then happens on all threads rather than serially.
 pub(crate) fn zeroed<T: Default + Send>(len: usize) -> Vec<T> {
@@ -273,19 +261,87 @@ struct PatchOut<'a> {
     folded: Vec<u32>,
 }
 
-/// Allocates the output arrays and cuts them into per-patch pieces. The vertices a patch
-/// creates are contiguous (see `WeldMap::vstart`), as are its triangles and its boundary
-/// samples, so each patch writes its own disjoint pieces and the evaluation runs in parallel
-/// without locks.
+/// The first `len` items of `rest`, which keeps the others.
+pub(crate) fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
+    let len = len.min(rest.len());
+    let (head, tail) = std::mem::take(rest).split_at_mut(len);
+    *rest = tail;
+    head
+}
+
+/// The output arrays not yet handed to a patch: every slice is the tail of its array from the
+/// first patch not yet taken, so the patches are cut off in order one chunk at a time and no
+/// list of the pieces of all patches is held (it would cost about 260 bytes per patch).
+struct Pieces<'a> {
+    next: usize,
+    vstart: &'a [usize],
+    tri_start: Vec<usize>,
+    quad_start: Vec<usize>,
+    face_start: Vec<usize>,
+    cage_start: Vec<usize>,
+    loop_start: Vec<usize>,
+    lc_start: Vec<usize>,
+    bnd_start: &'a [usize],
+    pos: &'a mut [DVec3],
+    nrm: &'a mut [DVec3],
+    h: &'a mut [f64],
+    k: &'a mut [f64],
+    patch: &'a mut [u32],
+    weight: &'a mut [u16],
+    tris: &'a mut [[u32; 3]],
+    tri_patch: &'a mut [u32],
+    quads: &'a mut [[u32; 4]],
+    corner: &'a mut [u32],
+    cage: &'a mut [[u32; 2]],
+    coords: &'a mut [[f64; 2]],
+    loop_cage: &'a mut [[u32; 2]],
+    bnd: &'a mut [SurfacePoint],
+    fold: std::slice::IterMut<'a, TessellationFolds>,
+}
+
+impl<'a> Pieces<'a> {
+    /// The pieces of the next patch (`None` after the last).
+    fn next_patch(&mut self) -> Option<PatchOut<'a>> {
+        let p = self.next;
+        let fold = self.fold.next()?;
+        self.next += 1;
+        let len = |s: &[usize]| s.get(p + 1).zip(s.get(p)).map_or(0, |(b, a)| b - a);
+        Some(PatchOut {
+            p,
+            pos: take(&mut self.pos, len(self.vstart)),
+            nrm: take(&mut self.nrm, len(self.vstart)),
+            h: take(&mut self.h, len(self.vstart)),
+            k: take(&mut self.k, len(self.vstart)),
+            patch: take(&mut self.patch, len(self.vstart)),
+            weight: take(&mut self.weight, len(self.vstart)),
+            tris: take(&mut self.tris, len(&self.tri_start)),
+            tri_patch: take(&mut self.tri_patch, len(&self.tri_start)),
+            quads: take(&mut self.quads, len(&self.quad_start)),
+            corner: take(&mut self.corner, len(&self.face_start)),
+            cage: take(&mut self.cage, len(&self.cage_start)),
+            coords: take(&mut self.coords, len(&self.loop_start)),
+            loop_cage: take(&mut self.loop_cage, len(&self.lc_start)),
+            bnd: take(&mut self.bnd, len(self.bnd_start)),
+            fold,
+            folded: Vec::new(),
+        })
+    }
+}
+
+/// Allocates the output arrays and returns them to be cut into per-patch pieces
+/// ([`Pieces::next_patch`]). The vertices a patch creates are contiguous (see
+/// `WeldMap::vstart`), as are its triangles and its boundary samples, so each patch writes its
+/// own disjoint pieces and the evaluation runs in parallel without locks.
 fn partition<'a>(
     surface: &Surface,
     layouts: &HashMap<usize, PatchLayout>,
-    map: &WeldMap,
+    map: &'a WeldMap,
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
     boundary: &'a mut BoundarySamples,
+    cage_maps: bool,
     tick: &mut dyn FnMut(u8) -> Result<(), TessellateError>,
-) -> Result<Vec<PatchOut<'a>>, TessellateError> {
+) -> Result<Pieces<'a>, TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
     let mut quad_start = Vec::with_capacity(np + 1);
@@ -310,57 +366,49 @@ fn partition<'a>(
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
     tick(3)?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
-    mesh.cage_corner = try_filled(nf, [u32::MAX; 2], "output cage corners")?;
-    // Cage coordinates per loop: 4 per quad, or 3 per triangle in the triangle layout (whose
-    // loops also get their own cage corner).
+    // The cage maps (only with `cage_maps`): per face its cage corner, per loop its cage
+    // coordinates (4 per quad, or 3 per triangle in the triangle layout, whose loops also get
+    // their own cage corner). Without them every piece is empty.
     let triangle_layout = nq == 0;
-    let (loop_start, nl): (Vec<usize>, usize) = if triangle_layout {
-        (tri_start.iter().map(|&t| 3 * t).collect(), 3 * nt)
-    } else {
-        (quad_start.iter().map(|&q| 4 * q).collect(), 4 * nq)
+    let none = || vec![0; np + 1];
+    let cage_start = if cage_maps { face_start.clone() } else { none() };
+    let loop_start: Vec<usize> = match (cage_maps, triangle_layout) {
+        (false, _) => none(),
+        (true, true) => tri_start.iter().map(|&t| 3 * t).collect(),
+        (true, false) => quad_start.iter().map(|&q| 4 * q).collect(),
     };
+    let lc_start = if triangle_layout { loop_start.clone() } else { none() };
+    let (nc, nl, nlc) = (cage_start[np], loop_start[np], lc_start[np]);
+    mesh.cage_corner = try_filled(nc, [u32::MAX; 2], "output cage corners")?;
     mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
-    let (lc_len, lc_start) = if triangle_layout { (nl, loop_start.clone()) } else { (0, vec![0; np + 1]) };
-    mesh.cage_loop_corner = try_filled(lc_len, [u32::MAX; 2], "output loop cage corners")?;
-    let vs = &map.vstart;
-    let mut pos = split_by(&mut mesh.positions, vs).into_iter();
-    let mut nrm = split_by(&mut mesh.normals, vs).into_iter();
-    let mut h = split_by(&mut mesh.mean_curvature, vs).into_iter();
-    let mut k = split_by(&mut mesh.gaussian_curvature, vs).into_iter();
-    let mut pa = split_by(&mut mesh.patch, vs).into_iter();
-    let mut w = split_by(weight, vs).into_iter();
-    let mut tr = split_by(&mut mesh.triangles, &tri_start).into_iter();
-    let mut tp = split_by(&mut mesh.triangle_patch, &tri_start).into_iter();
-    let mut qu = split_by(&mut mesh.quads, &quad_start).into_iter();
-    let mut fc = split_by(&mut mesh.face_corner, &face_start).into_iter();
-    let mut cc = split_by(&mut mesh.cage_corner, &face_start).into_iter();
-    let mut cx = split_by(&mut mesh.cage_coords, &loop_start).into_iter();
-    let mut lc = split_by(&mut mesh.cage_loop_corner, &lc_start).into_iter();
-    let mut bd = split_by(&mut boundary.samples, &boundary.start).into_iter();
+    mesh.cage_loop_corner = try_filled(nlc, [u32::MAX; 2], "output loop cage corners")?;
     mesh.patch_folds = vec![TessellationFolds::default(); np];
-    // Every split has exactly np pieces; an empty slice is never taken.
-    Ok((0..np)
-        .zip(mesh.patch_folds.iter_mut())
-        .map(|(p, fold)| PatchOut {
-            p,
-            pos: pos.next().unwrap_or_default(),
-            nrm: nrm.next().unwrap_or_default(),
-            h: h.next().unwrap_or_default(),
-            k: k.next().unwrap_or_default(),
-            patch: pa.next().unwrap_or_default(),
-            weight: w.next().unwrap_or_default(),
-            tris: tr.next().unwrap_or_default(),
-            tri_patch: tp.next().unwrap_or_default(),
-            quads: qu.next().unwrap_or_default(),
-            corner: fc.next().unwrap_or_default(),
-            cage: cc.next().unwrap_or_default(),
-            coords: cx.next().unwrap_or_default(),
-            loop_cage: lc.next().unwrap_or_default(),
-            bnd: bd.next().unwrap_or_default(),
-            fold,
-            folded: Vec::new(),
-        })
-        .collect())
+    Ok(Pieces {
+        next: 0,
+        vstart: &map.vstart,
+        tri_start,
+        quad_start,
+        face_start,
+        cage_start,
+        loop_start,
+        lc_start,
+        bnd_start: &boundary.start,
+        pos: &mut mesh.positions,
+        nrm: &mut mesh.normals,
+        h: &mut mesh.mean_curvature,
+        k: &mut mesh.gaussian_curvature,
+        patch: &mut mesh.patch,
+        weight,
+        tris: &mut mesh.triangles,
+        tri_patch: &mut mesh.triangle_patch,
+        quads: &mut mesh.quads,
+        corner: &mut mesh.face_corner,
+        cage: &mut mesh.cage_corner,
+        coords: &mut mesh.cage_coords,
+        loop_cage: &mut mesh.cage_loop_corner,
+        bnd: &mut boundary.samples,
+        fold: mesh.patch_folds.iter_mut(),
+    })
 }
 
 /// The cage corner of every output face of one patch (`cage`: the patch's [`Surface::cage`] row,
@@ -454,7 +502,9 @@ fn evaluate_patch<E: PatchEvaluator>(
         *q = lq.map(|x| ids[x as usize]);
     }
     o.corner.copy_from_slice(corners);
-    write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, points, o);
+    if !o.cage.is_empty() {
+        write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, points, o);
+    }
     if !folds {
         return Ok(());
     }
@@ -477,16 +527,19 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     evaluator: &E,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
-    tessellate_checked(surface, r, evaluator, true, progress)
+    tessellate_checked(surface, r, evaluator, true, true, progress)
 }
 
 /// [`tessellate_surface_with`], with the fold test (`folds`) or without it (then `fold` is all
-/// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share).
+/// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share), and with
+/// the cage maps ([`SurfaceMesh::cage_corner`], `cage_coords`, `cage_loop_corner`) or without
+/// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]).
 pub fn tessellate_checked<E: PatchEvaluator>(
     surface: &Surface,
     r: impl Into<Sampling>,
     evaluator: &E,
     folds: bool,
+    cage_maps: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     // The setup's steps tick at SETUP · k / 8 (k = 1..8, the allocations finer), so a cancel
@@ -546,20 +599,22 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let mut weight = vec![0u16; nv];
     tick(&mut progress, setup(7))?;
     let folded: Vec<u32> = {
-        let mut outs = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary, &mut |k| {
+        let mut pieces = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary, cage_maps, &mut |k| {
             tick(&mut progress, setup(7) + SETUP / 8.0 * k as f32 / 4.0)
         })?;
         tick(&mut progress, setup(8))?;
+        let mut folded = Vec::new();
         let mut done = 0usize;
         while done < np {
             let end = (done + crate::progress::chunk_size(np, CHUNK)).min(np);
-            outs[done..end]
-                .par_iter_mut()
+            let mut outs: Vec<PatchOut<'_>> = (done..end).map_while(|_| pieces.next_patch()).collect();
+            outs.par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
+            folded.extend(outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)));
             done = end;
             tick(&mut progress, SETUP + (EVALUATION - SETUP) * done as f32 / np.max(1) as f32)?;
         }
-        outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)).collect()
+        folded
     };
     for v in folded {
         if let Some(f) = mesh.fold.get_mut(v as usize) {
@@ -613,17 +668,19 @@ pub fn tessellate_surface(
     tessellate_surface_with(surface, r, &eval, progress)
 }
 
-/// [`tessellate_surface`] with or without the fold test (see [`tessellate_checked`]).
+/// [`tessellate_surface`] with or without the fold test and the cage maps (see
+/// [`tessellate_checked`]).
 pub fn tessellate_surface_checked(
     surface: &Surface,
     r: impl Into<Sampling>,
     form: WeightForm,
     folds: bool,
+    cage_maps: bool,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     let r: Sampling = r.into();
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
-    tessellate_checked(surface, r, &eval, folds, progress)
+    tessellate_checked(surface, r, &eval, folds, cage_maps, progress)
 }
 
 impl SurfaceMesh {
