@@ -115,9 +115,9 @@ fn closed_and_open_cages() {
     }
 }
 
-/// A cube with one face's vertex list rotated: the corner index follows the list as written.
 /// Without `cage_maps` the three cage arrays stay empty and everything else is bit-identical
-/// (both layouts, both structures, a closed and an open cage).
+/// (both layouts, both structures, a closed and an open cage); carrying cage values over is then
+/// a typed error, not an empty result.
 #[test]
 fn without_cage_maps_only_the_cage_arrays_are_empty() {
     for name in ["torus.obj", "grid_open.obj"] {
@@ -129,6 +129,10 @@ fn without_cage_maps_only_the_cage_arrays_are_empty() {
                 let mut b = convert(&cage, &ConvertOptions { cage_maps: false, ..with }, None).unwrap().mesh;
                 assert!(!a.cage_corner.is_empty() && !a.cage_coords.is_empty(), "{name} {method} {layout}");
                 assert!(b.cage_corner.is_empty() && b.cage_coords.is_empty() && b.cage_loop_corner.is_empty(), "{name} {method} {layout}");
+                let sizes: Vec<u32> = cage.faces.iter().map(|f| f.len() as u32).collect();
+                let uv = vec![0.5f32; 2 * sizes.iter().sum::<u32>() as usize];
+                assert!(a.cage_loop_values(&sizes, &uv, 2).is_ok(), "{name} {method} {layout}");
+                assert_eq!(b.cage_loop_values(&sizes, &uv, 2), Err(gbsurf::tessellate::CageValuesError::NoCageMaps), "{name} {method} {layout}");
                 b.cage_corner = a.cage_corner.clone();
                 b.cage_coords = a.cage_coords.clone();
                 b.cage_loop_corner = a.cage_loop_corner.clone();
@@ -138,6 +142,7 @@ fn without_cage_maps_only_the_cage_arrays_are_empty() {
     }
 }
 
+/// A cube with one face's vertex list rotated: the corner index follows the list as written.
 #[test]
 fn corner_index_follows_the_face_list() {
     let mut cube = model("cube.obj");

@@ -102,7 +102,13 @@ def on_depsgraph_update(scene, depsgraph):
             core.follow_source(obj, obj.gbsurf.source)
         for obj in todo:
             _pending.discard(obj.name)
-            _regenerate(obj, depsgraph)
+            try:
+                _regenerate(obj, depsgraph)
+            except Exception as e:  # a handler must never raise; the other objects still update
+                obj.gbsurf.info = f"Live update failed: {e}"
+                print(f"gbsurf live: {e}")
+    except Exception as e:  # a handler must never raise
+        print(f"gbsurf live (depsgraph update): {e}")
     finally:
         _busy = False
 

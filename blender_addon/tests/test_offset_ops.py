@@ -209,10 +209,12 @@ def test_offset_surface_is_live_like_the_surface():
     assert out.gbsurf.source_digest, "the offset remembers the source it was made from"
     e1 = np.ptp(_coords(out.data), axis=0)
     handlers = helpers.mesh_module().handlers
-    # Live off: a frame change does nothing.
-    mesh = out.data.name
+    # Live off: a frame change does nothing (same mesh, same extents; a regeneration at frame 10
+    # would push every side out by 1).
+    mesh = out.data
     bpy.context.scene.frame_set(10)
-    assert out.data.name == mesh
+    assert out.data == mesh
+    assert np.allclose(np.ptp(_coords(out.data), axis=0), e1)
     bpy.context.scene.frame_set(1)
     out.gbsurf.live = True
     bpy.context.view_layer.update()
@@ -257,10 +259,11 @@ def test_offset_live_error_is_stored_not_raised():
     out = run_offset(offset_distance=0.1)
     out.gbsurf.live = True
     bpy.context.view_layer.update()
-    mesh = out.data.name
+    mesh = out.data
+    before = _coords(out.data)
     out.gbsurf.method = 'CATMULL_CLARK'  # not a patch method: the offset refuses it
     bpy.context.view_layer.update()
-    assert out.data.name == mesh
+    assert out.data == mesh and np.array_equal(_coords(out.data), before)
     assert out.gbsurf.info.startswith("Live update failed") and "patch method" in out.gbsurf.info
 
 

@@ -45,6 +45,8 @@ pub enum CageValuesError {
     CornerOutOfRange { index: usize, face: u32, corner: u32, size: u32 },
     #[error("cage coordinates of output face corner {index} are not finite")]
     NotFinite { index: usize },
+    #[error("the result has no cage maps: convert with ConvertOptions::cage_maps on to carry cage values over")]
+    NoCageMaps,
 }
 
 /// Loops per parallel task.
@@ -179,8 +181,12 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
 impl super::SurfaceMesh {
     /// [`cage_loop_values`] at this mesh's face corners (quads, or triangles in the triangle
     /// layout; empty for the subdivision methods), for the cage of sizes `face_sizes` it was
-    /// built from.
+    /// built from. [`CageValuesError::NoCageMaps`] when the mesh has faces but was converted with
+    /// [`crate::options::ConvertOptions::cage_maps`] off (no cage corners at all).
     pub fn cage_loop_values(&self, face_sizes: &[u32], values: &[f32], dim: usize) -> Result<Vec<f32>, CageValuesError> {
+        if self.cage_corner.is_empty() && !(self.quads.is_empty() && self.triangles.is_empty()) {
+            return Err(CageValuesError::NoCageMaps);
+        }
         let loops = CageLoops { face_corner: &self.cage_corner, loop_corner: &self.cage_loop_corner, coords: &self.cage_coords };
         cage_loop_values(face_sizes, values, dim, loops)
     }

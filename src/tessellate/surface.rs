@@ -57,7 +57,8 @@ pub struct SurfaceMesh {
     /// face of the control mesh and the position of the vertex in its vertex list;
     /// docs/math.md#cage-corners). Triangle layout: the corner of [`Self::face_corner`]'s
     /// sector. Subdivision methods: `[input face, u32::MAX]` per triangle. `[u32::MAX; 2]` when
-    /// the surface has no cage map (hand-built surfaces).
+    /// the surface has no cage map (hand-built surfaces). Empty when the conversion ran with
+    /// [`crate::options::ConvertOptions::cage_maps`] off.
     pub cage_corner: Vec<[u32; 2]>,
     /// Per output face corner (loop: 4 per quad in the order of [`Self::quads`] in the quad
     /// layout, 3 per triangle in the order of [`Self::triangles`] in the triangle layout; empty
@@ -66,9 +67,11 @@ pub struct SurfaceMesh {
     /// (0,0) the cage vertex, (1,0) the midpoint of the edge to the face's next vertex, (0,1)
     /// the midpoint of the edge from its previous vertex, (1,1) the face centre
     /// ([`crate::construct::SectorMap`]). Triangle layout: the coordinates of the loop's vertex
-    /// in the quad-layout sector it lies in (docs/math.md#cage-corners).
+    /// in the quad-layout sector it lies in (docs/math.md#cage-corners). Empty when
+    /// [`crate::options::ConvertOptions::cage_maps`] is off.
     pub cage_coords: Vec<[f64; 2]>,
-    /// Triangle layout only (else empty): per triangle corner (3 per triangle) the cage corner
+    /// Triangle layout only (else empty; also empty when
+    /// [`crate::options::ConvertOptions::cage_maps`] is off): per triangle corner (3 per triangle) the cage corner
     /// `[face, corner]` its [`Self::cage_coords`] are in. A triangle can straddle two quad
     /// sectors (in the dual structure two cage faces): each loop takes the triangle's
     /// [`Self::cage_corner`] when its vertex lies in that sector (its closure), else the sector
@@ -261,7 +264,8 @@ struct PatchOut<'a> {
     folded: Vec<u32>,
 }
 
-/// The first `len` items of `rest`, which keeps the others.
+/// The first `len` items of `rest`, which keeps the others; fewer when `rest` is shorter, which
+/// happens only for the cage arrays, empty when [`crate::options::ConvertOptions::cage_maps`] is off.
 pub(crate) fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
     let len = len.min(rest.len());
     let (head, tail) = std::mem::take(rest).split_at_mut(len);
