@@ -200,6 +200,8 @@ class OBJECT_OT_gbsurf_offset(OffsetOptionsMixin, bpy.types.Operator):
             obj = build_offset(src, lib_options, self, positions, triangles, info, data)
         except (OffsetError, mesh_io.Float32RangeError) as e:
             self.report({'ERROR'}, str(e))
+            if from_edit:
+                bpy.ops.object.mode_set(mode='EDIT')
             return {'CANCELLED'}
         for o in context.selected_objects:
             o.select_set(False)
@@ -332,9 +334,11 @@ class CURVE_OT_gbsurf_ph_offset(bpy.types.Operator):
         return True
 
     def execute(self, context):
-        if context.mode == 'EDIT_CURVE':
+        from_edit = context.mode == 'EDIT_CURVE'
+        if from_edit:
             # From the edit-mode Curve menu: leave Edit Mode first (writes the edits to the
-            # curve); the new objects are selected in Object Mode.
+            # curve); the new objects are selected in Object Mode. A failure returns to Edit Mode,
+            # so a cancelled run leaves the user where they were.
             bpy.ops.object.mode_set(mode='OBJECT')
         src = context.active_object
         try:
@@ -387,6 +391,8 @@ class CURVE_OT_gbsurf_ph_offset(bpy.types.Operator):
                 raise OffsetError(f"{src.name}: {e}") from None
         except (OffsetError, mesh_io.Float32RangeError) as e:
             self.report({'ERROR'}, str(e))
+            if from_edit:
+                bpy.ops.object.mode_set(mode='EDIT')
             return {'CANCELLED'}
         for o in context.selected_objects:
             o.select_set(False)

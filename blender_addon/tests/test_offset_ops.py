@@ -305,6 +305,10 @@ def test_ph_offset_is_in_the_curve_menus_and_works_from_edit_mode():
     bpy.ops.object.mode_set(mode='EDIT')
     assert bpy.context.mode == 'EDIT_CURVE'
     assert bpy.ops.curve.gbsurf_ph_offset.poll()
+    # A refused run (distance 0) leaves the user in Edit Mode, with nothing added.
+    n_objects = len(bpy.data.objects)
+    expect_error(bpy.ops.curve.gbsurf_ph_offset, "non-zero", distance=0.0)
+    assert bpy.context.mode == 'EDIT_CURVE' and len(bpy.data.objects) == n_objects
     assert bpy.ops.curve.gbsurf_ph_offset(distance=0.25, density=8) == {'FINISHED'}
     assert bpy.context.mode == 'OBJECT'
     ph, off = ph_objects(src)
