@@ -200,8 +200,6 @@ class OBJECT_OT_gbsurf_offset(OffsetOptionsMixin, bpy.types.Operator):
             obj = build_offset(src, lib_options, self, positions, triangles, info, data)
         except (OffsetError, mesh_io.Float32RangeError) as e:
             self.report({'ERROR'}, str(e))
-            if from_edit:
-                bpy.ops.object.mode_set(mode='EDIT')
             return {'CANCELLED'}
         for o in context.selected_objects:
             o.select_set(False)
