@@ -1,9 +1,11 @@
 """Shared helpers of the add-on tests (scene building, snapshots, mesh arrays)."""
 
+import contextlib
 from pathlib import Path
 
 import bpy
 import numpy as np
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = (ROOT / ".." / "shared" / "models").resolve()
@@ -139,3 +141,13 @@ def subsurf_arrays(obj, levels):
             ev.to_mesh_clear()
     finally:
         obj.modifiers.remove(mod)
+
+
+@contextlib.contextmanager
+def refused(match):
+    """`pytest.raises(RuntimeError, match=match)` for an operator call that must be refused with a
+    report. A Python exception escaping an operator also reaches the caller as a RuntimeError
+    (with the traceback as its message), so this also fails when the message holds one."""
+    with pytest.raises(RuntimeError, match=match) as err:
+        yield err
+    assert "Traceback" not in str(err.value), str(err.value)
