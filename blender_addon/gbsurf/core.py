@@ -151,7 +151,8 @@ def set_display(mesh, display):
 def fill_surface(mesh, conv, display='MEAN_CURVATURE', created=None, materials=None):
     """The output triangle mesh with smooth shading, its attributes and colours. `materials`
     (e.g. those of the mesh being replaced) are kept; by default the colour material."""
-    mesh_io.write_triangles(mesh, conv.positions, conv.faces)
+    mesh_io.write_triangles(mesh, conv.positions, conv.faces,
+                            getattr(conv, "edges", None), getattr(conv, "corner_edges", None))
     mesh_io.shade_smooth(mesh)
     mesh_io.set_point_attribute(mesh, "gb_patch", 'INT', conv.patch_index.astype(np.int32))
     mesh_io.set_point_attribute(mesh, "gb_mean_curvature", 'FLOAT', conv.mean_curvature)

@@ -387,11 +387,14 @@ def read_object(obj, depsgraph=None, vertex_groups=True):
         ev.to_mesh_clear()
 
 
-def write_triangles(mesh, positions, triangles):
+def write_triangles(mesh, positions, triangles, edges=None, corner_edges=None):
     """Fills an empty mesh with vertices and faces of one size (numpy path): triangles (T,3) or
     the quads (Q,4) of the quad layout, as the array's width says (a flat array is triangles).
-    Positions beyond float32 raise Float32RangeError (see float32_positions) before the mesh is
-    touched."""
+    With the library's edge table (`edges` (E,2), `corner_edges` one per face corner: see
+    `native.Conversion`) the edges are set directly; otherwise Blender derives them
+    (`update(calc_edges=True)`: 0.6-1.2 s for 640k quads, against 0.01 s for the two
+    attributes). Positions beyond float32 raise Float32RangeError (see float32_positions) before
+    the mesh is touched."""
     positions = float32_positions(positions)
     faces = np.asarray(triangles)
     k = faces.shape[1] if faces.ndim == 2 and faces.shape[1] in (3, 4) else 3
@@ -403,8 +406,26 @@ def write_triangles(mesh, positions, triangles):
     _set_corner_verts(mesh, tris.reshape(-1))
     mesh.polygons.add(nt)
     mesh.polygons.foreach_set("loop_start", np.arange(0, nt * k, k, dtype=np.int32))
-    mesh.update(calc_edges=True)
+    if edges is not None and corner_edges is not None and len(corner_edges) == nt * k and (nt == 0 or len(edges)):
+        e = np.ascontiguousarray(edges, dtype=np.int32).reshape(-1)
+        mesh.edges.add(len(e) // 2)
+        _set_int_attribute(mesh, ".edge_verts", e, lambda: mesh.edges.foreach_set("vertices", e))
+        ce = np.ascontiguousarray(corner_edges, dtype=np.int32).reshape(-1)
+        _set_int_attribute(mesh, ".corner_edge", ce, lambda: mesh.loops.foreach_set("edge_index", ce))
+        mesh.update()
+    else:
+        mesh.update(calc_edges=True)
     return mesh
+
+
+def _set_int_attribute(mesh, name, values, fallback):
+    """Sets an internal integer attribute (`.edge_verts`, `.corner_edge`) in one call, or through
+    the slower RNA path `fallback` when this Blender does not expose it."""
+    attr = mesh.attributes.get(name)
+    if attr is not None:
+        attr.data.foreach_set("value", values)
+    else:
+        fallback()
 
 
 def set_face_materials(mesh, material_index):

@@ -183,6 +183,8 @@ _SIGNATURES = {
     "gbsurf_mesh_normals": (c_uint32, [_R, _PD, _S]),
     "gbsurf_mesh_triangles": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_quads": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_edges": (c_uint32, [_R, _PU, _S]),
+    "gbsurf_mesh_corner_edges": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_face_corner": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_cage_corner": (c_uint32, [_R, _PU, _S]),
     "gbsurf_mesh_cage_coords": (c_uint32, [_R, _PD, _S]),
@@ -352,7 +354,8 @@ class Conversion:
 
     positions (V,3) float64, normals (V,3), triangles (T,3) uint32, quads (Q,4) uint32 (quad
     layout; quad k is triangles 2k, 2k+1), faces (the quads when there are any, else the
-    triangles), face_patch (F,) uint32 (the patch or input face of each face), face_corner (F,)
+    triangles), edges (E,2) uint32 (every edge of the faces once, smaller vertex first) and
+    corner_edges (k·F,) uint32 (per face corner the edge to the next corner), face_patch (F,) uint32 (the patch or input face of each face), face_corner (F,)
     uint32 (the patch corner whose sector holds each face; empty for subdivision), cage_corner
     (F,2) uint32 (the cage face and the corner in it each face lies in; corner 0xFFFFFFFF for
     subdivision), cage_coords (4Q,2) or (3T,2) float64 (per face corner its bilinear
@@ -495,6 +498,8 @@ def _unpack(lib, h, want_patches, want_curves, want_control_net, owner=None):
     c.triangles = _view(lib, lib.gbsurf_mesh_triangles, h, c_uint32, owner=owner).reshape(-1, 3)
     c.quads = _view(lib, lib.gbsurf_mesh_quads, h, c_uint32, owner=owner).reshape(-1, 4)
     c.faces = c.quads if len(c.quads) else c.triangles
+    c.edges = _view(lib, lib.gbsurf_mesh_edges, h, c_uint32, owner=owner).reshape(-1, 2)
+    c.corner_edges = _view(lib, lib.gbsurf_mesh_corner_edges, h, c_uint32, owner=owner)
     c.face_corner = _view(lib, lib.gbsurf_mesh_face_corner, h, c_uint32, owner=owner)
     c.cage_corner = _view(lib, lib.gbsurf_mesh_cage_corner, h, c_uint32, owner=owner).reshape(-1, 2)
     c.cage_coords = _view(lib, lib.gbsurf_mesh_cage_coords, h, c_double, owner=owner).reshape(-1, 2)

@@ -87,6 +87,39 @@ def test_quad_writer_and_face_materials():
     assert mi.tolist() == [0, 1]
 
 
+def _edge_table(mesh):
+    ev = np.empty(2 * len(mesh.edges), dtype=np.int32)
+    mesh.edges.foreach_get("vertices", ev)
+    ce = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("edge_index", ce)
+    return ev.reshape(-1, 2), ce
+
+
+def test_library_edge_table_is_what_blender_derives():
+    """The converted torus built with the library's edges and corner edges (no calc_edges) is the
+    mesh Blender derives itself: valid, the same set of edges, each corner on its own edge."""
+    native = helpers.mesh_module().native
+    src = helpers.add_primitive("torus")
+    data = mio().read_mesh(src.data)
+    for layout in ("QUADS", "TRIANGLES"):
+        conv = native.convert(*data[:3], native.make_options(face_layout=layout, resolution=2))
+        assert len(conv.corner_edges) == conv.faces.size and len(conv.edges)
+        given = mio().write_triangles(bpy.data.meshes.new("given"), conv.positions, conv.faces,
+                                      conv.edges, conv.corner_edges)
+        derived = mio().write_triangles(bpy.data.meshes.new("derived"), conv.positions, conv.faces)
+        assert not given.validate(verbose=False), "Blender had to correct the given edges"
+        (eg, cg), (ed, cd) = _edge_table(given), _edge_table(derived)
+        key = lambda e: set(map(tuple, np.sort(e, axis=1).tolist()))
+        assert len(eg) == len(ed) and key(eg) == key(ed), layout
+        # Each corner's edge joins its vertex and the next corner's, in both meshes.
+        cv = np.empty(len(given.loops), dtype=np.int32)
+        given.loops.foreach_get("vertex_index", cv)
+        k = conv.faces.shape[1]
+        nxt = cv.reshape(-1, k)[:, list(range(1, k)) + [0]].reshape(-1)
+        want = np.sort(np.stack([cv, nxt], 1), axis=1)
+        assert (np.sort(eg[cg], axis=1) == want).all() and (np.sort(ed[cd], axis=1) == want).all()
+
+
 def test_colour_maps():
     c = mio().diverging_colors([-2.0, 0.0, 1.0, 2.0], scale=2.0)
     assert np.allclose(c[0, :3], [0, 0, 1]) and np.allclose(c[1, :3], [1, 1, 1])

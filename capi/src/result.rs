@@ -45,6 +45,7 @@ pub struct GbsurfResult {
     flat: OnceLock<Vec<FlatPatch>>,
     control_net: OnceLock<ControlNet>,
     cubic_curves: OnceLock<Vec<Vec<DVec3>>>,
+    edges: OnceLock<gbsurf::tessellate::MeshEdges>,
     report: GbsurfReport,
     sides_histogram: Vec<(u64, u64)>,
     fold_sites: Vec<gbsurf::quality::FoldSite>,
@@ -70,6 +71,10 @@ impl GbsurfResult {
     }
     fn quads(&self) -> &[u32] {
         self.mesh.quads.as_flattened()
+    }
+    /// The edge table of the output faces, computed on first use.
+    fn edges(&self) -> &gbsurf::tessellate::MeshEdges {
+        self.edges.get_or_init(|| self.mesh.edges())
     }
     fn flat(&self) -> &[FlatPatch] {
         self.flat.get_or_init(|| {
@@ -250,6 +255,7 @@ pub(crate) fn pack(conv: gbsurf::api::Conversion, method: u32) -> GbsurfResult {
         flat: OnceLock::new(),
         control_net: OnceLock::new(),
         cubic_curves: OnceLock::new(),
+        edges: OnceLock::new(),
     }
 }
 
@@ -802,6 +808,67 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_quads(
     written: *mut usize,
 ) -> u32 {
     copy_array("gbsurf_mesh_copy_quads", result, |r| Ok(r.quads()), buf, capacity, written)
+}
+
+/// View of the output mesh's edges: every undirected edge once, as 2 vertex indices (smaller
+/// first), sorted; for the output faces (the quads of the quad layout, else the triangles). A
+/// host that stores edges (Blender's `.edge_verts`, OpenMesh) can take them instead of deriving
+/// them. Computed on the first call (linear time), then kept with the handle. `*data` is valid
+/// until the handle is freed, `*len` is the number of values (2 per edge).
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_edges(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_edges", result, |r| Ok(r.edges().edges.as_flattened()), data, len)
+}
+
+/// Copy-out variant of `gbsurf_mesh_edges`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_edges(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_mesh_copy_edges", result, |r| Ok(r.edges().edges.as_flattened()), buf, capacity, written)
+}
+
+/// View of the edge of each face corner of the output faces (in the order of
+/// `gbsurf_mesh_quads`, or of `gbsurf_mesh_triangles` when there are no quads): the index into
+/// `gbsurf_mesh_edges` of the edge from the corner's vertex to the next corner's (Blender's
+/// `.corner_edge`). Computed with `gbsurf_mesh_edges`. `*len` is the number of face corners.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_corner_edges(
+    result: *const GbsurfResult,
+    data: *mut *const u32,
+    len: *mut usize,
+) -> u32 {
+    view_array("gbsurf_mesh_corner_edges", result, |r| Ok(r.edges().corner_edge.as_slice()), data, len)
+}
+
+/// Copy-out variant of `gbsurf_mesh_corner_edges`.
+///
+/// # Safety
+/// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_mesh_copy_corner_edges(
+    result: *const GbsurfResult,
+    buf: *mut u32,
+    capacity: usize,
+    written: *mut usize,
+) -> u32 {
+    copy_array("gbsurf_mesh_copy_corner_edges", result, |r| Ok(r.edges().corner_edge.as_slice()), buf, capacity, written)
 }
 
 /// View of the per-output-face patch corner (one value per quad, or per triangle in the

@@ -531,6 +531,43 @@ uint32_t gbsurf_mesh_copy_quads(const GbsurfResult *result,
                                 size_t capacity,
                                 size_t *written);
 
+// View of the output mesh's edges: every undirected edge once, as 2 vertex indices (smaller
+// first), sorted; for the output faces (the quads of the quad layout, else the triangles). A
+// host that stores edges (Blender's `.edge_verts`, OpenMesh) can take them instead of deriving
+// them. Computed on the first call (linear time), then kept with the handle. `*data` is valid
+// until the handle is freed, `*len` is the number of values (2 per edge).
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_edges(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// Copy-out variant of `gbsurf_mesh_edges`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_mesh_copy_edges(const GbsurfResult *result,
+                                uint32_t *buf,
+                                size_t capacity,
+                                size_t *written);
+
+// View of the edge of each face corner of the output faces (in the order of
+// `gbsurf_mesh_quads`, or of `gbsurf_mesh_triangles` when there are no quads): the index into
+// `gbsurf_mesh_edges` of the edge from the corner's vertex to the next corner's (Blender's
+// `.corner_edge`). Computed with `gbsurf_mesh_edges`. `*len` is the number of face corners.
+//
+// # Safety
+// `result` is a live handle or NULL; `data` and `len` are writable or NULL.
+uint32_t gbsurf_mesh_corner_edges(const GbsurfResult *result, const uint32_t **data, size_t *len);
+
+// Copy-out variant of `gbsurf_mesh_corner_edges`.
+//
+// # Safety
+// `result` is a live handle or NULL; `buf` has `capacity` writable values.
+uint32_t gbsurf_mesh_copy_corner_edges(const GbsurfResult *result,
+                                       uint32_t *buf,
+                                       size_t capacity,
+                                       size_t *written);
+
 // View of the per-output-face patch corner (one value per quad, or per triangle in the
 // triangle layout; empty for the subdivision methods): the corner i of the face's patch whose
 // sector holds it (domain vertex i, the end of side i). With the per-face patch it names the

@@ -9,6 +9,7 @@
 //! - [`evaluator`]: the patch evaluators and the weight tables they own ([`TableCache`]).
 
 pub mod cage_values;
+pub mod edges;
 pub mod error;
 pub mod evaluator;
 pub mod fold;
@@ -18,6 +19,7 @@ pub mod surface;
 pub mod weld;
 
 pub use cage_values::{cage_loop_values, cage_loop_values_into, CageLoops, CageValuesError};
+pub use edges::{mesh_edges, MeshEdges};
 pub use error::TessellateError;
 pub use evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint, TableCache};
 pub use surface::{tessellate_surface, tessellate_surface_with, PatchLoops, SurfaceMesh, TessellationFolds, WeldStats};

@@ -907,6 +907,30 @@ fn quad_layout_views_match_rust() {
         assert_eq!(len, 0, "quad layout: the quads' cage corners serve their corners");
         assert_eq!(gbsurf_mesh_triangle_patch(r, &mut u, &mut len), GBSURF_OK);
         assert_eq!(std::slice::from_raw_parts(u, len), &conv.mesh.triangle_patch[..]);
+        // The edge table of the quads: the Rust API's; closed (E = 192, so V − E + F = 98 − 192 +
+        // 96 = 2) and every edge is named by two corners.
+        let edges = conv.mesh.edges();
+        assert_eq!(gbsurf_mesh_edges(r, &mut u, &mut len), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(u, len), edges.edges.as_flattened());
+        assert_eq!(len, 2 * 192);
+        let mut ebuf = vec![0u32; len];
+        assert_eq!(gbsurf_mesh_copy_edges(r, ebuf.as_mut_ptr(), ebuf.len(), &mut written), GBSURF_OK);
+        assert_eq!(&ebuf[..written], edges.edges.as_flattened());
+        assert_eq!(gbsurf_mesh_corner_edges(r, &mut u, &mut len), GBSURF_OK);
+        let corner_edge = std::slice::from_raw_parts(u, len);
+        assert_eq!(corner_edge, &edges.corner_edge[..]);
+        assert_eq!(len, 4 * 96);
+        let mut uses = vec![0; 192];
+        corner_edge.iter().for_each(|&e| uses[e as usize] += 1);
+        assert!(uses.iter().all(|&n| n == 2), "{uses:?}");
+        let quads = conv.mesh.quads.as_flattened();
+        for (c, &e) in corner_edge.iter().enumerate() {
+            let (a, b) = (quads[c], quads[if c % 4 == 3 { c - 3 } else { c + 1 }]);
+            assert_eq!(edges.edges[e as usize], [a.min(b), a.max(b)], "corner {c}");
+        }
+        assert_eq!(gbsurf_mesh_copy_corner_edges(r, ebuf.as_mut_ptr(), 3, &mut written), GBSURF_ERR_CAPACITY);
+        assert_eq!(written, 4 * 96, "the needed count");
+        assert_eq!(gbsurf_mesh_edges(null(), &mut u, &mut len), GBSURF_ERR_NULL);
         gbsurf_result_free(r);
     }
 }
