@@ -83,7 +83,6 @@ fn main() {
                             continue;
                         }
                         let w = f.worst.unwrap_or_default();
-                        let n = s.patches[p].sides();
                         if std::env::var("CENTRE").is_ok() {
                             let patch = &s.patches[p];
                             let cn = patch.normal(w, o.weights).unwrap_or(DVec3::ZERO);
