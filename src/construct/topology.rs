@@ -19,7 +19,10 @@
 //! Q' = Q − ((Q − p)·n) n. Where that plane would fold the network (the projected curve tangents
 //! at p out of counter-clockwise order: strongly bent tiles), the normal is tilted just enough to
 //! order them, and a tile that no plane can order is a [`ConstructError::FoldedTile`]
-//! (see `fan_normal`).
+//! (see `fan_normal`). At an interior vertex whose plane leaves a tile vertex out of order, the
+//! plane that orders the tile vertices too, interleaved with the tangents (t_k between m_{k−1}
+//! and m_k), replaces it where it keeps the tangents' margin (not in the seed: saddle tiles,
+//! docs/math.md#topology).
 //!
 //! Curves (§3.3.3): the curve of edge (u, v) has C0 = centre of tile u, C1 = midpoint of tile u's
 //! edge across (u, v), C2 = the same for tile v, C3 = centre of tile v. All tangents at a tile
@@ -142,8 +145,20 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, Constr
         if !(nn.length() > 1e-14 * scale) {
             return Err(ConstructError::DegenerateTile { vertex: v.idx() });
         }
-        let nn = fan_normal(p, &pts, !mesh.is_boundary_vertex(v), nn.normalize())
-            .ok_or(ConstructError::FoldedTile { vertex: v.idx() })?;
+        let closed = !mesh.is_boundary_vertex(v);
+        let newell = nn.normalize();
+        let mut nn = fan_normal(p, &pts, closed, newell, false).ok_or(ConstructError::FoldedTile { vertex: v.idx() })?;
+        if closed && !tile_ordered(p, &pts, nn) {
+            // Tile vertices out of order (docs/math.md#topology): the plane that orders them too,
+            // turned from nn, if it keeps the tangents at least as far from folding.
+            let tangents = fan_corners(&fan_dirs(p, &pts, true, false), true);
+            let margin = |n: DVec3| tangents.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min);
+            if let Some(n1) = fan_normal(p, &pts, closed, nn, true) {
+                if margin(n1) >= margin(nn) {
+                    nn = n1;
+                }
+            }
+        }
         if opts.best_plane {
             for &(h, is_split) in &ring {
                 let q = if is_split { &mut split[h.idx()] } else { &mut vertex[h.idx()] };
@@ -156,23 +171,52 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, Constr
     Ok(Tiles { vertex, split, center, normal })
 }
 
+/// Whether the closed fan `dirs`, projected along the unit normal `n`, turns once around (its
+/// counter-clockwise angle steps sum to 2π, within 1 rad).
+fn one_turn(dirs: &[DVec3], n: DVec3) -> bool {
+    let ex = n.any_orthonormal_vector();
+    let ey = n.cross(ex);
+    let m = dirs.len();
+    let ang: Vec<f64> = dirs.iter().map(|d| d.dot(ey).atan2(d.dot(ex))).collect();
+    let turn: f64 = (0..m).map(|k| (ang[(k + 1) % m] - ang[k]).rem_euclid(std::f64::consts::TAU)).sum();
+    (turn - std::f64::consts::TAU).abs() < 1.0
+}
+
+/// Whether the plane of unit normal `n` puts the closed tile `ring` (centre p) in order: the
+/// interleaved fan t_0, m_0, t_1, … ([`fan_dirs`]) turns counter-clockwise at every corner, once.
+fn tile_ordered(p: DVec3, ring: &[DVec3], n: DVec3) -> bool {
+    let dirs = fan_dirs(p, ring, true, true);
+    fan_corners(&dirs, true).iter().all(|c| c.dot(n) > 0.0) && one_turn(&dirs, n)
+}
+
 /// Margin a tile plane must keep, if it can, for the fan of curve tangents at the tile centre:
 /// min_k n · ĉ_k ≥ 0.02 (ĉ_k the unit normal of corner k, see [`fan_normal`]), i.e. every
 /// corner of the fan is a proper (non-flat) angle in the projection.
 const FAN_MARGIN: f64 = 0.02;
 
-/// Unit normals ĉ_k = (m_k − p) × (m_{k+1} − p) / |…| of the corners of the fan at a tile centre
-/// p: m_k are the midpoints of the tile edges (the curves' C1, seed 000 §3.3.3), corner k lies
-/// between tile edges k and k+1 (cyclic for an interior vertex, an open chain at a boundary).
-/// Corners whose tangents are parallel are left out (they give no direction).
-fn fan_corners(p: DVec3, ring: &[DVec3], closed: bool) -> Vec<DVec3> {
+/// Directions of the fan at a tile centre p: the midpoints m_k − p of the tile edges (the
+/// curves' C1, seed 000 §3.3.3); with `vertices` (closed tiles only) the tile vertices t_k − p
+/// interleaved, t_k before m_k (m_k is the midpoint of t_k t_{k+1}).
+fn fan_dirs(p: DVec3, ring: &[DVec3], closed: bool, vertices: bool) -> Vec<DVec3> {
     let m = ring.len();
     let ne = if closed { m } else { m - 1 };
-    let mids: Vec<DVec3> = (0..ne).map(|k| 0.5 * (ring[k] + ring[(k + 1) % m]) - p).collect();
+    let mid = |k: usize| 0.5 * (ring[k] + ring[(k + 1) % m]) - p;
+    if closed && vertices {
+        (0..ne).flat_map(|k| [ring[k] - p, mid(k)]).collect()
+    } else {
+        (0..ne).map(mid).collect()
+    }
+}
+
+/// Unit normals ĉ_k = (d_k × d_{k+1}) / |…| of the corners of the fan `dirs` ([`fan_dirs`]),
+/// corner k between directions k and k+1 (cyclic for an interior vertex, an open chain at a
+/// boundary). Corners whose directions are parallel are left out (they give no direction).
+fn fan_corners(dirs: &[DVec3], closed: bool) -> Vec<DVec3> {
+    let ne = dirs.len();
     let nc = if closed { ne } else { ne.saturating_sub(1) };
     (0..nc)
         .filter_map(|k| {
-            let (a, b) = (mids[k], mids[(k + 1) % ne]);
+            let (a, b) = (dirs[k], dirs[(k + 1) % ne]);
             let c = a.cross(b);
             (c.length() > 1e-12 * a.length() * b.length()).then(|| c.normalize())
         })
@@ -191,30 +235,27 @@ fn fan_corners(p: DVec3, ring: &[DVec3], closed: bool) -> Vec<DVec3> {
 /// feasible set is a convex cone, so the first feasible point is found). n* = the min-norm point of conv{ĉ_k}, normalized
 /// (max_n min_k n·ĉ_k = min_{x ∈ conv ĉ} |x|), by Gilbert's algorithm.
 /// `None` when no plane orders the fan (the origin lies in conv{ĉ_k}).
-fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, newell: DVec3) -> Option<DVec3> {
-    let cs = fan_corners(p, ring, closed);
+///
+/// With `vertices` (closed tiles; not in the seed) the fan is t_0, m_0, t_1, m_1, … ([`fan_dirs`]):
+/// the tile vertex t_k (the first-approximation twist of its face's corner, and an end of the two
+/// tile edges whose midpoints are the curves' C1) must lie between the tangents m_{k−1} and m_k.
+/// The midpoints alone do not force that: at the valence-8 saddle vertices inside OpenSubdiv's
+/// loop_toroidal_tet (faces alternating up and down, 120° dihedral angles) the Newell plane keeps
+/// the m_k in order but sees a tile vertex 190° from its neighbour, behind the centre; the corner
+/// block (p, m_{k−1}, t_k, m_k) of that face is then turned inside out and the patch folds next to
+/// the corner (24 patches, 804 self-intersecting pairs). [`tiles`] asks for this fan only where
+/// the plane n₀ of the tangents alone leaves a tile vertex out of order ([`tile_ordered`]), starts
+/// the turn from n₀, and takes the result n₁ only if the tangents' margin does not drop
+/// (min_k n₁·ĉ_k ≥ min_k n₀·ĉ_k over the tangent corners); otherwise, or when no plane orders the
+/// interleaved fan, n₀ stays.
+fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, newell: DVec3, vertices: bool) -> Option<DVec3> {
+    let dirs = fan_dirs(p, ring, closed, vertices);
+    let cs = fan_corners(&dirs, closed);
     if cs.is_empty() {
         return Some(newell);
     }
     let margin = |n: DVec3| cs.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min);
-    let one_turn = |n: DVec3| {
-        if !closed {
-            return true;
-        }
-        let ex = n.any_orthonormal_vector();
-        let ey = n.cross(ex);
-        let m = ring.len();
-        let ang: Vec<f64> = (0..m)
-            .map(|k| {
-                let d = 0.5 * (ring[k] + ring[(k + 1) % m]) - p;
-                d.dot(ey).atan2(d.dot(ex))
-            })
-            .collect();
-        let turn: f64 = (0..m)
-            .map(|k| (ang[(k + 1) % m] - ang[k]).rem_euclid(std::f64::consts::TAU))
-            .sum();
-        (turn - std::f64::consts::TAU).abs() < 1.0
-    };
+    let one_turn = |n: DVec3| !closed || one_turn(&dirs, n);
     if margin(newell) >= FAN_MARGIN && one_turn(newell) {
         return Some(newell);
     }
