@@ -507,10 +507,13 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Err(TessellateError::Evaluation { patch: p, sample: s });
     }
     let base = map.offsets[p];
-    let first_boundary = layout.first_boundary();
-    let mut j = 0;
+    let (mut j, mut b) = (0, 0);
     for (s, sp) in buf.iter().enumerate() {
-        if map.owner[base + s] {
+        if !map.owner[base + s] {
+            // A boundary sample that did not create its vertex: kept for welding.
+            o.bnd[b] = *sp;
+            b += 1;
+        } else {
             o.pos[j] = sp.position;
             o.patch[j] = p as u32;
             if sp.normal != DVec3::ZERO && sp.normal.is_finite() {
@@ -524,7 +527,6 @@ fn evaluate_patch<E: PatchEvaluator>(
             j += 1;
         }
     }
-    o.bnd.copy_from_slice(&buf[first_boundary..]);
     let ids = &map.ids[base..map.offsets[p + 1]];
     for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
         *t = lt.map(|x| ids[x as usize]);
@@ -626,7 +628,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     tick(&mut progress, setup(5))?;
     mesh.patch_loops = PatchLoops::new(surface, &layouts, &map, r);
     tick(&mut progress, setup(6))?;
-    let mut boundary = BoundarySamples::new(surface, &layouts, r);
+    let mut boundary = BoundarySamples::new(surface, &layouts, &map)?;
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
     tick(&mut progress, setup(7))?;
