@@ -4,43 +4,75 @@
 
 use super::surface::{SurfaceMesh, WeldStats};
 use super::weld::WeldMap;
-use super::SurfacePoint;
+use super::{SurfacePoint, TessellateError};
 use crate::construct::Surface;
 use crate::gb::{angle_deg, SampleLayout};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
-/// The boundary samples of every patch, in ring order, kept from evaluation for welding and
-/// measurements: patch p's are `samples[start[p]..start[p + 1]]`.
+/// The boundary samples that did not create their vertex, kept from evaluation for welding and
+/// measuring. A sample that created its vertex is not kept: its position is the vertex's, and its
+/// normal is the vertex's before any other sample is added to it: the sample's normal when
+/// usable, else zero (angle 0, like the NaN angle of a non-finite normal: no G1 deviation).
+/// In the quad layout at r = 2 on a closed quad mesh this keeps 9 of the 16 boundary samples of
+/// a 4-sided patch.
 pub(crate) struct BoundarySamples {
+    /// Patch p's kept samples are `samples[start[p]..start[p + 1]]`, in ring order.
     pub samples: Vec<SurfacePoint>,
     pub start: Vec<usize>,
+    /// Per boundary sample of every patch (n·r per patch, ring order, patch p's from `ring[p]`):
+    /// its index in `samples`, or [`OWNED`] when it created its vertex.
+    slot: Vec<u32>,
+    ring: Vec<usize>,
     /// Per side count n: the first boundary sample of its layout.
     first: Vec<usize>,
 }
 
+/// [`BoundarySamples::slot`] of a sample that created its vertex.
+const OWNED: u32 = u32::MAX;
+
 impl BoundarySamples {
-    /// Room for the boundary samples of every patch (n·r each, r boundary steps per side), zeroed.
-    pub fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, r: usize) -> Self {
-        let mut start = Vec::with_capacity(surface.patches.len() + 1);
+    /// Room for the boundary samples (n·r per patch, r boundary steps per side) that did not
+    /// create their vertex (`map.owner`), zeroed.
+    pub fn new(surface: &Surface, layouts: &HashMap<usize, SampleLayout>, map: &WeldMap) -> Result<Self, TessellateError> {
+        let np = surface.patches.len();
+        let mut start = Vec::with_capacity(np + 1);
+        let mut ring = Vec::with_capacity(np + 1);
+        let mut slot = Vec::new();
         let mut nb = 0usize;
-        for patch in &surface.patches {
+        for (p, patch) in surface.patches.iter().enumerate() {
             start.push(nb);
-            nb += patch.sides() * r;
+            ring.push(slot.len());
+            let first = layouts[&patch.sides()].first_boundary();
+            for &own in &map.owner[map.offsets[p] + first..map.offsets[p + 1]] {
+                if own {
+                    slot.push(OWNED);
+                } else {
+                    slot.push(nb as u32);
+                    nb += 1;
+                }
+            }
+            // Never reached below the memory limits (fewer kept samples than samples).
+            if nb >= OWNED as usize {
+                return Err(TessellateError::TooLarge { count: nb });
+            }
         }
         start.push(nb);
+        ring.push(slot.len());
         let mut first = vec![0usize; layouts.keys().max().map_or(0, |&n| n + 1)];
         for (&n, l) in layouts {
             first[n] = l.first_boundary();
         }
-        BoundarySamples { samples: super::surface::zeroed(nb), start, first }
+        Ok(BoundarySamples { samples: super::surface::zeroed(nb), start, slot, ring, first })
     }
 
-    /// Sample `s` (a boundary sample of its layout) of patch `p` with `n` sides.
+    /// Sample `s` (a boundary sample of its layout) of patch `p` with `n` sides when it is kept,
+    /// `None` when it created its vertex.
     #[inline]
-    fn at(&self, p: usize, n: usize, s: usize) -> &SurfacePoint {
-        &self.samples[self.start[p] + s - self.first[n]]
+    fn kept(&self, p: usize, n: usize, s: usize) -> Option<&SurfacePoint> {
+        let k = self.slot[self.ring[p] + s - self.first[n]];
+        (k != OWNED).then(|| &self.samples[k as usize])
     }
 }
 
@@ -91,11 +123,13 @@ pub(crate) fn join_shared_sides(
     let np = surface.patches.len();
     let nv = map.vertex_count;
     let sides_of = |p: usize| surface.patches[p].sides();
-    let sample = |p: usize, s: usize| boundary.at(p, sides_of(p), s);
+    let kept = |p: usize, s: usize| boundary.kept(p, sides_of(p), s);
+    let vertex = |p: usize, s: usize| map.ids[map.offsets[p] + s] as usize;
     let mut shared = vec![false; nv];
     let mut stats = WeldStats::default();
     {
         let vstart = &map.vstart;
+        let positions = &mesh.positions;
         // Each patch's own vertices, cut off a chunk of patches at a time (a list of the pieces
         // of all patches would cost about 100 bytes per patch).
         use super::surface::take;
@@ -119,15 +153,19 @@ pub(crate) fn join_shared_sides(
                     for (i, nb) in surface.shared_sides_of(p) {
                         let lq = &layouts[&sides_of(nb.patch)];
                         for t in 1..r {
+                            // p's sample created the vertex (the smaller side emits the inner
+                            // samples), the neighbour's is kept.
                             let sa = lp.boundary_index(i, t);
-                            let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
-                            let v = map.ids[map.offsets[p] + sa] as usize - vstart[p];
+                            let Some(b) = kept(nb.patch, lq.boundary_index(nb.side, r - t)) else { continue };
+                            let gv = vertex(p, sa);
+                            let v = gv - vstart[p];
+                            let (a_position, a_normal) = (positions[gv], nrm[v]);
                             if valid(b) {
                                 add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
                             }
-                            gap_max = max_gap(gap_max, a.position.distance(b.position));
+                            gap_max = max_gap(gap_max, a_position.distance(b.position));
                             if surface.side_crease(p, i) == 0.0 {
-                                g1[v] = g1[v].max(angle_deg(a.normal, b.normal));
+                                g1[v] = g1[v].max(angle_deg(a_normal, b.normal));
                                 sh[v] = true;
                             }
                         }
@@ -140,33 +178,41 @@ pub(crate) fn join_shared_sides(
             done = end;
         }
     }
+    // The corners (nodes of any number of patches): first measured, reading the samples that
+    // created their vertex from the output arrays before any other sample is added there, then
+    // the kept samples added in patch order.
+    let corner = |p: usize, s: usize| match kept(p, s) {
+        Some(sp) => (sp.position, sp.normal),
+        None => (mesh.positions[vertex(p, s)], mesh.normals[vertex(p, s)]),
+    };
+    for p in 0..np {
+        let lp = &layouts[&sides_of(p)];
+        for (i, nb) in surface.shared_sides_of(p) {
+            let lq = &layouts[&sides_of(nb.patch)];
+            for t in [0, r] {
+                let sa = lp.boundary_index(i, t);
+                let (a, b) = (corner(p, sa), corner(nb.patch, lq.boundary_index(nb.side, r - t)));
+                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.0.distance(b.0));
+                if surface.side_crease(p, i) > 0.0 {
+                    continue;
+                }
+                let v = vertex(p, sa);
+                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.1, b.1));
+                shared[v] = true;
+            }
+        }
+        stats.crease_sides += surface.shared_sides_of(p).filter(|&(i, nb)| (p, i) < (nb.patch, nb.side) && surface.side_crease(p, i) > 0.0).count();
+    }
     for p in 0..np {
         let n = sides_of(p);
         let lp = &layouts[&n];
         for i in 0..n {
             let s = lp.boundary_index(i, 0);
-            let kk = map.offsets[p] + s;
-            let sp = sample(p, s);
-            if !map.owner[kk] && valid(sp) {
-                let v = map.ids[kk] as usize;
+            if let Some(sp) = kept(p, s).filter(|sp| valid(sp)) {
+                let v = vertex(p, s);
                 add(sp, &mut mesh.normals[v], &mut mesh.mean_curvature[v], &mut mesh.gaussian_curvature[v], &mut weight[v]);
             }
         }
-        for (i, nb) in surface.shared_sides_of(p) {
-            let lq = &layouts[&sides_of(nb.patch)];
-            for t in [0, r] {
-                let sa = lp.boundary_index(i, t);
-                let (a, b) = (sample(p, sa), sample(nb.patch, lq.boundary_index(nb.side, r - t)));
-                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.position.distance(b.position));
-                if surface.side_crease(p, i) > 0.0 {
-                    continue;
-                }
-                let v = map.ids[map.offsets[p] + sa] as usize;
-                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.normal, b.normal));
-                shared[v] = true;
-            }
-        }
-        stats.crease_sides += surface.shared_sides_of(p).filter(|&(i, nb)| (p, i) < (nb.patch, nb.side) && surface.side_crease(p, i) > 0.0).count();
     }
     mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
         if w > 1 {

@@ -242,9 +242,9 @@ fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: Sampling, evaluator: &E) 
 /// the quad sectors ([`SampleLayout::sector_points`]).
 type PatchLayout = (SampleLayout, Sectors, Vec<u32>, Vec<SectorPoint>);
 
-/// The output of one patch: its own disjoint pieces of the output arrays.
-struct PatchOut<'a> {
-    p: usize,
+/// Pieces of the output arrays, one slice per array: in [`PatchOut`] one patch's own disjoint
+/// pieces, in [`Pieces`] the tails not yet handed to a patch.
+struct OutSlices<'a> {
     pos: &'a mut [DVec3],
     nrm: &'a mut [DVec3],
     h: &'a mut [f64],
@@ -259,6 +259,53 @@ struct PatchOut<'a> {
     coords: &'a mut [[f64; 2]],
     loop_cage: &'a mut [[u32; 2]],
     bnd: &'a mut [SurfacePoint],
+}
+
+/// One patch's piece lengths in the output arrays of [`OutSlices`].
+struct PatchLengths {
+    /// Vertices it creates (positions, normals, curvatures, patch ids, weights).
+    vertices: usize,
+    /// Triangles (and their patch ids).
+    triangles: usize,
+    quads: usize,
+    /// Output faces (their patch corners).
+    faces: usize,
+    /// Cage corners of its faces (0 without cage maps).
+    cage: usize,
+    /// Cage coordinates of its face loops (0 without cage maps).
+    loops: usize,
+    /// Loop cage corners (triangle layout with cage maps, else 0).
+    loop_cage: usize,
+    /// Boundary samples.
+    boundary: usize,
+}
+
+impl<'a> OutSlices<'a> {
+    /// Cuts the pieces of the next patch (`len`) off the front of every slice.
+    fn take_patch(&mut self, len: &PatchLengths) -> OutSlices<'a> {
+        OutSlices {
+            pos: take(&mut self.pos, len.vertices),
+            nrm: take(&mut self.nrm, len.vertices),
+            h: take(&mut self.h, len.vertices),
+            k: take(&mut self.k, len.vertices),
+            patch: take(&mut self.patch, len.vertices),
+            weight: take(&mut self.weight, len.vertices),
+            tris: take(&mut self.tris, len.triangles),
+            tri_patch: take(&mut self.tri_patch, len.triangles),
+            quads: take(&mut self.quads, len.quads),
+            corner: take(&mut self.corner, len.faces),
+            cage: take(&mut self.cage, len.cage),
+            coords: take(&mut self.coords, len.loops),
+            loop_cage: take(&mut self.loop_cage, len.loop_cage),
+            bnd: take(&mut self.bnd, len.boundary),
+        }
+    }
+}
+
+/// The output of one patch: its own disjoint pieces of the output arrays.
+struct PatchOut<'a> {
+    p: usize,
+    o: OutSlices<'a>,
     fold: &'a mut TessellationFolds,
     /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
     folded: Vec<u32>,
@@ -273,9 +320,9 @@ pub(crate) fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
     head
 }
 
-/// The output arrays not yet handed to a patch: every slice is the tail of its array from the
-/// first patch not yet taken, so the patches are cut off in order one chunk at a time and no
-/// list of the pieces of all patches is held (it would cost about 260 bytes per patch).
+/// The output arrays not yet handed to a patch: every slice of `rest` is the tail of its array
+/// from the first patch not yet taken, so the patches are cut off in order one chunk at a time
+/// and no list of the pieces of all patches is held (it would cost about 260 bytes per patch).
 struct Pieces<'a> {
     next: usize,
     vstart: &'a [usize],
@@ -286,20 +333,7 @@ struct Pieces<'a> {
     loop_start: Vec<usize>,
     lc_start: Vec<usize>,
     bnd_start: &'a [usize],
-    pos: &'a mut [DVec3],
-    nrm: &'a mut [DVec3],
-    h: &'a mut [f64],
-    k: &'a mut [f64],
-    patch: &'a mut [u32],
-    weight: &'a mut [u16],
-    tris: &'a mut [[u32; 3]],
-    tri_patch: &'a mut [u32],
-    quads: &'a mut [[u32; 4]],
-    corner: &'a mut [u32],
-    cage: &'a mut [[u32; 2]],
-    coords: &'a mut [[f64; 2]],
-    loop_cage: &'a mut [[u32; 2]],
-    bnd: &'a mut [SurfacePoint],
+    rest: OutSlices<'a>,
     fold: std::slice::IterMut<'a, TessellationFolds>,
 }
 
@@ -310,25 +344,17 @@ impl<'a> Pieces<'a> {
         let fold = self.fold.next()?;
         self.next += 1;
         let len = |s: &[usize]| s.get(p + 1).zip(s.get(p)).map_or(0, |(b, a)| b - a);
-        Some(PatchOut {
-            p,
-            pos: take(&mut self.pos, len(self.vstart)),
-            nrm: take(&mut self.nrm, len(self.vstart)),
-            h: take(&mut self.h, len(self.vstart)),
-            k: take(&mut self.k, len(self.vstart)),
-            patch: take(&mut self.patch, len(self.vstart)),
-            weight: take(&mut self.weight, len(self.vstart)),
-            tris: take(&mut self.tris, len(&self.tri_start)),
-            tri_patch: take(&mut self.tri_patch, len(&self.tri_start)),
-            quads: take(&mut self.quads, len(&self.quad_start)),
-            corner: take(&mut self.corner, len(&self.face_start)),
-            cage: take(&mut self.cage, len(&self.cage_start)),
-            coords: take(&mut self.coords, len(&self.loop_start)),
-            loop_cage: take(&mut self.loop_cage, len(&self.lc_start)),
-            bnd: take(&mut self.bnd, len(self.bnd_start)),
-            fold,
-            folded: Vec::new(),
-        })
+        let lengths = PatchLengths {
+            vertices: len(self.vstart),
+            triangles: len(&self.tri_start),
+            quads: len(&self.quad_start),
+            faces: len(&self.face_start),
+            cage: len(&self.cage_start),
+            loops: len(&self.loop_start),
+            loop_cage: len(&self.lc_start),
+            boundary: len(self.bnd_start),
+        };
+        Some(PatchOut { p, o: self.rest.take_patch(&lengths), fold, folded: Vec::new() })
     }
 }
 
@@ -397,20 +423,22 @@ fn partition<'a>(
         loop_start,
         lc_start,
         bnd_start: &boundary.start,
-        pos: &mut mesh.positions,
-        nrm: &mut mesh.normals,
-        h: &mut mesh.mean_curvature,
-        k: &mut mesh.gaussian_curvature,
-        patch: &mut mesh.patch,
-        weight,
-        tris: &mut mesh.triangles,
-        tri_patch: &mut mesh.triangle_patch,
-        quads: &mut mesh.quads,
-        corner: &mut mesh.face_corner,
-        cage: &mut mesh.cage_corner,
-        coords: &mut mesh.cage_coords,
-        loop_cage: &mut mesh.cage_loop_corner,
-        bnd: &mut boundary.samples,
+        rest: OutSlices {
+            pos: &mut mesh.positions,
+            nrm: &mut mesh.normals,
+            h: &mut mesh.mean_curvature,
+            k: &mut mesh.gaussian_curvature,
+            patch: &mut mesh.patch,
+            weight,
+            tris: &mut mesh.triangles,
+            tri_patch: &mut mesh.triangle_patch,
+            quads: &mut mesh.quads,
+            corner: &mut mesh.face_corner,
+            cage: &mut mesh.cage_corner,
+            coords: &mut mesh.cage_coords,
+            loop_cage: &mut mesh.cage_loop_corner,
+            bnd: &mut boundary.samples,
+        },
         fold: mesh.patch_folds.iter_mut(),
     })
 }
@@ -419,7 +447,7 @@ fn partition<'a>(
 /// `None` when the surface has none) and the cage coordinates of the face corners: for quads
 /// from their sector grid, for triangles from `points` ([`SampleLayout::sector_points`]) with
 /// each loop's own cage corner (docs/math.md#cage-corners).
-fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], points: &[SectorPoint], o: &mut PatchOut<'_>) {
+fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], points: &[SectorPoint], o: &mut OutSlices<'_>) {
     use crate::construct::SectorMap;
     let sector = |i: u32| cage.and_then(|c| c.get(i as usize));
     for (out, &i) in o.cage.iter_mut().zip(corners) {
@@ -458,7 +486,7 @@ fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayo
     }
 }
 
-/// Evaluates patch `o.p` and writes the samples that create vertices, its boundary samples
+/// Evaluates patch `out.p` and writes the samples that create vertices, its boundary samples
 /// and its triangles into its pieces.
 fn evaluate_patch<E: PatchEvaluator>(
     surface: &Surface,
@@ -467,9 +495,9 @@ fn evaluate_patch<E: PatchEvaluator>(
     map: &WeldMap,
     folds: bool,
     buf: &mut Vec<SurfacePoint>,
-    o: &mut PatchOut<'_>,
+    out: &mut PatchOut<'_>,
 ) -> Result<(), TessellateError> {
-    let p = o.p;
+    let (p, o) = (out.p, &mut out.o);
     let (layout, sectors, corners, points) = &layouts[&surface.patches[p].sides()];
     evaluator.evaluate(surface, p, layout, buf);
     if buf.len() != layout.uv.len() {
@@ -479,10 +507,13 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Err(TessellateError::Evaluation { patch: p, sample: s });
     }
     let base = map.offsets[p];
-    let first_boundary = layout.first_boundary();
-    let mut j = 0;
+    let (mut j, mut b) = (0, 0);
     for (s, sp) in buf.iter().enumerate() {
-        if map.owner[base + s] {
+        if !map.owner[base + s] {
+            // A boundary sample that did not create its vertex: kept for welding.
+            o.bnd[b] = *sp;
+            b += 1;
+        } else {
             o.pos[j] = sp.position;
             o.patch[j] = p as u32;
             if sp.normal != DVec3::ZERO && sp.normal.is_finite() {
@@ -496,7 +527,6 @@ fn evaluate_patch<E: PatchEvaluator>(
             j += 1;
         }
     }
-    o.bnd.copy_from_slice(&buf[first_boundary..]);
     let ids = &map.ids[base..map.offsets[p + 1]];
     for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
         *t = lt.map(|x| ids[x as usize]);
@@ -513,9 +543,9 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Ok(());
     }
     let folds = patch_folds(&surface.patches[p], sectors, &layout.uv, buf);
-    o.fold.samples = folds.samples.len();
-    o.fold.worst = folds.worst;
-    o.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
+    out.fold.samples = folds.samples.len();
+    out.fold.worst = folds.worst;
+    out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
 }
 
@@ -598,7 +628,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     tick(&mut progress, setup(5))?;
     mesh.patch_loops = PatchLoops::new(surface, &layouts, &map, r);
     tick(&mut progress, setup(6))?;
-    let mut boundary = BoundarySamples::new(surface, &layouts, r);
+    let mut boundary = BoundarySamples::new(surface, &layouts, &map)?;
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
     tick(&mut progress, setup(7))?;
