@@ -84,7 +84,21 @@ pub fn ribbon_normal(ribbon: &Ribbon, s: f64) -> DVec3 {
     let d = ribbon.degree;
     let (r0, r1) = (&ribbon.rows[0], &ribbon.rows[1]);
     let u = 1.0 - s;
-    let bern = |n: usize, j: usize, binom: f64| binom * s.powi(j as i32) * u.powi((n - j) as i32);
+    // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
+    // with these very values); on the stack up to degree [`POWERS`] − 1.
+    let (mut sp, mut up) = ([0.0; POWERS], [0.0; POWERS]);
+    let (sv, uv);
+    let (sp, up): (&[f64], &[f64]) = if d < POWERS {
+        for j in 0..=d {
+            (sp[j], up[j]) = (s.powi(j as i32), u.powi(j as i32));
+        }
+        (&sp, &up)
+    } else {
+        sv = (0..=d).map(|j| s.powi(j as i32)).collect::<Vec<f64>>();
+        uv = (0..=d).map(|j| u.powi(j as i32)).collect::<Vec<f64>>();
+        (&sv, &uv)
+    };
+    let bern = |n: usize, j: usize, binom: f64| binom * sp[j] * up[n - j];
     let (mut t, mut x) = (DVec3::ZERO, DVec3::ZERO);
     let mut binom = 1.0;
     for j in 0..=d {
@@ -98,6 +112,10 @@ pub fn ribbon_normal(ribbon: &Ribbon, s: f64) -> DVec3 {
     }
     reference_normal(t, x)
 }
+
+/// Powers kept on the stack by [`ribbon_normal`] (degrees below it; the construction's are far
+/// below, higher ones take a heap buffer).
+const POWERS: usize = 33;
 
 /// Smallest sin of the angle between T and X for which T × X counts as a normal: below it (T and
 /// X parallel up to rounding, as at a corner where the ribbon frame degenerates, e.g. at the end
