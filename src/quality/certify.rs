@@ -180,14 +180,20 @@ fn star_shaped(positions: &[DVec3], lp: &[u32], q: u32, a: DVec3) -> bool {
     });
     // With every turn in (0, π) the loop winds k ≥ 1 times, k = its upward crossings of the
     // line through f(q) (all on the positive side, half-open so a vertex on it counts once).
+    // Each loop vertex is projected (and its length taken) once, carried to the next edge.
     let mut crossings = 0usize;
-    for k in 0..lp.len() {
-        let (Some(u), Some(v)) = (proj(lp[k]), proj(lp[(k + 1) % lp.len()])) else { return false };
+    let Some(&last) = lp.last() else { return false };
+    let Some(mut u) = proj(last) else { return false };
+    let mut lu = u.length();
+    for &w in lp {
+        let Some(v) = proj(w) else { return false };
+        let lv = v.length();
         let cross = u.perp_dot(v);
-        if !(cross > TURN_MARGIN * u.length() * v.length()) {
+        if !(cross > TURN_MARGIN * lu * lv) {
             return false;
         }
         crossings += (u.y < 0.0 && v.y >= 0.0) as usize;
+        (u, lu) = (v, lv);
     }
     crossings == 1
 }

@@ -4,8 +4,8 @@
 //! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i.
 //!
 //! Per layout, [`Sectors`] holds every sample's (i, s) once (it depends on the domain only); per
-//! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal`] (the normal of
-//! [`crate::construct::check::ribbon_frame`], without allocating) and compares. The tessellation
+//! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal_with`] (the normal of
+//! [`crate::construct::check::ribbon_frame`], with the binomial coefficients made once per degree) and compares. The tessellation
 //! runs it on the samples it has just evaluated, so the check costs no second evaluation.
 
 use super::evaluator::SurfacePoint;
@@ -79,25 +79,78 @@ impl Sectors {
 
 /// Unit boundary-frame normal T × X of `ribbon` at s (zero where undefined): the same vectors as
 /// [`crate::construct::check::ribbon_frame`], T = d Σ B^{d−1}_j(s)(P_{0,j+1} − P_{0,j}),
-/// X = d Σ B^d_j(s)(P_{1,j} − P_{0,j}), summed without allocating.
+/// X = d Σ B^d_j(s)(P_{1,j} − P_{0,j}) (the binomial coefficients made for this call; a patch
+/// reuses them across its ribbons and feet with [`ribbon_normal_with`]).
 pub fn ribbon_normal(ribbon: &Ribbon, s: f64) -> DVec3 {
+    ribbon_normal_with(ribbon, s, &mut Binomials::default())
+}
+
+/// The binomial coefficients C(d, j), j ≤ d, and C(d − 1, j), j < d, of one degree d, made by
+/// the recurrence C(n, j + 1) = C(n, j)·(n − j)/(j + 1) (the values [`ribbon_normal`] sums with),
+/// kept for the next ribbon of the same degree (the ribbons of a patch share it).
+#[derive(Default)]
+pub struct Binomials {
+    degree: Option<usize>,
+    d: Vec<f64>,
+    d1: Vec<f64>,
+}
+
+impl Binomials {
+    fn of(&mut self, d: usize) -> (&[f64], &[f64]) {
+        if self.degree != Some(d) {
+            let row = |n: usize, out: &mut Vec<f64>| {
+                out.clear();
+                let mut binom = 1.0;
+                for j in 0..=n {
+                    out.push(binom);
+                    binom = binom * (n - j) as f64 / (j + 1) as f64;
+                }
+            };
+            row(d, &mut self.d);
+            self.d1.clear();
+            if d > 0 {
+                row(d - 1, &mut self.d1);
+            }
+            self.degree = Some(d);
+        }
+        (&self.d, &self.d1)
+    }
+}
+
+/// [`ribbon_normal`] with the binomial coefficients of the ribbon's degree from `binomials`
+/// (made once per degree): the same value.
+pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) -> DVec3 {
     let d = ribbon.degree;
     let (r0, r1) = (&ribbon.rows[0], &ribbon.rows[1]);
     let u = 1.0 - s;
-    let bern = |n: usize, j: usize, binom: f64| binom * s.powi(j as i32) * u.powi((n - j) as i32);
+    // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
+    // with these very values); on the stack up to degree [`POWERS`] − 1.
+    let (mut sp, mut up) = ([0.0; POWERS], [0.0; POWERS]);
+    let (sv, uv);
+    let (sp, up): (&[f64], &[f64]) = if d < POWERS {
+        for j in 0..=d {
+            (sp[j], up[j]) = (s.powi(j as i32), u.powi(j as i32));
+        }
+        (&sp, &up)
+    } else {
+        sv = (0..=d).map(|j| s.powi(j as i32)).collect::<Vec<f64>>();
+        uv = (0..=d).map(|j| u.powi(j as i32)).collect::<Vec<f64>>();
+        (&sv, &uv)
+    };
+    let (bd, bd1) = binomials.of(d);
     let (mut t, mut x) = (DVec3::ZERO, DVec3::ZERO);
-    let mut binom = 1.0;
     for j in 0..=d {
-        x += bern(d, j, binom) * (r1[j] - r0[j]);
-        binom = binom * (d - j) as f64 / (j + 1) as f64;
+        x += bd[j] * sp[j] * up[d - j] * (r1[j] - r0[j]);
     }
-    let mut binom = 1.0;
     for j in 0..d {
-        t += bern(d - 1, j, binom) * (r0[j + 1] - r0[j]);
-        binom = binom * (d - 1 - j) as f64 / (j + 1) as f64;
+        t += bd1[j] * sp[j] * up[d - 1 - j] * (r0[j + 1] - r0[j]);
     }
     reference_normal(t, x)
 }
+
+/// Powers kept on the stack by [`ribbon_normal`] (degrees below it; the construction's are far
+/// below, higher ones take a heap buffer).
+const POWERS: usize = 33;
 
 /// Smallest sin of the angle between T and X for which T × X counts as a normal: below it (T and
 /// X parallel up to rounding, as at a corner where the ribbon frame degenerates, e.g. at the end
@@ -134,7 +187,8 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, uv: &[DVec2], points: &[Sur
     let mut out = PatchFolds::default();
     let mut worst = 0.0f64;
     // None: the sector names a missing ribbon.
-    let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal(r, s))).collect();
+    let mut binomials = Binomials::default();
+    let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal_with(r, s, &mut binomials))).collect();
     for (k, ((&x, sp), &f)) in uv.iter().zip(points).zip(&sectors.foot).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
             continue;
