@@ -169,7 +169,8 @@ const FOLDED: &[(&str, Method)] =
 /// inside loop_toroidal_tet. In every closed tile's plane the tile vertices t_k and the tangents
 /// m_k (midpoints of t_k t_{k+1}) must turn counter-clockwise, once, in the order
 /// t_0, m_0, t_1, m_1, …; the Newell plane of the seed saw a tile vertex 190° from its neighbour
-/// there and 24 patches folded (804 self-intersecting pairs). The cage is in `VALID` too.
+/// there and the report counted 36 folds (24 patches with a Jacobian sign change) and 804
+/// self-intersecting pairs. The cage is in `VALID` too.
 #[test]
 fn loop_toroidal_tet_tiles_keep_their_vertices_in_order() {
     use gbsurf::construct::topology::tiles;

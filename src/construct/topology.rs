@@ -152,9 +152,8 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, Constr
             // Tile vertices out of order (docs/math.md#topology): the plane that orders them too,
             // turned from nn, if it keeps the tangents at least as far from folding.
             let tangents = fan_corners(&fan_dirs(p, &pts, true, false), true);
-            let margin = |n: DVec3| tangents.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min);
             if let Some(n1) = fan_normal(p, &pts, closed, nn, true) {
-                if margin(n1) >= margin(nn) {
+                if fan_margin(&tangents, n1) >= fan_margin(&tangents, nn) {
                     nn = n1;
                 }
             }
@@ -186,7 +185,14 @@ fn one_turn(dirs: &[DVec3], n: DVec3) -> bool {
 /// interleaved fan t_0, m_0, t_1, … ([`fan_dirs`]) turns counter-clockwise at every corner, once.
 fn tile_ordered(p: DVec3, ring: &[DVec3], n: DVec3) -> bool {
     let dirs = fan_dirs(p, ring, true, true);
-    fan_corners(&dirs, true).iter().all(|c| c.dot(n) > 0.0) && one_turn(&dirs, n)
+    fan_margin(&fan_corners(&dirs, true), n) > 0.0 && one_turn(&dirs, n)
+}
+
+/// The margin of the plane of unit normal `n` for a fan with corner normals `corners`
+/// ([`fan_corners`]): min_k n · ĉ_k (+∞ without corners); > 0 iff every corner turns
+/// counter-clockwise in the projection.
+fn fan_margin(corners: &[DVec3], n: DVec3) -> f64 {
+    corners.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min)
 }
 
 /// Margin a tile plane must keep, if it can, for the fan of curve tangents at the tile centre:
@@ -227,10 +233,10 @@ fn fan_corners(dirs: &[DVec3], closed: bool) -> Vec<DVec3> {
 ///
 /// Projected along n, the curve tangents m_k − p at the tile centre are in counter-clockwise order,
 /// one turn, iff n · ĉ_k > 0 for every corner (projection keeps n · (a × b)) and the projected
-/// corner angles sum to 2π. The seed's plane (the tile's Newell normal `newell`) is kept when its
+/// corner angles sum to 2π. The starting plane `start` (the seed's: the tile's Newell normal) is kept when its
 /// margin min_k n · ĉ_k reaches min([`FAN_MARGIN`], m*/2), m* the best margin of any plane.
 /// Otherwise (strongly bent tiles, e.g. a valence-5 vertex on a 3×3 torus, where the Newell plane
-/// reverses one corner and the network folds) the normal is turned from the Newell normal towards
+/// reverses one corner and the network folds) the normal is turned from `start` towards
 /// the max-margin normal n* just far enough to reach margin m*/2 (bisection on the chord; the
 /// feasible set is a convex cone, so the first feasible point is found). n* = the min-norm point of conv{ĉ_k}, normalized
 /// (max_n min_k n·ĉ_k = min_{x ∈ conv ĉ} |x|), by Gilbert's algorithm.
@@ -248,16 +254,16 @@ fn fan_corners(dirs: &[DVec3], closed: bool) -> Vec<DVec3> {
 /// the turn from n₀, and takes the result n₁ only if the tangents' margin does not drop
 /// (min_k n₁·ĉ_k ≥ min_k n₀·ĉ_k over the tangent corners); otherwise, or when no plane orders the
 /// interleaved fan, n₀ stays.
-fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, newell: DVec3, vertices: bool) -> Option<DVec3> {
+fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, start: DVec3, vertices: bool) -> Option<DVec3> {
     let dirs = fan_dirs(p, ring, closed, vertices);
     let cs = fan_corners(&dirs, closed);
     if cs.is_empty() {
-        return Some(newell);
+        return Some(start);
     }
-    let margin = |n: DVec3| cs.iter().map(|c| c.dot(n)).fold(f64::INFINITY, f64::min);
+    let margin = |n: DVec3| fan_margin(&cs, n);
     let one_turn = |n: DVec3| !closed || one_turn(&dirs, n);
-    if margin(newell) >= FAN_MARGIN && one_turn(newell) {
-        return Some(newell);
+    if margin(start) >= FAN_MARGIN && one_turn(start) {
+        return Some(start);
     }
     // Gilbert's algorithm for the min-norm point of conv{ĉ_k}.
     let mut x = cs.iter().copied().sum::<DVec3>() / cs.len() as f64;
@@ -279,11 +285,11 @@ fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, newell: DVec3, vertices: b
     if !(m_best > 1e-9) || !one_turn(best) {
         return None;
     }
-    if margin(newell) >= FAN_MARGIN.min(0.5 * m_best) && one_turn(newell) {
-        return Some(newell);
+    if margin(start) >= FAN_MARGIN.min(0.5 * m_best) && one_turn(start) {
+        return Some(start);
     }
     let goal = 0.5 * m_best;
-    let at = |t: f64| ((1.0 - t) * newell + t * best).normalize_or_zero();
+    let at = |t: f64| ((1.0 - t) * start + t * best).normalize_or_zero();
     let ok = |n: DVec3| n != DVec3::ZERO && margin(n) >= goal;
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..60 {
