@@ -355,7 +355,8 @@ class Conversion:
     positions (V,3) float64, normals (V,3), triangles (T,3) uint32, quads (Q,4) uint32 (quad
     layout; quad k is triangles 2k, 2k+1), faces (the quads when there are any, else the
     triangles), edges (E,2) uint32 (every edge of the faces once, smaller vertex first) and
-    corner_edges (k·F,) uint32 (per face corner the edge to the next corner), face_patch (F,) uint32 (the patch or input face of each face), face_corner (F,)
+    corner_edges (k·F,) uint32 (per face corner the edge to the next corner), face_patch (F,)
+    uint32 (the patch or input face of each face), face_corner (F,)
     uint32 (the patch corner whose sector holds each face; empty for subdivision), cage_corner
     (F,2) uint32 (the cage face and the corner in it each face lies in; corner 0xFFFFFFFF for
     subdivision), cage_coords (4Q,2) or (3T,2) float64 (per face corner its bilinear
