@@ -463,3 +463,36 @@ fn dual_semi_sharp_cube_is_valid_and_g1_off_the_creases() {
         assert!(!conv.warnings.iter().any(|w| w.contains("built sharp")), "{:?}", conv.warnings);
     }
 }
+
+/// A corner vertex where a smooth edge lies next to a creased one is named in a warning: the
+/// creased tangent is pulled off the tangent plane and projected back only by 1 − w3, so the
+/// surface is not G1 across the smooth edge near it (docs/math.md#corners-with-smooth-curves);
+/// the report's G1 then shows it. A corner tag alone moves no tangent off the plane: G1 and no
+/// warning; a cube whose every edge is sharp has no smooth edge and no warning.
+#[test]
+fn corners_with_smooth_edges_are_warned() {
+    let warned = |c: &gbsurf::api::Conversion| -> Vec<String> {
+        c.warnings.iter().filter(|w| w.contains("corner vertices")).cloned().collect()
+    };
+    // Vertex 7 of the cube: a corner tag and one creased edge to a neighbour.
+    let m = cube();
+    let nb = edges(&m).into_iter().find(|e| e.contains(&7)).unwrap();
+    let mut tagged = with_creases(cube(), |e| e == nb, 0.5);
+    tagged.creases.vertices = vec![(7, 1.0)];
+    let c = convert(&tagged, &topology(), None).unwrap();
+    let w = warned(&c);
+    assert_eq!(w.len(), 1, "{:?}", c.warnings);
+    assert!(w[0].starts_with("1 corner vertices") && w[0].contains("(first: vertex 7)"), "{}", w[0]);
+    assert!(c.report.max_g1_deg > 1e-4, "G1 {}", c.report.max_g1_deg);
+    // The corner tag alone: G1 holds, nothing is said.
+    let mut corner_only = cube();
+    corner_only.creases.vertices = vec![(7, 1.0)];
+    let c = convert(&corner_only, &topology(), None).unwrap();
+    assert!(warned(&c).is_empty(), "{:?}", c.warnings);
+    assert!(c.report.max_g1_deg < 1e-4, "G1 {}", c.report.max_g1_deg);
+    // Every edge sharp: no smooth edge anywhere.
+    let c = convert(&with_creases(cube(), |_| true, 1.0), &topology(), None).unwrap();
+    assert!(warned(&c).is_empty(), "{:?}", c.warnings);
+    // Without crease data nothing is said.
+    assert!(warned(&convert(&cube(), &topology(), None).unwrap()).is_empty());
+}

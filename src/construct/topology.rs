@@ -433,7 +433,7 @@ fn crease_network(
             continue;
         }
         let w2 = sharp.get(1).map_or(0.0, |x| x.0);
-        let w3 = cu.max(sharp.get(2).map_or(0.0, |x| x.0));
+        let w3 = corner_weight(cu, &sharp);
         let tc = nodes[u.idx()];
         let (x, d) = if sharp.len() >= 2 {
             let a = mesh.position(mesh.target(sharp[0].1));
@@ -488,6 +488,49 @@ fn crease_network(
     }
 }
 
+/// Corner weight w3 = max(c_u, c_(3)) of a vertex with corner sharpness `cu` and incident
+/// edge sharpness `sharp` sorted in decreasing order (docs/math.md#creases).
+fn corner_weight(cu: f64, sharp: &[(f64, HalfedgeId)]) -> f64 {
+    cu.max(sharp.get(2).map_or(0.0, |x| x.0))
+}
+
+/// The warning for corner vertices (w3 > 0) where a smooth interior edge lies next to a creased
+/// one: the creased curve's tangent is pulled towards its edge, and at such a node the tangents
+/// are projected back onto the tangent plane only by 1 − w3, so the smooth curve's tangent and
+/// those of its two neighbouring curves (the other edge at the vertex in each of its two faces)
+/// are not coplanar: the surface is not G1 across the smooth curve near the node, and
+/// `max_g1_deg` includes it (docs/math.md#corners-with-smooth-curves). Smooth tangents alone are
+/// only moved by a linear map of the tangent plane and stay coplanar, so a corner tag without
+/// creased edges keeps G1. Vertices in `origin` numbering.
+fn corner_warning(mesh: &HalfEdgeMesh, opts: &ConvertOptions, origin: &[usize]) -> Option<String> {
+    if !mesh.has_creases() || !opts.best_plane {
+        return None;
+    }
+    let crease = |h: HalfedgeId| mesh.edge_crease(mesh.edge(h));
+    let corners: Vec<usize> = mesh
+        .vertices()
+        .filter(|&u| {
+            let mut sharp: Vec<(f64, HalfedgeId)> =
+                mesh.vertex_outgoing(u).map(|h| (crease(h), h)).filter(|x| x.0 > 0.0).collect();
+            sharp.sort_by(|a, b| b.0.total_cmp(&a.0));
+            corner_weight(mesh.vertex_crease(u), &sharp) > 0.0
+                && mesh.vertex_outgoing(u).any(|h| {
+                    let t = mesh.twin(h);
+                    crease(h) == 0.0
+                        && mesh.face(h).is_some()
+                        && mesh.face(t).is_some()
+                        && (crease(mesh.prev(h)) > 0.0 || crease(mesh.next(t)) > 0.0)
+                })
+        })
+        .map(|u| origin.get(u.idx()).copied().unwrap_or(u.idx()))
+        .collect();
+    let first = corners.iter().min()?;
+    Some(format!(
+        "{} corner vertices (three or more creased edges, or a corner tag) have a smooth edge next to a creased one (first: vertex {first}): the surface is not G1 across those smooth edges near the corner, and max G1 includes them (docs/math.md#corners-with-smooth-curves)",
+        corners.len()
+    ))
+}
+
 /// Topology-preserving construction (seed 000 §3, §4): interior valence-2 vertices dissolved and
 /// concave faces split by [`super::prepare`], then [`topology_network`] and [`assemble`]. One
 /// patch per face of the split mesh; its source is the input face it came from (a split face
@@ -510,6 +553,7 @@ pub fn build_topology_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker:
         *src = prep.source(*src);
     }
     s.warnings = prep.warnings.into_iter().chain(std::mem::take(&mut s.warnings)).collect();
+    s.warnings.extend(corner_warning(&prep.mesh, opts, &prep.vertex_origin));
     s.warnings.extend(super::network::split_warnings(&s.sources, &splits));
     Ok(s)
 }
