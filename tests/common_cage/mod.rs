@@ -60,13 +60,21 @@ pub fn loop_jump(m: &SurfaceMesh, values: &[f32], dim: usize, same_face: bool) -
     worst
 }
 
-/// Largest difference (any component) between the values at the two ends of an output quad's
-/// edge (quad layout).
-pub fn neighbour_difference(m: &SurfaceMesh, values: &[f32], dim: usize) -> f64 {
+/// Largest difference (any component) between the values of neighbouring output vertices (the
+/// two ends of an output quad's edge; quad layout), a vertex's value being that of its first
+/// loop (with `same_face`: its first loop in the quad's cage face), so the jumps of
+/// [`loop_jump`] show here too.
+pub fn neighbour_difference(m: &SurfaceMesh, values: &[f32], dim: usize, same_face: bool) -> f64 {
+    let face = |i: usize| if same_face { m.cage_corner[i / 4][0] } else { 0 };
+    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
+    for (i, &x) in m.quads.iter().flatten().enumerate() {
+        first.entry((x, face(i))).or_insert(i);
+    }
     let mut worst = 0f64;
-    for q in 0..m.quads.len() {
+    for (k, q) in m.quads.iter().enumerate() {
+        let f = face(4 * k);
         for c in 0..4 {
-            let (i, j) = (4 * q + c, 4 * q + (c + 1) % 4);
+            let (i, j) = (first[&(q[c], f)], first[&(q[(c + 1) % 4], f)]);
             for d in 0..dim {
                 worst = worst.max((values[i * dim + d] - values[j * dim + d]).abs() as f64);
             }
