@@ -125,8 +125,17 @@ fn hole_next_to_a_concave_outer_loop_is_g1_and_valid() {
 #[test]
 fn subdivision_methods_accept_holes() {
     for method in [Method::DooSabin, Method::CatmullClark] {
-        let c = convert(&two_holes(), &ConvertOptions { method, ..Default::default() }, None).unwrap();
+        let m = two_holes();
+        let c = convert(&m, &ConvertOptions { method, ..Default::default() }, None).unwrap();
         assert!(c.report.closed && c.report.two_manifold, "{method:?}");
+        // Every triangle descends from a face as the user wrote it (the holed caps 0 and 1
+        // included), not from a piece appended after the input faces.
+        let mut seen = vec![false; m.faces.len()];
+        for (&[f, k], &p) in c.mesh.cage_corner.iter().zip(&c.mesh.triangle_patch) {
+            assert!((f as usize) < m.faces.len() && k == u32::MAX && p == f, "{method:?}: [{f}, {k}], patch {p}");
+            seen[f as usize] = true;
+        }
+        assert!(seen.iter().all(|&s| s), "{method:?}: a face without triangles");
     }
 }
 
@@ -149,9 +158,11 @@ fn holed_cage_maps_name_the_users_corners_and_values_are_continuous() {
         for method in [Method::Dual, Method::Topology] {
             let c = convert(&m, &ConvertOptions { method, resolution: 4, ..Default::default() }, None).unwrap();
             let mesh = &c.mesh;
-            let mut named: Vec<Vec<bool>> = (0..m.faces.len()).map(|f| vec![false; user_loops(&m, f).concat().len()]).collect();
+            let mut named: Vec<Vec<bool>> =
+                (0..m.faces.len()).map(|f| vec![false; user_loops(&m, f).concat().len()]).collect();
             for &[f, k] in &mesh.cage_corner {
-                assert!((f as usize) < m.faces.len() && (k as usize) < named[f as usize].len(), "{name} {method:?}: [{f}, {k}]");
+                let known = (f as usize) < m.faces.len() && (k as usize) < named[f as usize].len();
+                assert!(known, "{name} {method:?}: [{f}, {k}]");
                 named[f as usize][k as usize] = true;
             }
             assert!(named.iter().flatten().all(|&b| b), "{name} {method:?}: a user corner without sectors");
@@ -177,7 +188,7 @@ fn holed_cage_maps_name_the_users_corners_and_values_are_continuous() {
             }
             assert_eq!(at_vertex.len(), m.positions.len(), "{name} {method:?}");
             let distinct: HashSet<u32> = at_vertex.values().copied().collect();
-            assert_eq!(distinct.len(), m.positions.len(), "{name} {method:?}: two cage vertices share an output vertex");
+            assert_eq!(distinct.len(), m.positions.len(), "{name} {method:?}: two cage vertices, one output vertex");
         }
     }
 }
@@ -206,7 +217,7 @@ fn checker_uvs_on_holed_faces_stay_continuous() {
             let uv = c.mesh.cage_loop_values(faces, &values, 2).unwrap();
             let jump = loop_jump(&c.mesh, &uv, 2, true);
             let step = neighbour_difference(&c.mesh, &uv, 2, true);
-            eprintln!("{name} {method:?}: checker UV jump within a face {jump:.2e}, max neighbour difference within a face {step:.3}");
+            eprintln!("{name} {method:?}: checker UV in a face: jump {jump:.2e}, neighbour difference {step:.3}");
             assert!(jump <= 1e-5, "{name} {method:?}: the UV jumps by {jump} inside a cage face");
         }
     }
