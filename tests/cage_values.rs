@@ -146,14 +146,16 @@ fn a_corner_of_a_hole_takes_its_own_loop_and_the_whole_face_mean() {
     assert_eq!(at([0, 9]), vec![23.0, 21.5, mean0 as f32, 22.5]);
     // corner 4 of face 1 is the second of its hole (value 41)
     assert_eq!(at([1, 4]), vec![41.0, 41.5, 36.0, 40.5]);
-    let e = cage_loop_values(faces, &values, 1, CageLoops { face_corner: &[], loop_corner: &[[1, 6]], coords: &[[0.0, 0.0]] });
+    let one = CageLoops { face_corner: &[], loop_corner: &[[1, 6]], coords: &[[0.0, 0.0]] };
+    let e = cage_loop_values(faces, &values, 1, one);
     assert_eq!(e, Err(CageValuesError::CornerOutOfRange { index: 0, face: 1, corner: 6, size: 6 }));
     // wrong hole inputs
     let bad = |hole_faces: &[u32], hole_sizes: &[u32]| {
         let faces = CageFaces { sizes: &[3, 3], hole_faces, hole_sizes };
         cage_loop_values(faces, &values, 1, CageLoops { face_corner: &[], loop_corner: &[], coords: &[] }).unwrap_err()
     };
-    assert_eq!(bad(&[1, 0, 0], &[3, 3]), CageValuesError::WrongLength { what: "hole sizes (one per hole face)", expected: 3, got: 2 });
+    let what = "hole sizes (one per hole face)";
+    assert_eq!(bad(&[1, 0, 0], &[3, 3]), CageValuesError::WrongLength { what, expected: 3, got: 2 });
     assert_eq!(bad(&[1, 2, 0], &[3, 3, 4]), CageValuesError::HoleFaceOutOfRange { hole: 1, face: 2, faces: 2 });
     assert_eq!(bad(&[1, 0, 0], &[3, 2, 4]), CageValuesError::HoleTooSmall { hole: 1, size: 2 });
     assert_eq!(
@@ -172,10 +174,11 @@ fn values_are_continuous_across_concave_splits() {
     for name in ["l_prism.obj", "star_prism.obj"] {
         let cage = model(name);
         let sizes: Vec<u32> = cage.faces.iter().map(|f| f.len() as u32).collect();
-        let (lo, hi) = cage.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| (l.min(*p), h.max(*p)));
+        let lo = cage.positions.iter().fold(DVec3::INFINITY, |l, p| l.min(*p));
+        let hi = cage.positions.iter().fold(DVec3::NEG_INFINITY, |h, p| h.max(*p));
         let extent = (hi - lo).max_element();
-        let values: Vec<f32> =
-            cage.faces.iter().flatten().flat_map(|&v| ((cage.positions[v as usize] - lo) / extent).to_array().map(|x| x as f32)).collect();
+        let uv = |v: u32| ((cage.positions[v as usize] - lo) / extent).to_array().map(|x| x as f32);
+        let values: Vec<f32> = cage.faces.iter().flatten().flat_map(|&v| uv(v)).collect();
         for method in [Method::Dual, Method::Topology] {
             let m = convert(&cage, &ConvertOptions { method, ..Default::default() }, None).unwrap().mesh;
             let out = m.cage_loop_values(&sizes, &values, 3).unwrap();

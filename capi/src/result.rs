@@ -1104,7 +1104,9 @@ unsafe fn cage_loop_values_body(
         gbsurf::tessellate::cage_loop_values_into(faces, values, dim, loops, out).map_err(|e| {
             use gbsurf::tessellate::CageValuesError as E;
             let code = match e {
-                E::FaceOutOfRange { .. } | E::CornerOutOfRange { .. } | E::HoleFaceOutOfRange { .. } => GBSURF_ERR_INDEX,
+                E::FaceOutOfRange { .. } | E::CornerOutOfRange { .. } | E::HoleFaceOutOfRange { .. } => {
+                    GBSURF_ERR_INDEX
+                }
                 E::NotFinite { .. } => GBSURF_ERR_NAN,
                 _ => GBSURF_ERR_COUNT,
             };

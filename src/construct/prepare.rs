@@ -67,7 +67,8 @@ impl Prepared<'_> {
         let face = self.input_face(input, f);
         let vertex = self.vertex_origin.get(m.origin(h).idx()).copied().unwrap_or(m.origin(h).idx());
         let corner = if g < input.n_faces() {
-            input.face_halfedges(FaceId(g as u32)).find(|&k| input.origin(k).idx() == vertex).and_then(|k| input.input_corner(k))
+            let mut around = input.face_halfedges(FaceId(g as u32));
+            around.find(|&k| input.origin(k).idx() == vertex).and_then(|k| input.input_corner(k))
         } else {
             None
         };

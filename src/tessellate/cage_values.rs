@@ -6,9 +6,10 @@
 //! a(σ, τ) = (1−τ)·[(1−σ)·a_k + σ·½(a_k + a_{k+1})] + τ·[(1−σ)·½(a_k + a_{k−1}) + σ·ā],
 //!
 //! a_k the value at corner k of face f, a_{k±1} its neighbours in the face (for a face with holes:
-//! in k's own loop), ā the mean over the face's corners (all its loops). The four values are tabulated once per cage corner; each loop then costs four
-//! reads and three lerps. One definition for every adapter: the Blender add-on, C and C++ call it
-//! through `gbsurf_cage_loop_values` (`gbsurf_cage_loop_values_holed` for faces with holes).
+//! in k's own loop), ā the mean over the face's corners (all its loops). The four values are
+//! tabulated once per cage corner; each loop then costs four reads and three lerps. One
+//! definition for every adapter: the Blender add-on, C and C++ call it through
+//! `gbsurf_cage_loop_values` (`gbsurf_cage_loop_values_holed` for faces with holes).
 
 use crate::limits::MAX_CAGE_VALUE_DIM;
 use rayon::prelude::*;
@@ -85,7 +86,8 @@ impl LoopStarts {
     fn new(faces: CageFaces<'_>) -> Result<Self, CageValuesError> {
         let (nf, nh) = (faces.sizes.len(), faces.hole_faces.len());
         if faces.hole_sizes.len() != nh {
-            return Err(CageValuesError::WrongLength { what: "hole sizes (one per hole face)", expected: nh, got: faces.hole_sizes.len() });
+            let got = faces.hole_sizes.len();
+            return Err(CageValuesError::WrongLength { what: "hole sizes (one per hole face)", expected: nh, got });
         }
         // Holes grouped by face, in order (a counting sort).
         let mut first = vec![0usize; nf + 1];
@@ -147,7 +149,12 @@ const CHUNK: usize = 1 << 14;
 /// e.g. a hand-built surface) get 0. Values are f32 (like Blender's UVs and weights); the face
 /// means are summed in f64. A corner of a face with holes takes its neighbours a_{k±1} in its
 /// own loop and ā over all the face's corners.
-pub fn cage_loop_values<'a>(faces: impl Into<CageFaces<'a>>, values: &[f32], dim: usize, loops: CageLoops<'_>) -> Result<Vec<f32>, CageValuesError> {
+pub fn cage_loop_values<'a>(
+    faces: impl Into<CageFaces<'a>>,
+    values: &[f32],
+    dim: usize,
+    loops: CageLoops<'_>,
+) -> Result<Vec<f32>, CageValuesError> {
     check_dim(dim)?;
     let mut out = vec![0f32; loops.coords.len() * dim];
     cage_loop_values_into(faces, values, dim, loops, &mut out)?;
@@ -165,7 +172,13 @@ fn check_dim(dim: usize) -> Result<(), CageValuesError> {
 
 /// [`cage_loop_values`] written into `out` (`dim` × loops values; the C ABI's buffer). `out` is
 /// written only when every input is valid.
-pub fn cage_loop_values_into<'a>(faces: impl Into<CageFaces<'a>>, values: &[f32], dim: usize, loops: CageLoops<'_>, out: &mut [f32]) -> Result<(), CageValuesError> {
+pub fn cage_loop_values_into<'a>(
+    faces: impl Into<CageFaces<'a>>,
+    values: &[f32],
+    dim: usize,
+    loops: CageLoops<'_>,
+    out: &mut [f32],
+) -> Result<(), CageValuesError> {
     check_dim(dim)?;
     let layout = LoopStarts::new(faces.into())?;
     let n_faces = layout.face.len() - 1;
@@ -270,9 +283,15 @@ pub fn cage_loop_values_into<'a>(faces: impl Into<CageFaces<'a>>, values: &[f32]
 impl super::SurfaceMesh {
     /// [`cage_loop_values`] at this mesh's face corners (quads, or triangles in the triangle
     /// layout; empty for the subdivision methods), for the cage `faces` it was built from (face
-    /// sizes, or [`CageFaces`] with holes). [`CageValuesError::NoCageMaps`] when the mesh has faces but was converted with
-    /// [`crate::options::ConvertOptions::cage_maps`] off (no cage corners at all).
-    pub fn cage_loop_values<'a>(&self, faces: impl Into<CageFaces<'a>>, values: &[f32], dim: usize) -> Result<Vec<f32>, CageValuesError> {
+    /// sizes, or [`CageFaces`] with holes). [`CageValuesError::NoCageMaps`] when the mesh has
+    /// faces but was converted with [`crate::options::ConvertOptions::cage_maps`] off (no cage
+    /// corners at all).
+    pub fn cage_loop_values<'a>(
+        &self,
+        faces: impl Into<CageFaces<'a>>,
+        values: &[f32],
+        dim: usize,
+    ) -> Result<Vec<f32>, CageValuesError> {
         if self.cage_corner.is_empty() && !(self.quads.is_empty() && self.triangles.is_empty()) {
             return Err(CageValuesError::NoCageMaps);
         }

@@ -26,7 +26,8 @@ pub fn cage_faces(cage: &PolyMesh) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 /// `value(vertex)` per face corner in the user's numbering (face by face, outer loop then holes).
 pub fn per_corner<const D: usize>(cage: &PolyMesh, value: impl Fn(usize, u32) -> [f32; D]) -> Vec<f32> {
     let value = &value;
-    (0..cage.faces.len()).flat_map(|f| user_loops(cage, f).concat().into_iter().flat_map(move |v| value(f, v))).collect::<Vec<_>>()
+    let corners = |f: usize| user_loops(cage, f).concat().into_iter().flat_map(move |v| value(f, v));
+    (0..cage.faces.len()).flat_map(corners).collect()
 }
 
 /// The cage point of (σ, τ) in corner k of face f (the keep-corners rule with the cage's

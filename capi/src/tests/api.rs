@@ -1128,13 +1128,15 @@ fn cage_loop_values_holed_takes_the_users_corners() {
     let mut loops: Vec<Vec<u32>> = f.chunks(4).map(<[u32]>::to_vec).collect();
     loops[0].extend_from_slice(&idx[..4]);
     loops[1].extend_from_slice(&idx[4..]);
-    let values: Vec<f32> = loops.iter().flatten().flat_map(|&v| [0, 1, 2].map(|c| p[3 * v as usize + c] as f32)).collect();
+    let values: Vec<f32> =
+        loops.iter().flatten().flat_map(|&v| [0, 1, 2].map(|c| p[3 * v as usize + c] as f32)).collect();
     let holes = vec![
         gbsurf::mesh::Hole { face: 0, vertices: idx[..4].to_vec() },
         gbsurf::mesh::Hole { face: 1, vertices: idx[4..].to_vec() },
     ];
     let faces = f.chunks(4).map(<[u32]>::to_vec).collect();
-    let mesh = gbsurf::mesh::PolyMesh { holes, ..gbsurf::mesh::PolyMesh::new(p.chunks(3).map(gbsurf::DVec3::from_slice).collect(), faces) };
+    let positions = p.chunks(3).map(gbsurf::DVec3::from_slice).collect();
+    let mesh = gbsurf::mesh::PolyMesh { holes, ..gbsurf::mesh::PolyMesh::new(positions, faces) };
     let opts = gbsurf::api::ConvertOptions { resolution: 4, ..gbsurf::api::ConvertOptions::default() };
     let cage = gbsurf::tessellate::CageFaces { sizes: &s, hole_faces: &hf, hole_sizes: &hs };
     let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
@@ -1170,7 +1172,8 @@ fn cage_loop_values_holed_takes_the_users_corners() {
         // Without the holes the values are too many, and with the faces' outer sizes alone
         // (values to match) the corners past the outer loops are out of range.
         let plain = |vlen: usize, out: &mut [f32]| {
-            gbsurf_cage_loop_values(s.as_ptr(), s.len(), values.as_ptr(), vlen, 3, fc, fl, lc, ll, cc, cl, out.as_mut_ptr(), out.len())
+            let (o, olen) = (out.as_mut_ptr(), out.len());
+            gbsurf_cage_loop_values(s.as_ptr(), s.len(), values.as_ptr(), vlen, 3, fc, fl, lc, ll, cc, cl, o, olen)
         };
         assert_eq!(plain(values.len(), &mut out), GBSURF_ERR_COUNT, "{}", last());
         assert_eq!(plain(3 * 40, &mut out), GBSURF_ERR_INDEX, "{}", last());
