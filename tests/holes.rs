@@ -7,8 +7,13 @@ use gbsurf::mesh::geometry::{is_convex_polygon, polygon_area};
 use gbsurf::mesh::holes::split_holes;
 use gbsurf::mesh::io::parse_obj;
 use gbsurf::mesh::{Hole, HoleDefect, HalfEdgeMesh, MeshError, PolyMesh};
+use gbsurf::tessellate::CageFaces;
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
+use std::collections::{HashMap, HashSet};
+
+mod common_cage;
+use common_cage::{cage_faces, cage_point, loop_jump, neighbour_difference, per_corner, user_loops};
 
 /// A slab of thickness 1 over the counter-clockwise polygon `outer` with counter-clockwise
 /// `holes` cut through it: top face (index 0) and bottom face (index 1) carry the holes, then the
@@ -120,8 +125,101 @@ fn hole_next_to_a_concave_outer_loop_is_g1_and_valid() {
 #[test]
 fn subdivision_methods_accept_holes() {
     for method in [Method::DooSabin, Method::CatmullClark] {
-        let c = convert(&two_holes(), &ConvertOptions { method, ..Default::default() }, None).unwrap();
+        let m = two_holes();
+        let c = convert(&m, &ConvertOptions { method, ..Default::default() }, None).unwrap();
         assert!(c.report.closed && c.report.two_manifold, "{method:?}");
+        // Every triangle descends from a face as the user wrote it (the holed caps 0 and 1
+        // included), not from a piece appended after the input faces.
+        let mut seen = vec![false; m.faces.len()];
+        for (&[f, k], &p) in c.mesh.cage_corner.iter().zip(&c.mesh.triangle_patch) {
+            assert!((f as usize) < m.faces.len() && k == u32::MAX && p == f, "{method:?}: [{f}, {k}], patch {p}");
+            seen[f as usize] = true;
+        }
+        assert!(seen.iter().all(|&s| s), "{method:?}: a face without triangles");
+    }
+}
+
+/// The slabs of the module's tests, by name.
+fn holed_slabs() -> [(&'static str, PolyMesh); 3] {
+    [("one hole", one_hole()), ("two holes", two_holes()), ("concave outer", concave_outer())]
+}
+
+/// The cage maps name the user's face and corner (outer loop, then the holes' loops; every
+/// corner of a holed face is named), the keep-corners values at the loops are the cage points
+/// of those corners, and the values of a per-vertex attribute (the cage positions) are
+/// continuous everywhere, across the split diagonals too (docs/math.md#cage-corners). Bound:
+/// the values are f32 of magnitude ≤ 4 after a mean and three lerps, a few ulps (≈ 2e-6); 1e-5.
+#[test]
+fn holed_cage_maps_name_the_users_corners_and_values_are_continuous() {
+    for (name, m) in holed_slabs() {
+        let (sizes, hole_faces, hole_sizes) = cage_faces(&m);
+        let faces = CageFaces { sizes: &sizes, hole_faces: &hole_faces, hole_sizes: &hole_sizes };
+        let values = per_corner(&m, |_, v| m.positions[v as usize].to_array().map(|x| x as f32));
+        for method in [Method::Dual, Method::Topology] {
+            let c = convert(&m, &ConvertOptions { method, resolution: 4, ..Default::default() }, None).unwrap();
+            let mesh = &c.mesh;
+            let mut named: Vec<Vec<bool>> =
+                (0..m.faces.len()).map(|f| vec![false; user_loops(&m, f).concat().len()]).collect();
+            for &[f, k] in &mesh.cage_corner {
+                let known = (f as usize) < m.faces.len() && (k as usize) < named[f as usize].len();
+                assert!(known, "{name} {method:?}: [{f}, {k}]");
+                named[f as usize][k as usize] = true;
+            }
+            assert!(named.iter().flatten().all(|&b| b), "{name} {method:?}: a user corner without sectors");
+            let out = mesh.cage_loop_values(faces, &values, 3).unwrap();
+            for (i, st) in mesh.cage_coords.iter().enumerate() {
+                let want = cage_point(&m, mesh.cage_corner[i / 4], *st);
+                let got = DVec3::new(out[3 * i] as f64, out[3 * i + 1] as f64, out[3 * i + 2] as f64);
+                assert!(got.distance(want) <= 1e-5, "{name} {method:?} loop {i}: {got} vs {want}");
+            }
+            let (jump, step) = (loop_jump(mesh, &out, 3, false), neighbour_difference(mesh, &out, 3, false));
+            eprintln!("{name} {method:?}: positions jump {jump:.2e}, max neighbour difference {step:.3}");
+            assert!(jump <= 1e-5, "{name} {method:?}: the positions jump by {jump} at an output vertex");
+            // The (0,0) loops of a cage vertex, named through any of its faces (walls as written,
+            // caps in the user's numbering), meet in one output vertex, one per cage vertex.
+            let mut at_vertex: HashMap<u32, u32> = HashMap::new();
+            for (i, st) in mesh.cage_coords.iter().enumerate() {
+                if *st == [0.0, 0.0] {
+                    let [f, k] = mesh.cage_corner[i / 4];
+                    let v = user_loops(&m, f as usize).concat()[k as usize];
+                    let x = mesh.quads[i / 4][i % 4];
+                    assert_eq!(*at_vertex.entry(v).or_insert(x), x, "{name} {method:?}: corner loops of vertex {v}");
+                }
+            }
+            assert_eq!(at_vertex.len(), m.positions.len(), "{name} {method:?}");
+            let distinct: HashSet<u32> = at_vertex.values().copied().collect();
+            assert_eq!(distinct.len(), m.positions.len(), "{name} {method:?}: two cage vertices, one output vertex");
+        }
+    }
+}
+
+/// A checker-like UV map (each cage face its own island: the caps a planar projection, the walls
+/// the unit square) stays continuous within every cage face, across the diagonals of the holed
+/// caps too (same bound as above); across cage edges it may jump (the islands' seams).
+#[test]
+fn checker_uvs_on_holed_faces_stay_continuous() {
+    for (name, m) in holed_slabs() {
+        let (sizes, hole_faces, hole_sizes) = cage_faces(&m);
+        let faces = CageFaces { sizes: &sizes, hole_faces: &hole_faces, hole_sizes: &hole_sizes };
+        let square = [[0.0f32, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let values: Vec<f32> = (0..m.faces.len())
+            .flat_map(|f| {
+                let corners = user_loops(&m, f).concat();
+                let m = &m;
+                corners.into_iter().enumerate().flat_map(move |(k, v)| {
+                    let p = m.positions[v as usize];
+                    if f < 2 { [p.x as f32 + 10.0 * f as f32, p.y as f32] } else { square[k % 4] }
+                })
+            })
+            .collect();
+        for method in [Method::Dual, Method::Topology] {
+            let c = convert(&m, &ConvertOptions { method, resolution: 4, ..Default::default() }, None).unwrap();
+            let uv = c.mesh.cage_loop_values(faces, &values, 2).unwrap();
+            let jump = loop_jump(&c.mesh, &uv, 2, true);
+            let step = neighbour_difference(&c.mesh, &uv, 2, true);
+            eprintln!("{name} {method:?}: checker UV in a face: jump {jump:.2e}, neighbour difference {step:.3}");
+            assert!(jump <= 1e-5, "{name} {method:?}: the UV jumps by {jump} inside a cage face");
+        }
     }
 }
 
@@ -130,14 +228,15 @@ fn subdivision_methods_accept_holes() {
 #[test]
 fn square_ring_splits_into_four_trapezoids() {
     let m = one_hole();
-    let (split, origin) = split_holes(&m).unwrap();
-    let top: Vec<&Vec<u32>> = split.faces.iter().zip(&origin).filter(|(_, &o)| o == 0).map(|(f, _)| f).collect();
+    let hs = split_holes(&m).unwrap();
+    let (split, origin) = (&hs.mesh, &hs.origin);
+    let top: Vec<&Vec<u32>> = split.faces.iter().zip(origin).filter(|(_, &o)| o == 0).map(|(f, _)| f).collect();
     assert_eq!(top.len(), 4);
     assert!(top.iter().all(|f| f.len() == 4));
     assert_eq!(split.faces.len(), m.faces.len() + 6);
     assert!(split.holes.is_empty());
     // deterministic: the same mesh splits the same way
-    assert_eq!(split_holes(&m).unwrap(), (split, origin));
+    assert_eq!(split_holes(&m).unwrap(), hs);
 }
 
 #[test]
@@ -274,8 +373,14 @@ proptest! {
             hole_list.push(Hole { face: 0, vertices: (s..positions.len() as u32).rev().collect() });
         }
         let m = PolyMesh { holes: hole_list, ..PolyMesh::new(positions, vec![face]) };
-        let (split, origin) = split_holes(&m).unwrap();
+        let hs = split_holes(&m).unwrap();
+        let (split, origin) = (&hs.mesh, &hs.origin);
         prop_assert!(origin.iter().all(|&o| o == 0));
+        // every piece corner names its vertex's user corner (outer loop, then the holes)
+        let user: Vec<u32> = m.faces[0].iter().chain(m.holes.iter().flat_map(|h| &h.vertices)).copied().collect();
+        for (f, corners) in split.faces.iter().zip(&hs.corner) {
+            prop_assert_eq!(corners.iter().map(|&k| user[k as usize]).collect::<Vec<_>>(), f.clone());
+        }
         let expect = area2(&outer) - holes.iter().map(|h| area2(h)).sum::<f64>();
         let mut total = 0.0;
         for f in &split.faces {
@@ -285,6 +390,6 @@ proptest! {
         }
         prop_assert!((total - expect).abs() <= 1e-9 * expect, "{total} vs {expect}");
         // every vertex of every loop is used, and every edge is in at most two pieces
-        prop_assert!(HalfEdgeMesh::from_polymesh(&split).is_ok());
+        prop_assert!(HalfEdgeMesh::from_polymesh(split).is_ok());
     }
 }

@@ -949,7 +949,7 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_loop_corner(
 /// mean and ½(a_k + a_{k−1}). For UV maps (dim 2), colours, weights per corner.
 ///
 /// - `face_sizes[n_faces]`: the corner count of every face of the control mesh the result was
-///   built from, in input order;
+///   built from, in input order (faces with holes: `gbsurf_cage_loop_values_holed`);
 /// - `values[values_len]`: `dim` floats per cage face corner, in face-corner order
 ///   (`values_len` = dim × Σ face_sizes);
 /// - `face_corner[face_corner_len]`, `loop_corner[loop_corner_len]`, `coords[coords_len]`: the
@@ -983,11 +983,93 @@ pub unsafe extern "C" fn gbsurf_cage_loop_values(
     out: *mut f32,
     out_len: usize,
 ) -> u32 {
-    boundary("gbsurf_cage_loop_values", || {
+    // SAFETY: the same contract, no holes.
+    unsafe {
+        cage_loop_values_body(
+            "gbsurf_cage_loop_values",
+            (face_sizes, n_faces, std::ptr::null(), std::ptr::null(), 0),
+            (values, values_len, dim),
+            (face_corner, face_corner_len, loop_corner, loop_corner_len, coords, coords_len),
+            (out, out_len),
+        )
+    }
+}
+
+/// `gbsurf_cage_loop_values` for a control mesh with faces with holes (as given to
+/// `gbsurf_convert_holed`). Values are given per face corner in the user's numbering
+/// (docs/math.md#cage-corners): face by face, the corners of its outer loop
+/// (`face_sizes[f]`), then those of each of its holes in hole order; the result's cage corners
+/// use the same numbering. A corner's neighbours a_{k±1} are those in its own loop, the face mean
+/// is over all its loops' corners.
+///
+/// - `hole_faces[n_holes]`, `hole_sizes[n_holes]`: per hole, its face and corner count
+///   (`GbsurfHoles::faces`, `GbsurfHoles::sizes`); NULL with `n_holes` = 0 for none;
+/// - the other arguments as for `gbsurf_cage_loop_values` (`values_len` = dim × (Σ face_sizes +
+///   Σ hole_sizes)).
+///
+/// Errors: as `gbsurf_cage_loop_values`; also `_INDEX` (a hole naming a face outside
+/// `face_sizes`) and `_COUNT` (a hole with fewer than 3 corners).
+///
+/// # Safety
+/// As for `gbsurf_cage_loop_values`; `hole_faces` and `hole_sizes` point to `n_holes` readable
+/// values (NULL only when `n_holes` is 0).
+#[no_mangle]
+pub unsafe extern "C" fn gbsurf_cage_loop_values_holed(
+    face_sizes: *const u32,
+    n_faces: usize,
+    hole_faces: *const u32,
+    hole_sizes: *const u32,
+    n_holes: usize,
+    values: *const f32,
+    values_len: usize,
+    dim: usize,
+    face_corner: *const u32,
+    face_corner_len: usize,
+    loop_corner: *const u32,
+    loop_corner_len: usize,
+    coords: *const f64,
+    coords_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> u32 {
+    // SAFETY: the contract above.
+    unsafe {
+        cage_loop_values_body(
+            "gbsurf_cage_loop_values_holed",
+            (face_sizes, n_faces, hole_faces, hole_sizes, n_holes),
+            (values, values_len, dim),
+            (face_corner, face_corner_len, loop_corner, loop_corner_len, coords, coords_len),
+            (out, out_len),
+        )
+    }
+}
+
+/// The cage faces of [`cage_loop_values_body`]: face sizes, their count, hole faces, hole sizes,
+/// the hole count.
+type CageFacesArgs = (*const u32, usize, *const u32, *const u32, usize);
+/// The cage maps of [`cage_loop_values_body`]: face corners, loop corners and coordinates with
+/// their lengths.
+type CageMapArgs = (*const u32, usize, *const u32, usize, *const f64, usize);
+
+/// The one body of `gbsurf_cage_loop_values` and `gbsurf_cage_loop_values_holed`, behind the
+/// panic boundary named `name`.
+///
+/// # Safety
+/// As `gbsurf_cage_loop_values_holed`.
+unsafe fn cage_loop_values_body(
+    name: &'static str,
+    (face_sizes, n_faces, hole_faces, hole_sizes, n_holes): CageFacesArgs,
+    (values, values_len, dim): (*const f32, usize, usize),
+    (face_corner, face_corner_len, loop_corner, loop_corner_len, coords, coords_len): CageMapArgs,
+    (out, out_len): (*mut f32, usize),
+) -> u32 {
+    boundary(name, || {
         // SAFETY: pointer/length pairs (contract).
-        let (sizes, values, face_corner, loop_corner, coords) = unsafe {
+        let (sizes, hole_faces, hole_sizes, values, face_corner, loop_corner, coords) = unsafe {
             (
                 slice_arg(face_sizes, n_faces, "face_sizes")?,
+                slice_arg(hole_faces, n_holes, "hole_faces")?,
+                slice_arg(hole_sizes, n_holes, "hole_sizes")?,
                 slice_arg(values, values_len, "values")?,
                 slice_arg(face_corner, face_corner_len, "face_corner")?,
                 slice_arg(loop_corner, loop_corner_len, "loop_corner")?,
@@ -1008,6 +1090,8 @@ pub unsafe extern "C" fn gbsurf_cage_loop_values(
         let bytes = |x: usize, size: usize| x.saturating_mul(size);
         let inputs = [
             ("face_sizes", face_sizes as *const u8, bytes(n_faces, 4)),
+            ("hole_faces", hole_faces.as_ptr() as *const u8, bytes(hole_faces.len(), 4)),
+            ("hole_sizes", hole_sizes.as_ptr() as *const u8, bytes(hole_sizes.len(), 4)),
             ("values", values.as_ptr() as *const u8, bytes(values.len(), 4)),
             ("face_corner", face_corner.as_ptr() as *const u8, bytes(face_corner.len(), 8)),
             ("loop_corner", loop_corner.as_ptr() as *const u8, bytes(loop_corner.len(), 8)),
@@ -1016,10 +1100,13 @@ pub unsafe extern "C" fn gbsurf_cage_loop_values(
         // SAFETY: `out` has out_len writable floats (contract); overlap with the inputs is refused.
         let out = unsafe { slice_arg_mut(out, out_len, "out", &inputs)? };
         let loops = gbsurf::tessellate::CageLoops { face_corner, loop_corner, coords };
-        gbsurf::tessellate::cage_loop_values_into(sizes, values, dim, loops, out).map_err(|e| {
+        let faces = gbsurf::tessellate::CageFaces { sizes, hole_faces, hole_sizes };
+        gbsurf::tessellate::cage_loop_values_into(faces, values, dim, loops, out).map_err(|e| {
             use gbsurf::tessellate::CageValuesError as E;
             let code = match e {
-                E::FaceOutOfRange { .. } | E::CornerOutOfRange { .. } => GBSURF_ERR_INDEX,
+                E::FaceOutOfRange { .. } | E::CornerOutOfRange { .. } | E::HoleFaceOutOfRange { .. } => {
+                    GBSURF_ERR_INDEX
+                }
                 E::NotFinite { .. } => GBSURF_ERR_NAN,
                 _ => GBSURF_ERR_COUNT,
             };

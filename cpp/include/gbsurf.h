@@ -620,7 +620,7 @@ uint32_t gbsurf_mesh_cage_loop_corner(const GbsurfResult *result,
 // mean and ½(a_k + a_{k−1}). For UV maps (dim 2), colours, weights per corner.
 //
 // - `face_sizes[n_faces]`: the corner count of every face of the control mesh the result was
-//   built from, in input order;
+//   built from, in input order (faces with holes: `gbsurf_cage_loop_values_holed`);
 // - `values[values_len]`: `dim` floats per cage face corner, in face-corner order
 //   (`values_len` = dim × Σ face_sizes);
 // - `face_corner[face_corner_len]`, `loop_corner[loop_corner_len]`, `coords[coords_len]`: the
@@ -651,6 +651,41 @@ uint32_t gbsurf_cage_loop_values(const uint32_t *face_sizes,
                                  size_t coords_len,
                                  float *out,
                                  size_t out_len);
+
+// `gbsurf_cage_loop_values` for a control mesh with faces with holes (as given to
+// `gbsurf_convert_holed`). Values are given per face corner in the user's numbering
+// (docs/math.md#cage-corners): face by face, the corners of its outer loop
+// (`face_sizes[f]`), then those of each of its holes in hole order; the result's cage corners
+// use the same numbering. A corner's neighbours a_{k±1} are those in its own loop, the face mean
+// is over all its loops' corners.
+//
+// - `hole_faces[n_holes]`, `hole_sizes[n_holes]`: per hole, its face and corner count
+//   (`GbsurfHoles::faces`, `GbsurfHoles::sizes`); NULL with `n_holes` = 0 for none;
+// - the other arguments as for `gbsurf_cage_loop_values` (`values_len` = dim × (Σ face_sizes +
+//   Σ hole_sizes)).
+//
+// Errors: as `gbsurf_cage_loop_values`; also `_INDEX` (a hole naming a face outside
+// `face_sizes`) and `_COUNT` (a hole with fewer than 3 corners).
+//
+// # Safety
+// As for `gbsurf_cage_loop_values`; `hole_faces` and `hole_sizes` point to `n_holes` readable
+// values (NULL only when `n_holes` is 0).
+uint32_t gbsurf_cage_loop_values_holed(const uint32_t *face_sizes,
+                                       size_t n_faces,
+                                       const uint32_t *hole_faces,
+                                       const uint32_t *hole_sizes,
+                                       size_t n_holes,
+                                       const float *values,
+                                       size_t values_len,
+                                       size_t dim,
+                                       const uint32_t *face_corner,
+                                       size_t face_corner_len,
+                                       const uint32_t *loop_corner,
+                                       size_t loop_corner_len,
+                                       const double *coords,
+                                       size_t coords_len,
+                                       float *out,
+                                       size_t out_len);
 
 // View of the per-triangle patch index (patch methods: the patch it was sampled from;
 // subdivision methods: the input face it descends from); quad k's patch is triangle 2k's.

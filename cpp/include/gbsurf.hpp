@@ -157,6 +157,8 @@ struct ribbon_shape {
 /// The result of a conversion (owns a GbsurfResult handle; move-only, noexcept moves; a
 /// moved-from result throws GBSURF_ERR_NULL from every accessor). The spans returned point into
 /// the handle: valid while this result lives (view accessors are deleted on temporaries).
+struct holes;
+
 class result {
 public:
     explicit result(GbsurfResult* h) : h_(h) {}
@@ -199,6 +201,12 @@ public:
                                       out.size()));
         return out;
     }
+    /// cage_loop_values for a control mesh with faces with holes `h` (the holes it was converted
+    /// with): `values` has `dim` floats per face corner in the user's numbering, face by face the
+    /// corners of its outer loop, then those of each of its holes in order (see
+    /// gbsurf_cage_loop_values_holed). Defined after `holes`.
+    std::vector<float> cage_loop_values(const std::vector<uint32_t>& face_sizes, const holes& h,
+                                        const std::vector<float>& values, std::size_t dim) const;
     /// Patch (or, for subdivision, input face) index per vertex.
     span<uint32_t> patch_index() const& { return view(gbsurf_mesh_patch_index); }
     span<uint32_t> patch_index() const&& = delete;
@@ -452,6 +460,21 @@ struct holes {
         return *this;
     }
 };
+
+inline std::vector<float> result::cage_loop_values(const std::vector<uint32_t>& face_sizes, const holes& h,
+                                                  const std::vector<float>& values, std::size_t dim) const {
+    if (h.faces.size() != h.sizes.size()) {
+        throw error(GBSURF_ERR_COUNT, "holes: need one size per hole face");
+    }
+    span<uint32_t> fc = view(gbsurf_mesh_cage_corner);
+    span<uint32_t> lc = view(gbsurf_mesh_cage_loop_corner);
+    span<double> st = view(gbsurf_mesh_cage_coords);
+    std::vector<float> out(st.size() / 2 * dim);
+    check(gbsurf_cage_loop_values_holed(face_sizes.data(), face_sizes.size(), h.faces.data(), h.sizes.data(),
+                                        h.faces.size(), values.data(), values.size(), dim, fc.data(), fc.size(),
+                                        lc.data(), lc.size(), st.data(), st.size(), out.data(), out.size()));
+    return out;
+}
 
 /// Converts a polygon mesh with creases and faces with holes (see gbsurf_convert_holed). The
 /// arrays must pair up (as for the creases overload; one face and one size per hole, the sizes

@@ -234,6 +234,35 @@ int main() {
         const GbsurfReport r = c.report();
         CHECK(r.closed && r.two_manifold);
         CHECK(r.max_g1_deg <= 1e-4);
+        // Cage values in the user's numbering: face 0's corners are its outer loop (4) then its
+        // hole (4); the cage positions as values come back at the loops' cage vertices.
+        {
+            std::vector<std::vector<uint32_t>> loops;
+            for (std::size_t f = 0; f < hs.size(); ++f) loops.emplace_back(hf.begin() + 4 * f, hf.begin() + 4 * f + 4);
+            loops[0].insert(loops[0].end(), {15, 14, 13, 12});
+            loops[1].insert(loops[1].end(), {8, 9, 10, 11});
+            std::vector<float> values;
+            for (const auto& l : loops)
+                for (uint32_t v : l)
+                    for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>(hp[3 * v + k]));
+            const auto out = c.cage_loop_values(hs, h, values, 3);
+            const auto corner = c.cage_corner();
+            const double* d = nullptr;
+            std::size_t len = 0;
+            CHECK(gbsurf_mesh_cage_coords(c.get(), &d, &len) == GBSURF_OK && out.size() == 3 * (len / 2));
+            bool exact = true, past_outer = false;
+            for (std::size_t i = 0; i < len / 2; ++i) {
+                const uint32_t f = corner[2 * (i / 4)], k = corner[2 * (i / 4) + 1];
+                past_outer = past_outer || (f < 2 && k >= 4);
+                if (d[2 * i] == 0 && d[2 * i + 1] == 0)
+                    for (int c3 = 0; c3 < 3; ++c3)
+                        exact = exact && out[3 * i + c3] == static_cast<float>(hp[3 * loops[f][k] + c3]);
+            }
+            CHECK(exact && past_outer);
+            CHECK(code_of([&] { (void)c.cage_loop_values(hs, values, 3); }) == GBSURF_ERR_COUNT);
+            CHECK(code_of([&] { (void)c.cage_loop_values(hs, gbsurf::holes().add(99, {8, 9, 10, 11}), values, 3); }) ==
+                  GBSURF_ERR_INDEX);
+        }
         gbsurf::holes wrong;
         wrong.add(0, {12, 13, 14, 15});
         CHECK(code_of([&] { gbsurf::convert(hp, hs, hf, wrong, opt); }) == GBSURF_ERR_INVALID_MESH);

@@ -265,7 +265,8 @@ fn convert_valid(
         (m, Some(surface))
     } else {
         ticker.stage(0.0, SUBDIV_STAGES[0])?;
-        let (m, faces) = subdivision_mesh(&he.to_polymesh(), options, ticker)?;
+        let input_face = |f: u32| he.input_face(crate::mesh::FaceId(f)) as u32;
+        let (m, faces) = subdivision_mesh(&he.to_polymesh(), &input_face, options, ticker)?;
         for f in &faces {
             report.count_sides(f.len());
         }

@@ -16,10 +16,13 @@ const SHARES: [f32; 4] = [0.6, 0.7, 0.8, 0.85];
 /// the face of its first such point — see [`crate::subdiv::doo_sabin`]'s output order). The result
 /// is split into convex pieces ([`crate::mesh::geometry::convexify`]) and fan-triangulated.
 /// Normals: area-weighted; curvatures: [`crate::quality::discrete_curvature`]; G1 deviation 0;
-/// patch index (per vertex: the smallest over its triangles) = input face.
+/// patch index (per vertex: the smallest over its triangles) = input face, as the user wrote it:
+/// `input_face` maps a face of `mesh` to it (the pieces of a face with holes to that face,
+/// [`crate::mesh::HalfEdgeMesh::input_face`]).
 /// Progress goes to `ticker` (its current range; shares in [`SHARES`]).
 pub(super) fn subdivision_mesh(
     mesh: &PolyMesh,
+    input_face: &dyn Fn(u32) -> u32,
     options: &ConvertOptions,
     ticker: &mut Ticker<'_>,
 ) -> Result<(SurfaceMesh, Vec<Vec<u32>>), ConvertError> {
@@ -54,7 +57,7 @@ pub(super) fn subdivision_mesh(
     let nf = convex.faces.len();
     for (k, f) in convex.faces.iter().enumerate() {
         ticker.at_part(s_convex, s_triangulated, k, nf)?;
-        let anc = piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0);
+        let anc = input_face(piece_face.get(k).and_then(|&f| ancestor.get(f as usize)).copied().unwrap_or(0));
         for i in 1..f.len().saturating_sub(1) {
             out.triangles.push([f[0], f[i], f[i + 1]]);
             out.triangle_patch.push(anc);

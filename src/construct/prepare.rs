@@ -19,7 +19,7 @@
 use super::surface::PatchSource;
 use super::ConstructError;
 use super::surface::{CageSector, SectorMap};
-use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId, VertexId};
+use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId};
 use std::borrow::Cow;
 use std::collections::HashMap;
 
@@ -45,17 +45,35 @@ impl Prepared<'_> {
         }
     }
 
-    /// The cage corner (input numbering) of vertex `v` in face `f` of the prepared mesh, with
-    /// `map`; `input` is the mesh the preparation started from. A face split into convex pieces
-    /// maps to its input face, the corner to the position of the vertex in its vertex list.
-    fn cage_corner(&self, input: &HalfEdgeMesh, f: FaceId, v: VertexId, map: SectorMap) -> CageSector {
-        let face = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
-        let vertex = self.vertex_origin.get(v.idx()).copied().unwrap_or(v.idx());
-        let corner = if face < input.n_faces() {
-            input.face_halfedges(FaceId(face as u32)).position(|h| input.origin(h).idx() == vertex)
+    /// The input face (as the user wrote it) of face `f` of the prepared mesh: the concave split
+    /// ([`Self::face_origin`]) composed with the hole split ([`HalfEdgeMesh::input_face`]).
+    fn input_face(&self, input: &HalfEdgeMesh, f: FaceId) -> usize {
+        let g = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
+        if g < input.n_faces() { input.input_face(FaceId(g as u32)) } else { g }
+    }
+
+    /// The cage corner (the user's numbering) of half-edge `h` of the prepared mesh (its origin in
+    /// its face), with `map`; `input` is the mesh the preparation started from. A face split
+    /// into convex pieces (concave or with holes) maps to its input face, the corner to the
+    /// user's corner index of the vertex ([`HalfEdgeMesh::input_corner`]). When the face's edge
+    /// at h or at its previous half-edge is a split diagonal (the face across it comes from the
+    /// same input face), the map sends that edge's midpoint to the face centre
+    /// ([`SectorMap::across_diagonals`], docs/math.md#cage-corners).
+    fn cage_corner(&self, input: &HalfEdgeMesh, h: HalfedgeId, map: SectorMap) -> CageSector {
+        let m = &*self.mesh;
+        let unknown = CageSector { face: u32::MAX, corner: u32::MAX, map };
+        let Some(f) = m.face(h) else { return unknown };
+        let g = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
+        let face = self.input_face(input, f);
+        let vertex = self.vertex_origin.get(m.origin(h).idx()).copied().unwrap_or(m.origin(h).idx());
+        let corner = if g < input.n_faces() {
+            let mut around = input.face_halfedges(FaceId(g as u32));
+            around.find(|&k| input.origin(k).idx() == vertex).and_then(|k| input.input_corner(k))
         } else {
             None
         };
+        let diagonal = |e: HalfedgeId| m.face(m.twin(e)).is_some_and(|o| self.input_face(input, o) == face);
+        let map = map.across_diagonals(diagonal(h), diagonal(m.prev(h)));
         CageSector { face: face as u32, corner: corner.map_or(u32::MAX, |c| c as u32), map }
     }
 
@@ -64,7 +82,7 @@ impl Prepared<'_> {
     pub fn cage_topology(&self, input: &HalfEdgeMesh) -> Vec<Vec<CageSector>> {
         let m = &*self.mesh;
         m.faces()
-            .map(|f| m.face_halfedges(f).map(|h| self.cage_corner(input, f, m.origin(h), SectorMap::Face)).collect())
+            .map(|f| m.face_halfedges(f).map(|h| self.cage_corner(input, h, SectorMap::Face)).collect())
             .collect()
     }
 
@@ -79,7 +97,7 @@ impl Prepared<'_> {
             .map(|v| {
                 let out: Vec<HalfedgeId> = m.vertex_outgoing(v).collect();
                 let n = out.len();
-                let at = |h: HalfedgeId, map| m.face(h).map(|f| self.cage_corner(input, f, v, map));
+                let at = |h: HalfedgeId, map| m.face(h).map(|_| self.cage_corner(input, h, map));
                 let unknown = CageSector { face: u32::MAX, corner: u32::MAX, map: SectorMap::Vertex };
                 if !m.is_boundary_vertex(v) || n < 2 {
                     return out.iter().map(|&h| at(h, SectorMap::Vertex).unwrap_or(unknown)).collect();

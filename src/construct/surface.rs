@@ -90,6 +90,25 @@ impl SectorMap {
         }
     }
 
+    /// The rule across split diagonals (docs/math.md#cage-corners): when the face's edge to its
+    /// next vertex (`next`) or from its previous vertex (`prev`) is a diagonal of a split face
+    /// (concave or with holes; not an edge of the input face), the diagonal's midpoint maps to
+    /// the face centre (1,1) instead of (1,0) or (0,1), so both sides of the diagonal map it to
+    /// the same cage points (σ = τ in the same cage corner). The map is composed with the
+    /// bilinear φ of the cage square fixing (0,0) and (1,1), with φ(1,0) = (1,1) when `next`,
+    /// φ(0,1) = (1,1) when `prev`; for [`SectorMap::Face`] and [`SectorMap::Vertex`] (affine)
+    /// the result is bilinear, a [`SectorMap::Corners`] with exact 0/1 entries. The open maps lie
+    /// on a boundary edge (never a diagonal) and dual crease sectors are returned unchanged.
+    pub fn across_diagonals(self, next: bool, prev: bool) -> SectorMap {
+        if !(next || prev) || !matches!(self, SectorMap::Face | SectorMap::Vertex) {
+            return self;
+        }
+        let (a, b) = ([1.0, if next { 1.0 } else { 0.0 }], [if prev { 1.0 } else { 0.0 }, 1.0]);
+        let phi = |[x, y]: [f64; 2]| [0, 1].map(|i| x * (1.0 - y) * a[i] + (1.0 - x) * y * b[i] + x * y);
+        let at = |s: f64, t: f64| phi(self.cage_coords(s, t));
+        SectorMap::corners(at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0))
+    }
+
     /// [`SectorMap::Corners`] from the cage coordinates of the sector's centre, its two side
     /// midpoints and its corner (each clamped to [0, 1]).
     pub fn corners(centre: [f64; 2], mid_i: [f64; 2], corner: [f64; 2], mid_next: [f64; 2]) -> SectorMap {
@@ -102,7 +121,9 @@ impl SectorMap {
 const CORNERS_UNIT: f64 = u16::MAX as f64;
 
 /// The cage corner (face, corner) a patch corner's sector lies in, in the numbering of the mesh
-/// the surface was built from: `corner` is the position of the vertex in the face's vertex list.
+/// the surface was built from, as the user wrote it: `corner` is the position of the vertex in
+/// the face's vertex list, for a face with holes in "outer loop, then the holes' loops in order"
+/// ([`crate::mesh::HalfEdgeMesh::input_corner`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct CageSector {
     pub face: u32,

@@ -83,6 +83,12 @@ pub struct HalfEdgeMesh {
     edge_crease: Vec<f64>,
     /// Corner sharpness per vertex (empty: all 0).
     vertex_crease: Vec<f64>,
+    /// Per face: the input face it is a piece of (empty: every face is its own input face; set
+    /// for faces with holes, [`super::holes::HoleSplit::origin`]).
+    face_input: Vec<u32>,
+    /// Per half-edge with a face: the user's corner index of its origin in that input face
+    /// ([`super::holes::HoleSplit::corner`]); empty: the position in its face.
+    he_input_corner: Vec<u32>,
 }
 
 /// Faces (and vertices) between two progress ticks of [`HalfEdgeMesh::from_checked_polymesh_ticked`].
@@ -100,10 +106,39 @@ impl HalfEdgeMesh {
         if mesh.holes.is_empty() {
             return Self::from_checked_polymesh(mesh);
         }
-        let (split, origin) = super::holes::split_holes(mesh)?;
-        check_polymesh(&split)
-            .and_then(|()| Self::from_checked_polymesh(&split))
-            .map_err(|e| e.map_faces(|f| origin.get(f).map_or(f, |&o| o as usize)))
+        let split = super::holes::split_holes(mesh)?;
+        let origin = &split.origin;
+        let mut m = check_polymesh(&split.mesh)
+            .and_then(|()| Self::from_checked_polymesh(&split.mesh))
+            .map_err(|e| e.map_faces(|f| origin.get(f).map_or(f, |&o| o as usize)))?;
+        let mut corner = vec![NONE; m.n_halfedges()];
+        for f in m.faces() {
+            let user = &split.corner[f.idx()];
+            for (i, h) in m.face_halfedges(f).enumerate() {
+                corner[h.idx()] = if user.is_empty() { i as u32 } else { user[i] };
+            }
+        }
+        m.face_input = split.origin;
+        m.he_input_corner = corner;
+        Ok(m)
+    }
+
+    /// The input face (as the user wrote it) that face `f` is, or is a piece of (a face with
+    /// holes is split into pieces, [`super::holes::split_holes`]).
+    pub fn input_face(&self, f: FaceId) -> usize {
+        self.face_input.get(f.idx()).map_or(f.idx(), |&o| o as usize)
+    }
+
+    /// The user's corner index of the origin of half-edge `h` in its face's input face
+    /// ([`Self::input_face`]): its position in the face as written, or for a face with holes
+    /// "outer loop 0..m−1, then the holes' loops in order" ([`super::holes::HoleSplit::corner`]).
+    /// `None` for a boundary half-edge.
+    pub fn input_corner(&self, h: HalfedgeId) -> Option<usize> {
+        let f = self.face(h)?;
+        match self.he_input_corner.get(h.idx()) {
+            Some(&c) => Some(c as usize),
+            None => self.face_halfedges(f).position(|g| g == h),
+        }
     }
 
     /// Builds the half-edge structure of a mesh whose faces are valid by construction (indices in
@@ -218,6 +253,8 @@ impl HalfEdgeMesh {
             original_vertex,
             edge_crease: Vec::new(),
             vertex_crease: Vec::new(),
+            face_input: Vec::new(),
+            he_input_corner: Vec::new(),
         };
         // Single fan per vertex: the CCW walk from vertex_he must visit every outgoing half-edge.
         for v in 0..nv {

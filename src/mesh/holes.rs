@@ -291,12 +291,28 @@ fn min_angle(lo: &Loops, pieces: &[Vec<usize>]) -> f64 {
     m
 }
 
-/// Splits every face with holes into convex simple faces (see the module doc). Returns the mesh
-/// without holes and, for each of its faces, the input face it comes from: face `f` keeps its
-/// index (holding its first piece), further pieces are appended after the input faces in face
-/// order. The mesh's faces must already have passed the ordinary checks (outer loops valid);
-/// errors name the face and the hole (an index into [`PolyMesh::holes`]).
-pub fn split_holes(mesh: &PolyMesh) -> Result<(PolyMesh, Vec<u32>), MeshError> {
+/// The result of [`split_holes`]: the mesh without holes and how its faces and their corners
+/// map back to the input as the user wrote it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HoleSplit {
+    /// The mesh of simple convex faces (no holes).
+    pub mesh: PolyMesh,
+    /// `origin[f]`: the input face that face `f` of [`Self::mesh`] is (a piece of). Face `f` of
+    /// the input keeps its index (holding its first piece); further pieces are appended after the
+    /// input faces in face order.
+    pub origin: Vec<u32>,
+    /// `corner[f][i]`: the user's corner index of corner i of face `f` of [`Self::mesh`] in its
+    /// input face, numbered "outer loop 0..m−1, then the first hole's loop, then the second's …"
+    /// (holes in [`PolyMesh::holes`] order); empty for a face without holes (its corners are
+    /// numbered as written). The numbering of cage maps and per-corner values
+    /// (docs/math.md#cage-corners).
+    pub corner: Vec<Vec<u32>>,
+}
+
+/// Splits every face with holes into convex simple faces (see the module doc and
+/// [`HoleSplit`]). The mesh's faces must already have passed the ordinary checks (outer loops
+/// valid); errors name the face and the hole (an index into [`PolyMesh::holes`]).
+pub fn split_holes(mesh: &PolyMesh) -> Result<HoleSplit, MeshError> {
     let nf = mesh.faces.len();
     let mut by_face: Vec<Vec<usize>> = vec![Vec::new(); nf];
     for (h, hole) in mesh.holes.iter().enumerate() {
@@ -307,19 +323,27 @@ pub fn split_holes(mesh: &PolyMesh) -> Result<(PolyMesh, Vec<u32>), MeshError> {
     }
     let mut faces = mesh.faces.clone();
     let mut origin: Vec<u32> = (0..nf as u32).collect();
+    let mut corner: Vec<Vec<u32>> = vec![Vec::new(); nf];
     for (f, holes) in by_face.iter().enumerate() {
         if holes.is_empty() {
             continue;
         }
         let lo = check_face(mesh, f, holes)?;
+        // lo.keys lists the loops as the user wrote them (outer, then the holes in order), and a
+        // vertex occurs once in them (checked), so its position there is its user corner.
+        let user: HashMap<u32, u32> = lo.keys.iter().enumerate().map(|(i, &v)| (v, i as u32)).collect();
+        let corners = |p: &[u32]| -> Vec<u32> { p.iter().map(|v| user[v]).collect() };
         let mut pieces = split_face(f, &lo)?.into_iter();
         if let Some(first) = pieces.next() {
+            corner[f] = corners(&first);
             faces[f] = first;
         }
         for p in pieces {
+            corner.push(corners(&p));
             faces.push(p);
             origin.push(f as u32);
         }
     }
-    Ok((PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone(), holes: Vec::new() }, origin))
+    let mesh = PolyMesh { positions: mesh.positions.clone(), faces, creases: mesh.creases.clone(), holes: Vec::new() };
+    Ok(HoleSplit { mesh, origin, corner })
 }

@@ -18,7 +18,7 @@ mod doo_sabin;
 
 pub use doo_sabin::doo_sabin_weights;
 
-use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, MeshError, PolyMesh, VertexId};
+use crate::mesh::{EdgeId, FaceId, HalfEdgeMesh, HalfedgeId, MeshError, PolyMesh, VertexId};
 use crate::progress::Ticker;
 use glam::DVec3;
 use std::borrow::Cow;
@@ -59,7 +59,8 @@ impl<'a> From<&'a HalfEdgeMesh> for ControlMesh<'a> {
 pub struct Subdivided {
     /// The mesh after the requested levels (vertex and face order documented on each scheme).
     pub mesh: PolyMesh,
-    /// For every face of `mesh`, the input face it descends from. Catmull–Clark: the children
+    /// For every face of `mesh`, the input face it descends from (as the user wrote it: the
+    /// pieces of a face with holes descend from that face). Catmull–Clark: the children
     /// of a face are consecutive, one per corner. Doo–Sabin: every new point belongs to one
     /// corner of an old face, and a new face descends from the face of its first such point.
     pub face_ancestor: Vec<u32>,
@@ -236,7 +237,9 @@ fn subdivide_levels(
     // HALF_EDGE of the share (measured), the level itself the rest.
     let total: f32 = (0..levels).map(|k| 4f32.powi(k as i32)).sum();
     let share = |k: u32| (4f32.powi(k as i32) - 1.0) / 3.0 / total;
-    let (mut mesh, mut ancestor) = ticker.within(0.0, share(1), |t| one(&first, t))?;
+    let (mut mesh, parent) = ticker.within(0.0, share(1), |t| one(&first, t))?;
+    // The input face as the user wrote it (a face with holes is split into pieces first).
+    let mut ancestor: Vec<u32> = parent.iter().map(|&f| first.he.input_face(FaceId(f)) as u32).collect();
     for k in 1..levels {
         let (next, parent) = ticker.within(share(k), share(k + 1), |t| {
             let he = t.within(0.0, HALF_EDGE, |t| {

@@ -5,10 +5,11 @@
 //!
 //! a(σ, τ) = (1−τ)·[(1−σ)·a_k + σ·½(a_k + a_{k+1})] + τ·[(1−σ)·½(a_k + a_{k−1}) + σ·ā],
 //!
-//! a_k the value at corner k of face f, a_{k±1} its neighbours in the face, ā the mean over the
-//! face's corners. The four values are tabulated once per cage corner; each loop then costs four
-//! reads and three lerps. One definition for every adapter: the Blender add-on, C and C++ call it
-//! through `gbsurf_cage_loop_values`.
+//! a_k the value at corner k of face f, a_{k±1} its neighbours in the face (for a face with holes:
+//! in k's own loop), ā the mean over the face's corners (all its loops). The four values are
+//! tabulated once per cage corner; each loop then costs four reads and three lerps. One
+//! definition for every adapter: the Blender add-on, C and C++ call it through
+//! `gbsurf_cage_loop_values` (`gbsurf_cage_loop_values_holed` for faces with holes).
 
 use crate::limits::MAX_CAGE_VALUE_DIM;
 use rayon::prelude::*;
@@ -35,6 +36,10 @@ pub enum CageValuesError {
     DimensionTooLarge { dim: usize, max: usize },
     #[error("cage face {face} has {size} corners: a face needs at least 3")]
     FaceTooSmall { face: usize, size: u32 },
+    #[error("hole {hole} has {size} corners: a hole needs at least 3")]
+    HoleTooSmall { hole: usize, size: u32 },
+    #[error("hole {hole} belongs to cage face {face}, but the cage has {faces} faces")]
+    HoleFaceOutOfRange { hole: usize, face: u32, faces: usize },
     #[error("{what}: {got} where {expected} are needed")]
     WrongLength { what: &'static str, expected: usize, got: usize },
     #[error("face_corner: {faces} output faces (pairs) cannot share the {loops} face corners of coords evenly")]
@@ -49,18 +54,110 @@ pub enum CageValuesError {
     NoCageMaps,
 }
 
+/// The faces of the cage the values are given for (the mesh the result was built from).
+/// Values are given per face corner in the user's numbering (docs/math.md#cage-corners): face by
+/// face, the corners of its outer loop, then those of each of its holes in hole order. A slice
+/// of face sizes converts into faces without holes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CageFaces<'a> {
+    /// Per face: the corner count of its (outer) loop, in input order.
+    pub sizes: &'a [u32],
+    /// Per hole (inner loop, in the order of [`crate::mesh::PolyMesh::holes`]): its face.
+    pub hole_faces: &'a [u32],
+    /// Per hole: its corner count (one per entry of `hole_faces`).
+    pub hole_sizes: &'a [u32],
+}
+
+impl<'a, T: AsRef<[u32]> + ?Sized> From<&'a T> for CageFaces<'a> {
+    fn from(sizes: &'a T) -> Self {
+        CageFaces { sizes: sizes.as_ref(), hole_faces: &[], hole_sizes: &[] }
+    }
+}
+
+/// The loops of [`CageFaces`] in value order: `start[l]` the first value corner of loop l
+/// (face by face: outer loop, then its holes in order; a last entry = the corner total) and
+/// `face[f]` the index of face f's outer loop (a last entry = the loop count).
+struct LoopStarts {
+    start: Vec<usize>,
+    face: Vec<usize>,
+}
+
+impl LoopStarts {
+    fn new(faces: CageFaces<'_>) -> Result<Self, CageValuesError> {
+        let (nf, nh) = (faces.sizes.len(), faces.hole_faces.len());
+        if faces.hole_sizes.len() != nh {
+            let got = faces.hole_sizes.len();
+            return Err(CageValuesError::WrongLength { what: "hole sizes (one per hole face)", expected: nh, got });
+        }
+        // Holes grouped by face, in order (a counting sort).
+        let mut first = vec![0usize; nf + 1];
+        for (hole, (&face, &size)) in faces.hole_faces.iter().zip(faces.hole_sizes).enumerate() {
+            if face as usize >= nf {
+                return Err(CageValuesError::HoleFaceOutOfRange { hole, face, faces: nf });
+            }
+            if size < 3 {
+                return Err(CageValuesError::HoleTooSmall { hole, size });
+            }
+            first[face as usize + 1] += 1;
+        }
+        for f in 0..nf {
+            first[f + 1] += first[f];
+        }
+        let mut order = vec![0usize; nh];
+        let mut next = first.clone();
+        for (hole, &face) in faces.hole_faces.iter().enumerate() {
+            order[next[face as usize]] = hole;
+            next[face as usize] += 1;
+        }
+        let mut start = Vec::with_capacity(nf + nh + 1);
+        let mut face = Vec::with_capacity(nf + 1);
+        let mut total = 0usize;
+        for (f, &size) in faces.sizes.iter().enumerate() {
+            if size < 3 {
+                return Err(CageValuesError::FaceTooSmall { face: f, size });
+            }
+            face.push(start.len());
+            start.push(total);
+            total += size as usize;
+            for &h in &order[first[f]..first[f + 1]] {
+                start.push(total);
+                total += faces.hole_sizes[h] as usize;
+            }
+        }
+        face.push(start.len());
+        start.push(total);
+        Ok(LoopStarts { start, face })
+    }
+
+    fn total(&self) -> usize {
+        self.start[self.start.len() - 1]
+    }
+
+    /// The first value corner of face f and its corner count (all its loops).
+    fn face_range(&self, f: usize) -> (usize, usize) {
+        let (a, b) = (self.start[self.face[f]], self.start[self.face[f + 1]]);
+        (a, b - a)
+    }
+}
+
 /// Loops per parallel task.
 const CHUNK: usize = 1 << 14;
 
-/// The keep-corners values (module doc) of `values` (`dim` values per cage face corner, in
-/// face-corner order of the faces of sizes `face_sizes`) at every loop of `loops`: `dim` values
-/// per loop, in loop order. Loops in an unknown cage corner (`u32::MAX`, e.g. a hand-built
-/// surface) get 0. Values are f32 (like Blender's UVs and weights); the face means are summed
-/// in f64.
-pub fn cage_loop_values(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>) -> Result<Vec<f32>, CageValuesError> {
+/// The keep-corners values (module doc) of `values` (`dim` values per cage face corner, in the
+/// face-corner order of `faces`: face sizes, or [`CageFaces`] with holes) at every loop of
+/// `loops`: `dim` values per loop, in loop order. Loops in an unknown cage corner (`u32::MAX`,
+/// e.g. a hand-built surface) get 0. Values are f32 (like Blender's UVs and weights); the face
+/// means are summed in f64. A corner of a face with holes takes its neighbours a_{k±1} in its
+/// own loop and ā over all the face's corners.
+pub fn cage_loop_values<'a>(
+    faces: impl Into<CageFaces<'a>>,
+    values: &[f32],
+    dim: usize,
+    loops: CageLoops<'_>,
+) -> Result<Vec<f32>, CageValuesError> {
     check_dim(dim)?;
     let mut out = vec![0f32; loops.coords.len() * dim];
-    cage_loop_values_into(face_sizes, values, dim, loops, &mut out)?;
+    cage_loop_values_into(faces, values, dim, loops, &mut out)?;
     Ok(out)
 }
 
@@ -75,18 +172,17 @@ fn check_dim(dim: usize) -> Result<(), CageValuesError> {
 
 /// [`cage_loop_values`] written into `out` (`dim` × loops values; the C ABI's buffer). `out` is
 /// written only when every input is valid.
-pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loops: CageLoops<'_>, out: &mut [f32]) -> Result<(), CageValuesError> {
+pub fn cage_loop_values_into<'a>(
+    faces: impl Into<CageFaces<'a>>,
+    values: &[f32],
+    dim: usize,
+    loops: CageLoops<'_>,
+    out: &mut [f32],
+) -> Result<(), CageValuesError> {
     check_dim(dim)?;
-    let mut starts = Vec::with_capacity(face_sizes.len() + 1);
-    let mut total = 0usize;
-    for (face, &size) in face_sizes.iter().enumerate() {
-        if size < 3 {
-            return Err(CageValuesError::FaceTooSmall { face, size });
-        }
-        starts.push(total);
-        total += size as usize;
-    }
-    starts.push(total);
+    let layout = LoopStarts::new(faces.into())?;
+    let n_faces = layout.face.len() - 1;
+    let total = layout.total();
     // dim ≤ MAX_CAGE_VALUE_DIM and every length below isize::MAX bytes: no product overflows,
     // but a wrong count must never wrap, so the products saturate (and then cannot match).
     let expected = total.saturating_mul(dim);
@@ -121,21 +217,26 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
         if f == u32::MAX || k == u32::MAX {
             return None;
         }
-        match face_sizes.get(f as usize) {
-            None => Some(CageValuesError::FaceOutOfRange { index: i, face: f, faces: face_sizes.len() }),
-            Some(&size) if k >= size => Some(CageValuesError::CornerOutOfRange { index: i, face: f, corner: k, size }),
-            _ if !loops.coords[i].iter().all(|x| x.is_finite()) => Some(CageValuesError::NotFinite { index: i }),
-            _ => None,
+        if f as usize >= n_faces {
+            return Some(CageValuesError::FaceOutOfRange { index: i, face: f, faces: n_faces });
+        }
+        let size = layout.face_range(f as usize).1 as u32;
+        if k >= size {
+            Some(CageValuesError::CornerOutOfRange { index: i, face: f, corner: k, size })
+        } else if !loops.coords[i].iter().all(|x| x.is_finite()) {
+            Some(CageValuesError::NotFinite { index: i })
+        } else {
+            None
         }
     };
     if let Some(i) = (0..n).into_par_iter().with_min_len(CHUNK).find_first(|&i| bad(i).is_some()) {
         return Err(bad(i).expect("found above"));
     }
     // Per face its mean (summed in f64), then per cage corner g: [a_k, ½(a_k + a_{k+1}), ā,
-    // ½(a_k + a_{k−1})], dim values each.
-    let mut means = vec![0f32; face_sizes.len() * dim];
+    // ½(a_k + a_{k−1})], dim values each (k±1 within g's loop).
+    let mut means = vec![0f32; n_faces * dim];
     means.par_chunks_mut(dim).enumerate().for_each(|(f, m)| {
-        let (s, size) = (starts[f], starts[f + 1] - starts[f]);
+        let (s, size) = layout.face_range(f);
         for (d, x) in m.iter_mut().enumerate() {
             *x = ((s..s + size).map(|j| values[j * dim + d] as f64).sum::<f64>() / size as f64) as f32;
         }
@@ -144,8 +245,9 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
     table.par_chunks_mut(4 * dim * 64).enumerate().for_each(|(chunk, rows)| {
         for (r, row) in rows.chunks_mut(4 * dim).enumerate() {
             let g = chunk * 64 + r;
-            let f = starts.partition_point(|&s| s <= g) - 1;
-            let (s, size) = (starts[f], starts[f + 1] - starts[f]);
+            let l = layout.start.partition_point(|&s| s <= g) - 1;
+            let f = layout.face.partition_point(|&i| i <= l) - 1;
+            let (s, size) = (layout.start[l], layout.start[l + 1] - layout.start[l]);
             let k = g - s;
             let at = |j: usize| &values[(s + j) * dim..(s + j + 1) * dim];
             let (a, next, prev) = (at(k), at((k + 1) % size), at((k + size - 1) % size));
@@ -165,7 +267,7 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
                 o.fill(0.0);
                 continue;
             }
-            let g = starts[f as usize] + k as usize;
+            let g = layout.face_range(f as usize).0 + k as usize;
             let row = &table[4 * g * dim..4 * (g + 1) * dim];
             let [s, t] = loops.coords[i].map(|x| x as f32);
             for d in 0..dim {
@@ -180,14 +282,20 @@ pub fn cage_loop_values_into(face_sizes: &[u32], values: &[f32], dim: usize, loo
 
 impl super::SurfaceMesh {
     /// [`cage_loop_values`] at this mesh's face corners (quads, or triangles in the triangle
-    /// layout; empty for the subdivision methods), for the cage of sizes `face_sizes` it was
-    /// built from. [`CageValuesError::NoCageMaps`] when the mesh has faces but was converted with
-    /// [`crate::options::ConvertOptions::cage_maps`] off (no cage corners at all).
-    pub fn cage_loop_values(&self, face_sizes: &[u32], values: &[f32], dim: usize) -> Result<Vec<f32>, CageValuesError> {
+    /// layout; empty for the subdivision methods), for the cage `faces` it was built from (face
+    /// sizes, or [`CageFaces`] with holes). [`CageValuesError::NoCageMaps`] when the mesh has
+    /// faces but was converted with [`crate::options::ConvertOptions::cage_maps`] off (no cage
+    /// corners at all).
+    pub fn cage_loop_values<'a>(
+        &self,
+        faces: impl Into<CageFaces<'a>>,
+        values: &[f32],
+        dim: usize,
+    ) -> Result<Vec<f32>, CageValuesError> {
         if self.cage_corner.is_empty() && !(self.quads.is_empty() && self.triangles.is_empty()) {
             return Err(CageValuesError::NoCageMaps);
         }
         let loops = CageLoops { face_corner: &self.cage_corner, loop_corner: &self.cage_loop_corner, coords: &self.cage_coords };
-        cage_loop_values(face_sizes, values, dim, loops)
+        cage_loop_values(faces, values, dim, loops)
     }
 }

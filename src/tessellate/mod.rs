@@ -18,7 +18,7 @@ pub mod patch;
 pub mod surface;
 pub mod weld;
 
-pub use cage_values::{cage_loop_values, cage_loop_values_into, CageLoops, CageValuesError};
+pub use cage_values::{cage_loop_values, cage_loop_values_into, CageFaces, CageLoops, CageValuesError};
 pub use edges::{mesh_edges, MeshEdges};
 pub use error::TessellateError;
 pub use evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint, TableCache};

@@ -1113,3 +1113,81 @@ fn cage_loop_values_through_the_views() {
         }
     }
 }
+
+/// `gbsurf_cage_loop_values_holed` on a holed slab: the result's cage corners name the user's
+/// faces and corners (outer loop, then the hole's), values per user corner give the Rust API's
+/// values, the plain entry refuses them (a corner past the outer loop), bad holes get their codes.
+#[test]
+fn cage_loop_values_holed_takes_the_users_corners() {
+    let (p, s, f, hf, hs, idx) = ring_slab();
+    let h = GbsurfHoles { faces: hf.as_ptr(), sizes: hs.as_ptr(), count: 2, indices: idx.as_ptr(), indices_len: 8 };
+    let mut r = null_mut();
+    // SAFETY: valid arrays and out pointer.
+    assert_eq!(unsafe { convert_holed(&h, &mut r) }, GBSURF_OK, "{}", last());
+    // The user's loops per face: outer loop, then the face's holes.
+    let mut loops: Vec<Vec<u32>> = f.chunks(4).map(<[u32]>::to_vec).collect();
+    loops[0].extend_from_slice(&idx[..4]);
+    loops[1].extend_from_slice(&idx[4..]);
+    let values: Vec<f32> =
+        loops.iter().flatten().flat_map(|&v| [0, 1, 2].map(|c| p[3 * v as usize + c] as f32)).collect();
+    let holes = vec![
+        gbsurf::mesh::Hole { face: 0, vertices: idx[..4].to_vec() },
+        gbsurf::mesh::Hole { face: 1, vertices: idx[4..].to_vec() },
+    ];
+    let faces = f.chunks(4).map(<[u32]>::to_vec).collect();
+    let positions = p.chunks(3).map(gbsurf::DVec3::from_slice).collect();
+    let mesh = gbsurf::mesh::PolyMesh { holes, ..gbsurf::mesh::PolyMesh::new(positions, faces) };
+    let opts = gbsurf::api::ConvertOptions { resolution: 4, ..gbsurf::api::ConvertOptions::default() };
+    let cage = gbsurf::tessellate::CageFaces { sizes: &s, hole_faces: &hf, hole_sizes: &hs };
+    let conv = gbsurf::api::convert(&mesh, &opts, None).unwrap();
+    let want = conv.mesh.cage_loop_values(cage, &values, 3).unwrap();
+    // Faces 0 and 1 (with holes) have 8 user corners; every corner of them is used.
+    let mut used = [[false; 8]; 2];
+    for &[face, corner] in &conv.mesh.cage_corner {
+        assert!((face as usize) < s.len(), "face {face}");
+        if face < 2 {
+            used[face as usize][corner as usize] = true;
+        } else {
+            assert!(corner < 4);
+        }
+    }
+    assert_eq!(used, [[true; 8]; 2]);
+    // SAFETY: `r` is a live handle; the views live until it is freed; outputs are locals.
+    unsafe {
+        let (mut fc, mut fl, mut lc, mut ll, mut cc, mut cl) = (null(), 0usize, null(), 0usize, null(), 0usize);
+        assert_eq!(gbsurf_mesh_cage_corner(r, &mut fc, &mut fl), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_cage_loop_corner(r, &mut lc, &mut ll), GBSURF_OK);
+        assert_eq!(gbsurf_mesh_cage_coords(r, &mut cc, &mut cl), GBSURF_OK);
+        assert_eq!(std::slice::from_raw_parts(fc, fl), conv.mesh.cage_corner.as_flattened());
+        let mut out = vec![0f32; 3 * cl / 2];
+        let call = |hole_faces: &[u32], hole_sizes: &[u32], n: usize, out: &mut [f32]| {
+            gbsurf_cage_loop_values_holed(
+                s.as_ptr(), s.len(), hole_faces.as_ptr(), hole_sizes.as_ptr(), n, values.as_ptr(), values.len(), 3,
+                fc, fl, lc, ll, cc, cl, out.as_mut_ptr(), out.len(),
+            )
+        };
+        assert_eq!(call(&hf, &hs, 2, &mut out), GBSURF_OK, "{}", last());
+        assert_eq!(out, want);
+        let before = out.clone();
+        // Without the holes the values are too many, and with the faces' outer sizes alone
+        // (values to match) the corners past the outer loops are out of range.
+        let plain = |vlen: usize, out: &mut [f32]| {
+            let (o, olen) = (out.as_mut_ptr(), out.len());
+            gbsurf_cage_loop_values(s.as_ptr(), s.len(), values.as_ptr(), vlen, 3, fc, fl, lc, ll, cc, cl, o, olen)
+        };
+        assert_eq!(plain(values.len(), &mut out), GBSURF_ERR_COUNT, "{}", last());
+        assert_eq!(plain(3 * 40, &mut out), GBSURF_ERR_INDEX, "{}", last());
+        assert!(last().contains("which has 4 corners"), "{}", last());
+        assert_eq!(call(&[0, 99], &hs, 2, &mut out), GBSURF_ERR_INDEX, "{}", last());
+        assert!(last().contains("hole 1 belongs to cage face 99"), "{}", last());
+        assert_eq!(call(&hf, &[4, 2], 2, &mut out), GBSURF_ERR_COUNT, "{}", last());
+        assert!(last().contains("hole 1 has 2 corners"), "{}", last());
+        let code = gbsurf_cage_loop_values_holed(
+            s.as_ptr(), s.len(), null(), hs.as_ptr(), 2, values.as_ptr(), values.len(), 3, fc, fl, lc, ll, cc, cl,
+            out.as_mut_ptr(), out.len(),
+        );
+        assert_eq!(code, GBSURF_ERR_NULL, "{}", last());
+        assert_eq!(out, before);
+        gbsurf_result_free(r);
+    }
+}

@@ -73,6 +73,7 @@ fn header_declares_every_status_code_and_entry_point() {
         "typedef struct GbsurfResult GbsurfResult",
         "GBSURF_ERR_DEGENERATE",
         "gbsurf_ph5_hermite(",
+        "gbsurf_cage_loop_values_holed(",
         "gbsurf_ph5_offset(",
         "gbsurf_ph_spline_hermite(",
         "gbsurf_ph_spline_offset(",
