@@ -888,7 +888,8 @@ pub unsafe extern "C" fn gbsurf_mesh_face_corner(
 }
 
 /// View of the per-output-face cage corner (2 values per face: the face of the control mesh and
-/// the position of the vertex in its vertex list as given; one pair per quad, or per triangle in
+/// the position of the vertex in its vertex list as given, for a face with holes in "outer loop,
+/// then each hole's loop in order"; one pair per quad, or per triangle in
 /// the triangle layout and for the subdivision methods, whose corner is `UINT32_MAX`): the cage
 /// corner the output face lies in (docs/math.md#cage-corners). `*len` is the number of values;
 /// `*data` is valid until the handle is freed.
@@ -926,7 +927,8 @@ pub unsafe extern "C" fn gbsurf_mesh_cage_coords(
 
 /// View of the per-corner cage corner of the triangle layout (empty for the quad layout, whose
 /// corners take their quad's `gbsurf_mesh_cage_corner`, and for the subdivision methods): 2
-/// values (face of the control mesh, position of the vertex in its vertex list) per corner of
+/// values (face of the control mesh, position of the vertex in its vertex list as given, holes'
+/// loops after the outer loop) per corner of
 /// every triangle, in the order of `gbsurf_mesh_triangles` (6 per triangle): the cage corner the
 /// corner's `gbsurf_mesh_cage_coords` are in, which differs from the triangle's where it
 /// straddles two sectors (docs/math.md#cage-corners); `UINT32_MAX` pairs without a cage map.

@@ -154,10 +154,11 @@ struct ribbon_shape {
     std::size_t layers;
 };
 
+struct holes;
+
 /// The result of a conversion (owns a GbsurfResult handle; move-only, noexcept moves; a
 /// moved-from result throws GBSURF_ERR_NULL from every accessor). The spans returned point into
 /// the handle: valid while this result lives (view accessors are deleted on temporaries).
-struct holes;
 
 class result {
 public:

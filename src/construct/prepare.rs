@@ -32,6 +32,10 @@ pub struct Prepared<'a> {
     pub vertex_origin: Vec<usize>,
     /// `face_origin[f]`: the input face that face f of `mesh` is (a part of).
     pub face_origin: Vec<usize>,
+    /// `face_input[f]`: the face as the user wrote it that face f of `mesh` is (a part of): the
+    /// concave split ([`Self::face_origin`]) composed with the hole split
+    /// ([`HalfEdgeMesh::input_face`]); the one map for messages and cage corners.
+    pub face_input: Vec<usize>,
     /// One warning per dissolved vertex (input numbering).
     pub warnings: Vec<String>,
 }
@@ -47,9 +51,8 @@ impl Prepared<'_> {
 
     /// The input face (as the user wrote it) of face `f` of the prepared mesh: the concave split
     /// ([`Self::face_origin`]) composed with the hole split ([`HalfEdgeMesh::input_face`]).
-    fn input_face(&self, input: &HalfEdgeMesh, f: FaceId) -> usize {
-        let g = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
-        if g < input.n_faces() { input.input_face(FaceId(g as u32)) } else { g }
+    fn input_face(&self, f: FaceId) -> usize {
+        self.face_input.get(f.idx()).copied().unwrap_or(f.idx())
     }
 
     /// The cage corner (the user's numbering) of half-edge `h` of the prepared mesh (its origin in
@@ -64,7 +67,7 @@ impl Prepared<'_> {
         let unknown = CageSector { face: u32::MAX, corner: u32::MAX, map };
         let Some(f) = m.face(h) else { return unknown };
         let g = self.face_origin.get(f.idx()).copied().unwrap_or(f.idx());
-        let face = self.input_face(input, f);
+        let face = self.input_face(f);
         let vertex = self.vertex_origin.get(m.origin(h).idx()).copied().unwrap_or(m.origin(h).idx());
         let corner = if g < input.n_faces() {
             let mut around = input.face_halfedges(FaceId(g as u32));
@@ -72,7 +75,7 @@ impl Prepared<'_> {
         } else {
             None
         };
-        let diagonal = |e: HalfedgeId| m.face(m.twin(e)).is_some_and(|o| self.input_face(input, o) == face);
+        let diagonal = |e: HalfedgeId| m.face(m.twin(e)).is_some_and(|o| self.input_face(o) == face);
         let map = map.across_diagonals(diagonal(h), diagonal(m.prev(h)));
         CageSector { face: face as u32, corner: corner.map_or(u32::MAX, |c| c as u32), map }
     }
@@ -117,7 +120,7 @@ impl Prepared<'_> {
     /// indices; patch indices when `patch_is_vertex`, as in the dual structure).
     pub fn error(&self, e: ConstructError, patch_is_vertex: bool) -> ConstructError {
         let v = |i: usize| self.vertex_origin.get(i).copied().unwrap_or(i);
-        let f = |i: usize| self.face_origin.get(i).copied().unwrap_or(i);
+        let f = |i: usize| self.input_face(FaceId(i as u32));
         match e {
             ConstructError::FoldedTile { vertex } => ConstructError::FoldedTile { vertex: v(vertex) },
             ConstructError::DegenerateTile { vertex } => ConstructError::DegenerateTile { vertex: v(vertex) },
@@ -220,13 +223,26 @@ pub fn dissolve_valence2(
 /// Dissolves interior valence-2 vertices ([`dissolve_valence2`]), then splits concave faces
 /// ([`super::convex_mesh`]).
 pub fn prepare(mesh: &HalfEdgeMesh) -> Result<Prepared<'_>, ConstructError> {
-    let (dissolved, vertex_origin, warnings) = dissolve_valence2(mesh)?;
+    let input = mesh;
+    // Faces named by an error here are faces of `input` (pieces of a face with holes included):
+    // named as the user wrote them.
+    let user = |e: ConstructError| match e {
+        ConstructError::DegenerateFace { face } if face < input.n_faces() => {
+            ConstructError::DegenerateFace { face: input.input_face(FaceId(face as u32)) }
+        }
+        ConstructError::Valence2 { vertex, face, reason } if face < input.n_faces() => {
+            ConstructError::Valence2 { vertex, face: input.input_face(FaceId(face as u32)), reason }
+        }
+        e => e,
+    };
+    let (dissolved, vertex_origin, warnings) = dissolve_valence2(mesh).map_err(user)?;
     let (mesh, face_origin) = match dissolved {
-        Cow::Borrowed(m) => super::convex_mesh(m)?,
+        Cow::Borrowed(m) => super::convex_mesh(m).map_err(user)?,
         Cow::Owned(m) => {
-            let (c, o) = super::convex_mesh(&m)?;
+            let (c, o) = super::convex_mesh(&m).map_err(user)?;
             (Cow::Owned(c.into_owned()), o)
         }
     };
-    Ok(Prepared { mesh, vertex_origin, face_origin, warnings })
+    let face_input = face_origin.iter().map(|&g| if g < input.n_faces() { input.input_face(FaceId(g as u32)) } else { g }).collect();
+    Ok(Prepared { mesh, vertex_origin, face_origin, face_input, warnings })
 }

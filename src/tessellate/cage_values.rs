@@ -116,12 +116,15 @@ impl LoopStarts {
             if size < 3 {
                 return Err(CageValuesError::FaceTooSmall { face: f, size });
             }
+            // A corner count that does not fit in usize (sizes made up on a 32-bit target) is a
+            // wrong length, never a wrapped sum.
+            let overflow = || CageValuesError::WrongLength { what: "corner count (sum of the face and hole sizes)", expected: usize::MAX, got: usize::MAX };
             face.push(start.len());
             start.push(total);
-            total += size as usize;
+            total = total.checked_add(size as usize).ok_or_else(overflow)?;
             for &h in &order[first[f]..first[f + 1]] {
                 start.push(total);
-                total += faces.hole_sizes[h] as usize;
+                total = total.checked_add(faces.hole_sizes[h] as usize).ok_or_else(overflow)?;
             }
         }
         face.push(start.len());
