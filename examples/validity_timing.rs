@@ -124,6 +124,7 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     let t_h = time(&mut || {
         std::hint::black_box(gbsurf::quality::validity::max_abs_mean_curvature_times_diagonal(&m.positions, &m.mean_curvature));
     });
+    sub_phases(mesh, m, closed);
     let folds = t_with - t_without;
     let checks = folds + t_si + t_cage + t_h;
     println!(
@@ -131,6 +132,36 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
         100.0 * checks / c.report.seconds,
         c.report.seconds,
         100.0 * checks / (c.report.seconds - checks)
+    );
+}
+
+/// The self-intersection checks' parts, each timed alone (best of 3): the star-shaped gate,
+/// the certificates of the nodes, the certified search, the cage's convex split and its search.
+fn sub_phases(cage: &gbsurf::mesh::PolyMesh, m: &gbsurf::tessellate::SurfaceMesh, closed: bool) {
+    use gbsurf::quality::{certify, validity, Certified};
+    let best = |f: &mut dyn FnMut()| {
+        (0..3)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let t_gate = best(&mut || { std::hint::black_box(closed && certify::star_shaped_about_centroid(&m.positions, &m.triangles)); });
+    let mut cert = Certified::none();
+    let t_cert = best(&mut || cert = Certified::of_mesh(m));
+    let free = validity::free_shells(&m.positions, &m.triangles);
+    let t_free = best(&mut || drop(std::hint::black_box(validity::free_shells(&m.positions, &m.triangles))));
+    drop(free);
+    let t_search = best(&mut || { std::hint::black_box(validity::self_intersections_certified(&m.positions, &m.triangles, &cert)); });
+    let mut convex = None;
+    let t_split = best(&mut || convex = Some(gbsurf::mesh::geometry::convexify(cage)));
+    let (convex, _) = convex.expect("split");
+    let tris: Vec<[u32; 3]> = convex.faces.iter().flat_map(|f| (1..f.len().saturating_sub(1)).map(move |i| [f[0], f[i], f[i + 1]])).collect();
+    let t_cage_search = best(&mut || { std::hint::black_box(validity::self_intersections(&convex.positions, &tris)); });
+    println!(
+        "self-intersection parts (best of 3): gate {t_gate:.4} s; certificates {t_cert:.4} s; free shells {t_free:.4} s; certified search {t_search:.4} s (with free shells); cage: convex split {t_split:.4} s, search {t_cage_search:.4} s"
     );
 }
 

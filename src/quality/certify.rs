@@ -34,7 +34,9 @@
 //! exact test as before. Condition (1) is checked per patch on a normal cone (the axis and the
 //! largest angle between it and a triangle's unit normal) with a margin of [`CONE_MARGIN`]
 //! radians, far above the rounding of unit normals of triangles that are not slivers (a
-//! triangle with |e1 × e2| ≤ [`SLIVER`]·|e1||e2| makes its patch uncertifiable); condition (2)
+//! triangle with |e1 × e2| ≤ [`SLIVER`]·|e1||e2| makes its patch uncertifiable; the cone's
+//! cosine is the square root of the smallest signed square d·|d|/|n|², d = n·axis, which orders
+//! like the cosine d/|n|, rounding a few ulps from it); condition (2)
 //! asks cross > [`TURN_MARGIN`]·|f(b_i) − f(q)||f(b_{i+1}) − f(q)|, far above the rounding of
 //! the projection (so every turning angle is in (0, π), also for the exact points), and the
 //! winding number 1: with positive turns the angles sum to 2πk, k the number of upward
@@ -116,11 +118,21 @@ fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f6
     if axis == DVec3::ZERO {
         return None;
     }
-    let mut cos = 1.0f64;
+    // The smallest cosine through the smallest signed square c·|c| = d·|d|/|n|² (d = n·axis,
+    // c·|c| increases with c): one division per triangle, one square root at the end.
+    let mut low = 1.0f64;
     for t in triangles {
-        cos = cos.min(unit(t)?.dot(axis));
+        let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(DVec3::NAN));
+        let (e1, e2) = (b - a, c - a);
+        let n = e1.cross(e2);
+        let len2 = n.length_squared();
+        if !(len2.is_finite() && len2 > SLIVER * SLIVER * e1.length_squared() * e2.length_squared()) {
+            return None;
+        }
+        let d = n.dot(axis);
+        low = low.min(d * d.abs() / len2);
     }
-    Some((axis, cos))
+    Some((axis, low.signum() * low.abs().sqrt().min(1.0)))
 }
 
 /// The chain of directed `edges` with every edge cancelled against a reverse, chained into one
@@ -211,25 +223,26 @@ pub fn certify_region(positions: &[DVec3], triangles: &[[u32; 3]], q: u32) -> bo
 }
 
 /// The star of node q made of `patches` (with their cones): conditions (1) and (2).
-fn certify_star(positions: &[DVec3], loops: &PatchLoops, cones: &[Option<(DVec3, f64)>], q: u32, patches: &[u32]) -> bool {
-    let mut cs = Vec::with_capacity(patches.len());
-    for &p in patches {
-        match cones[p as usize] {
-            Some(c) => cs.push(c),
+/// `walk` is a buffer reused between stars.
+fn certify_star(positions: &[DVec3], loops: &PatchLoops, cones: &[Option<(DVec3, f64)>], q: u32, patches: &[u32], walk: &mut Vec<u32>) -> bool {
+    let cone = |p: &u32| cones.get(*p as usize).copied().flatten();
+    let mut a = DVec3::ZERO;
+    for p in patches {
+        match cone(p) {
+            Some(c) => a += c.0,
             None => return false,
         }
     }
-    let a = cs.iter().map(|c| c.0).sum::<DVec3>().normalize_or_zero();
+    let a = a.normalize_or_zero();
     if a == DVec3::ZERO {
         return false;
     }
     let limit = std::f64::consts::FRAC_PI_2 - CONE_MARGIN;
-    if !cs.iter().all(|&(axis, cos)| a.dot(axis).clamp(-1.0, 1.0).acos() + cos.clamp(-1.0, 1.0).acos() < limit) {
+    if !patches.iter().filter_map(cone).all(|(axis, cos)| a.dot(axis).clamp(-1.0, 1.0).acos() + cos.clamp(-1.0, 1.0).acos() < limit) {
         return false;
     }
-    let mut walk = Vec::new();
-    if star_loop(loops, q, patches, &mut walk) {
-        return star_shaped(positions, &walk, q, a);
+    if star_loop(loops, q, patches, walk) {
+        return star_shaped(positions, walk, q, a);
     }
     single_loop(star_edges(loops, patches)).is_some_and(|lp| star_shaped(positions, &lp, q, a))
 }
@@ -267,7 +280,7 @@ fn star_loop(loops: &PatchLoops, q: u32, patches: &[u32], walk: &mut Vec<u32>) -
     for (slot, &p) in at.iter_mut().zip(patches) {
         let lp = loops.of(p as usize);
         let len = lp.len();
-        if len % m != 0 || len <= 2 * m || (0..len).any(|k| lp[k] == lp[(k + 1) % len]) {
+        if len % m != 0 || len <= 2 * m || lp.windows(2).any(|w| w[0] == w[1]) || lp[0] == lp[len - 1] {
             return false;
         }
         let mut corner = lp.iter().enumerate().step_by(m).filter(|x| *x.1 == q).map(|x| x.0);
@@ -275,7 +288,11 @@ fn star_loop(loops: &PatchLoops, q: u32, patches: &[u32], walk: &mut Vec<u32>) -
         *slot = (lp, k);
     }
     let at = &at[..patches.len()];
-    let vertex = |(lp, k): (&[u32], usize), j: usize| lp[(k + j) % lp.len()];
+    // Entry j (0 ≤ j ≤ len) after q's position k, without a division.
+    let vertex = |(lp, k): (&[u32], usize), j: usize| {
+        let i = k + j;
+        lp[if i >= lp.len() { i - lp.len() } else { i }]
+    };
     let mut used = 0u64;
     let mut cur = 0;
     for _ in 0..patches.len() {
@@ -298,13 +315,22 @@ fn star_loop(loops: &PatchLoops, q: u32, patches: &[u32], walk: &mut Vec<u32>) -
         walk.clear();
         return false;
     }
-    let mut sorted = walk.clone();
-    sorted.sort_unstable();
-    if sorted.windows(2).any(|w| w[0] == w[1]) {
+    // Distinct vertices: sorted on the stack for the common small walk.
+    let distinct = |sorted: &mut [u32]| {
+        sorted.sort_unstable();
+        sorted.windows(2).all(|w| w[0] != w[1])
+    };
+    let ok = if walk.len() <= 256 {
+        let mut buf = [0u32; 256];
+        buf[..walk.len()].copy_from_slice(walk);
+        distinct(&mut buf[..walk.len()])
+    } else {
+        distinct(&mut walk.clone())
+    };
+    if !ok {
         walk.clear();
-        return false;
     }
-    true
+    ok
 }
 
 /// A patch alone as a region (see the module doc, "Regions"): conditions (1) and (2) for its
@@ -495,10 +521,10 @@ impl Certified {
         let mut certified: Vec<bool> = Vec::with_capacity(groups.len());
         let per_tick = crate::progress::chunk_size(groups.len(), STARS_PER_TICK);
         for part in groups.chunks(per_tick) {
-            certified.par_extend(part.par_iter().map_init(Vec::new, |ps, &(s, e)| {
+            certified.par_extend(part.par_iter().map_init(|| (Vec::new(), Vec::new()), |(ps, walk), &(s, e)| {
                 ps.clear();
                 ps.extend(corners[s..e].iter().map(|c| c.1));
-                certify_star(positions, loops, &cones, corners[s].0, ps)
+                certify_star(positions, loops, &cones, corners[s].0, ps, walk)
             }));
             ticker.at_part(0.1, 1.0, certified.len(), groups.len())?;
         }
@@ -568,33 +594,46 @@ impl Certified {
         Some(self.tri_start.partition_point(|&s| s <= t) - 1)
     }
 
-    /// The certified stars containing every triangle of `first..=last` (triangle indices of the
-    /// mesh, ascending range; the patches' triangles are consecutive): the common stars of the
-    /// patches spanned, ascending; empty when none.
-    pub(crate) fn stars_of_range(&self, first: usize, last: usize) -> Vec<u32> {
-        let (Some(p0), Some(p1)) = (self.patch_of(first), self.patch_of(last)) else { return Vec::new() };
-        let mut common = self.stars_of(p0).to_vec();
-        // A chunk inside one sector of a core: that core too (its id is above every star's).
-        if p0 == p1 && !self.cores.is_empty() {
+    /// The certified regions containing every triangle of `first..=last` (triangle indices of
+    /// the mesh, ascending range; the patches' triangles are consecutive): the stars of its
+    /// patch and the core of its sector when every triangle lies in that one sector, for a
+    /// range inside one patch; none for any other range (its pairs are then all searched).
+    pub(crate) fn chunk_regions(&self, first: usize, last: usize) -> ChunkRegions {
+        let none = ChunkRegions { patch: u32::MAX, core: u32::MAX };
+        let (Some(p0), Some(p1)) = (self.patch_of(first), self.patch_of(last)) else { return none };
+        if p0 != p1 {
+            return none;
+        }
+        let mut core = u32::MAX;
+        if !self.cores.is_empty() {
             let (a, b) = (self.sector_of(first), self.sector_of(last));
             if a == b && (first..=last).all(|t| self.sector_of(t) == a) {
                 if let Some(i) = a {
                     let k = self.cores.partition_point(|c| (c.0 as usize, c.1) < (p0, i));
                     if let Some(c) = self.cores.get(k).filter(|c| c.0 as usize == p0 && c.1 == i) {
-                        common.push(c.2);
+                        core = c.2;
                     }
                 }
             }
         }
-        for p in p0 + 1..=p1 {
-            if common.is_empty() {
-                break;
-            }
-            let s = self.stars_of(p);
-            common.retain(|x| s.binary_search(x).is_ok());
-        }
-        common
+        ChunkRegions { patch: p0 as u32, core }
     }
+
+    /// Some certified region contains both chunks (the same chunk: some region contains it).
+    /// Star ids and core ids are disjoint (cores are numbered above every star), so this is
+    /// [`share`] of the two chunks' lists of regions (stars, then the core).
+    pub(crate) fn share_region(&self, a: ChunkRegions, b: ChunkRegions) -> bool {
+        let stars = |r: ChunkRegions| if r.patch == u32::MAX { &[][..] } else { self.stars_of(r.patch as usize) };
+        (a.core != u32::MAX && a.core == b.core) || share(stars(a), stars(b))
+    }
+}
+
+/// The certified regions of a chunk of triangles ([`Certified::chunk_regions`]): its patch
+/// (whose stars contain it) and the core of its sector; `u32::MAX` for none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct ChunkRegions {
+    patch: u32,
+    core: u32,
 }
 
 /// Two ascending lists share an element.

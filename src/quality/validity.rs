@@ -25,7 +25,7 @@
 //!   ([`mesh_self_intersections`]). Closed shells that are star-shaped around their centre
 //!   ([`super::certify::star_shaped_shells`], with the proof) leave the search altogether.
 
-use super::certify::{share, star_shaped_about_centroid, star_shaped_shells, star_shaped_shells_ticked, Certified};
+use super::certify::{star_shaped_about_centroid, star_shaped_shells, star_shaped_shells_ticked, Certified, ChunkRegions};
 use crate::construct::check::{fold_sample_points, ribbon_frame};
 use crate::construct::{Patch, Surface};
 use crate::gb::{Domain, SampleLayout, WeightForm};
@@ -466,7 +466,10 @@ fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 /// missing vertex and degenerate ones are skipped.
 ///
 /// Chunk pairs whose triangles all lie in one region of `certified` are skipped: such a region
-/// is proven free of self-intersections ([`super::certify`]), so the count stays exact.
+/// is proven free of self-intersections ([`super::certify`]), so the count stays exact. The
+/// tree of [`overlapping_boxes`] drops them as it meets them (a chunk lies in the regions of its
+/// patch, [`super::certify::Certified::chunk_regions`]: the same pairs as filtering the list
+/// afterwards).
 ///
 /// Progress goes to `ticker` (its current range) after every [`PAIRS_PER_TICK`] chunk pairs.
 fn intersecting_pairs(
@@ -494,6 +497,7 @@ fn intersecting_pairs(
     // leave the search: only pairs within one shell count. `free` (per triangle) when the
     // caller has it ([`free_shells`]).
     let kept: Vec<u32> = match free {
+        Some(f) if f.len() == triangles.len() && !f.contains(&true) => kept,
         Some(f) if f.len() == triangles.len() => kept.into_iter().filter(|&i| !f[i as usize]).collect(),
         _ => {
             let tris: Vec<[u32; 3]> = kept.iter().map(|&i| triangles[i as usize]).collect();
@@ -534,23 +538,23 @@ fn intersecting_pairs(
             to_aabb(lo, hi)
         })
         .collect();
-    let mut chunk_pairs: Vec<(u32, u32)> = overlapping_boxes(&chunk_boxes);
-    chunk_pairs.extend((0..chunk_boxes.len() as u32).map(|c| (c, c)));
-    if certified.patches() > 0 {
-        // Per chunk (its triangles are consecutive, within one patch): the certified stars
-        // containing it.
-        let stars: Vec<Vec<u32>> = (0..chunk_boxes.len() as u32)
+    // Per chunk (its triangles are consecutive, within one patch): the certified regions
+    // containing it. Chunk pairs (and a chunk with itself) inside one region are skipped as the
+    // tree finds them (see [`overlapping_boxes`]), never collected.
+    let regions: Vec<ChunkRegions> = if certified.patches() > 0 {
+        (0..chunk_boxes.len() as u32)
             .into_par_iter()
             .map(|c| {
                 let slots = chunk(c);
-                certified.stars_of_range(kept[slots[0] as usize] as usize, kept[slots[slots.len() - 1] as usize] as usize)
+                certified.chunk_regions(kept[slots[0] as usize] as usize, kept[slots[slots.len() - 1] as usize] as usize)
             })
-            .collect();
-        chunk_pairs.retain(|&(a, b)| {
-            let (sa, sb) = (&stars[a as usize], &stars[b as usize]);
-            !if a == b { !sa.is_empty() } else { share(sa, sb) }
-        });
-    }
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let keep = |a: u32, b: u32| regions.is_empty() || !certified.share_region(regions[a as usize], regions[b as usize]);
+    let mut chunk_pairs: Vec<(u32, u32)> = overlapping_boxes(&chunk_boxes, keep);
+    chunk_pairs.extend((0..chunk_boxes.len() as u32).filter(|&c| keep(c, c)).map(|c| (c, c)));
     // (The shell test is applied to the few hits afterwards: no union-find over all triangles
     // when nothing meets.)
     let candidate = |i: usize, j: usize| -> bool {
@@ -723,8 +727,8 @@ fn morton_order(points: &[DVec3]) -> Vec<u32> {
 /// Boxes per leaf of the tree of [`overlapping_boxes`].
 const LEAF: usize = 4;
 
-/// All pairs (a, b), a ≠ b, of `boxes` that overlap (closed boxes, [`Aabb::intersects`]), each
-/// once, in no particular order.
+/// All pairs (a, b), a ≠ b, of `boxes` that overlap (closed boxes, [`Aabb::intersects`]) and
+/// that `keep(a, b)` keeps, each once, in no particular order (`keep` is symmetric).
 ///
 /// A bounding volume hierarchy built without a search for splits: the boxes sorted by the
 /// Morton code of their centres ([`morton_order`]), leaves of [`LEAF`] consecutive boxes, and
@@ -734,7 +738,7 @@ const LEAF: usize = 4;
 /// a sorted position after p (in parallel over p), so each overlapping pair is found once, by
 /// the earlier of its two boxes. Building is linear (parry's binned build of 40k boxes took
 /// 50 ms, the chunk boxes of a 40k-quad torus at r = 2).
-fn overlapping_boxes(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+fn overlapping_boxes(boxes: &[Aabb], keep: impl Fn(u32, u32) -> bool + Sync) -> Vec<(u32, u32)> {
     let n = boxes.len();
     if n < 2 {
         return Vec::new();
@@ -772,7 +776,7 @@ fn overlapping_boxes(boxes: &[Aabb]) -> Vec<(u32, u32)> {
                     }
                     if k == 0 {
                         for q in (i * LEAF).max(p + 1)..((i + 1) * LEAF).min(n) {
-                            if sorted[q].intersects(b) {
+                            if sorted[q].intersects(b) && keep(order[p], order[q]) {
                                 acc.push((order[p], order[q]));
                             }
                         }
@@ -952,7 +956,7 @@ mod tests {
                 boxes[2] = aabb(DVec3::new(b.maxs.x, b.mins.y, b.mins.z), DVec3::new(b.maxs.x + 1.0, b.maxs.y, b.maxs.z));
                 boxes[3] = boxes[0];
             }
-            let mut fast: Vec<(u32, u32)> = overlapping_boxes(&boxes).into_iter().map(|(a, b)| (a.min(b), a.max(b))).collect();
+            let mut fast: Vec<(u32, u32)> = overlapping_boxes(&boxes, |_, _| true).into_iter().map(|(a, b)| (a.min(b), a.max(b))).collect();
             fast.sort_unstable();
             let mut brute = Vec::new();
             for a in 0..n {
