@@ -337,7 +337,7 @@ fn common_degree_keeps_boundaries_and_cross_derivatives() {
 fn four_sided(grid: &[Vec<DVec3>]) -> GbPatch {
     let d = grid.len() - 1;
     let l = layers_for_degree(d);
-    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_rows(d, (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect()).unwrap();
+    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
     GbPatch {
         ribbons: vec![
             side(&|j, k| grid[d - k][j]),

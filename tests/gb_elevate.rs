@@ -68,7 +68,7 @@ fn four_sided_elevation_is_exact_everywhere() {
         let mut r = common_gb::Rng::new(d as u64);
         let grid: Vec<Vec<DVec3>> = (0..=d).map(|_| (0..=d).map(|_| r.v()).collect()).collect();
         let l = layers_for_degree(d);
-        let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_rows(d, (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect()).unwrap();
+        let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
         let p = GbPatch {
             ribbons: vec![
                 side(&|j, k| grid[d - k][j]),

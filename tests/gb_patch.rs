@@ -68,7 +68,7 @@ fn shared_patch(n: usize, d: usize, seed: u64) -> GbPatch {
 fn tensor_to_gb(grid: &[Vec<DVec3>]) -> GbPatch {
     let d = grid.len() - 1;
     let l = layers_for_degree(d);
-    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_rows(d, (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect()).unwrap();
+    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
     GbPatch {
         ribbons: vec![
             side(&|j, k| grid[d - k][j]),
@@ -504,7 +504,11 @@ proptest! {
         let o = DVec3::from_array(off);
         let map = |q: DVec3| mat * q + o;
         let q = GbPatch {
-            ribbons: p.ribbons.iter().map(|rb| Ribbon::from_rows(rb.degree, rb.rows().map(|row| row.iter().map(|x| map(*x)).collect()).collect()).unwrap()).collect(),
+            ribbons: p
+                .ribbons
+                .iter()
+                .map(|rb| Ribbon::from_fn(rb.degree, rb.layers(), rb.width(), |k, j| map(rb.row(k)[j])))
+                .collect(),
             center: map(p.center),
         };
         let x = Domain::regular(n).unwrap().side_point(i % n, t) * r;

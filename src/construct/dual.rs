@@ -128,7 +128,8 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
     for v in mesh.vertices() {
         out.clear();
         out.extend(mesh.vertex_outgoing(v));
-        patches.push(vertex_patch(mesh, v, &out, opts, &centroid, &fmid, &edge_curve, &edge_node, &mut curves, &mut curve_nodes, &mut mids)?);
+        let (curves, curve_nodes, mids) = (&mut curves, &mut curve_nodes, &mut mids);
+        patches.push(vertex_patch(mesh, v, &out, opts, &centroid, &fmid, &edge_curve, &edge_node, curves, curve_nodes, mids)?);
     }
     Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease: Vec::new() })
 }

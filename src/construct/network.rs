@@ -295,7 +295,10 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         net.patches
             .iter()
             .enumerate()
-            .map(|(p, l)| l.sides.iter().enumerate().map(|(i, s)| if shared[start[p] + i] { crease_of(&crease, s.curve) } else { 0.0 }).collect())
+            .map(|(p, l)| {
+                let shared = &shared[start[p]..start[p + 1]];
+                l.sides.iter().zip(shared).map(|(s, &sh)| if sh { crease_of(&crease, s.curve) } else { 0.0 }).collect()
+            })
             .collect()
     };
     Ok(Surface {

@@ -312,7 +312,12 @@ fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, start: DVec3, vertices: bo
 /// The tile polygon of v, counter-clockwise: (h, true) = split point on the edge of outgoing h,
 /// (h, false) = tile vertex in face(h) for outgoing h. Written to `ring`; `out` is a buffer for
 /// the outgoing half-edges (both cleared first).
-fn tile_ring(mesh: &HalfEdgeMesh, v: crate::mesh::VertexId, out: &mut Vec<HalfedgeId>, ring: &mut Vec<(HalfedgeId, bool)>) {
+fn tile_ring(
+    mesh: &HalfEdgeMesh,
+    v: crate::mesh::VertexId,
+    out: &mut Vec<HalfedgeId>,
+    ring: &mut Vec<(HalfedgeId, bool)>,
+) {
     ring.clear();
     if !mesh.is_boundary_vertex(v) {
         ring.extend(mesh.vertex_outgoing(v).map(|h| (h, false)));

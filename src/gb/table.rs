@@ -820,7 +820,9 @@ mod tests {
             .zip(layers)
             .enumerate()
             .map(|(i, (&d, &l))| {
-                crate::gb::Ribbon::from_fn(d, l, d + 1, |k, j| DVec3::new(i as f64 + next(), j as f64 + next(), k as f64 + next()))
+                crate::gb::Ribbon::from_fn(d, l, d + 1, |k, j| {
+                    DVec3::new(i as f64 + next(), j as f64 + next(), k as f64 + next())
+                })
             })
             .collect()
     }

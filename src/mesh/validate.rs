@@ -171,7 +171,8 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
     }
     // Corner buffers per worker, reused over its faces.
     let face_errors = mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN);
-    let face_errors = face_errors.map_init(<[Vec<DVec3>; 2]>::default, |buf, (f, face)| face_error(mesh, f, face, buf).err());
+    let face_errors =
+        face_errors.map_init(<[Vec<DVec3>; 2]>::default, |buf, (f, face)| face_error(mesh, f, face, buf).err());
     if let Some(e) = face_errors.find_map_first(|e| e) {
         return Err(e);
     }
