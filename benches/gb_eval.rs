@@ -23,25 +23,18 @@ const BATCH: usize = 16;
 fn patch(n: usize, d: usize, seed: usize) -> GbPatch {
     let l = d.div_ceil(2);
     let ribbons = (0..n)
-        .map(|i| Ribbon {
-            degree: d,
-            rows: (0..l)
-                .map(|k| {
-                    (0..=d)
-                        .map(|j| {
-                            let a =
-                                (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
-                            let rad = 1.0 - 0.6 * k as f64 / d as f64;
-                            let wob = 0.05 * ((seed * 7 + i * 3 + j) as f64).sin();
-                            DVec3::new(
-                                rad * a.cos() + wob,
-                                rad * a.sin() - wob,
-                                0.4 * k as f64 + wob,
-                            )
-                        })
-                        .collect()
-                })
-                .collect(),
+        .map(|i| {
+            Ribbon::from_fn(d, l, d + 1, |k, j| {
+                let a =
+                    (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
+                let rad = 1.0 - 0.6 * k as f64 / d as f64;
+                let wob = 0.05 * ((seed * 7 + i * 3 + j) as f64).sin();
+                DVec3::new(
+                    rad * a.cos() + wob,
+                    rad * a.sin() - wob,
+                    0.4 * k as f64 + wob,
+                )
+            })
         })
         .collect();
     GbPatch {

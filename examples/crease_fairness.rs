@@ -60,7 +60,7 @@ fn main() {
         if s.side_crease(p, i) <= 0.0 {
             continue;
         }
-        let pts = s.patches[p].ribbons()[i].rows[0].clone();
+        let pts = s.patches[p].ribbons()[i].row(0).to_vec();
         let theta = (0..=samples)
             .map(|k| {
                 let t = k as f64 / samples as f64;

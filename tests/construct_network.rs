@@ -120,8 +120,8 @@ fn none_mode_uses_corner_twists_and_is_not_g1_here() {
     let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
     let s = assemble(&net, &opts(TwistMode::None)).unwrap();
     let r = &s.patches[0].ribbons()[0];
-    assert_eq!(r.rows[1][1], net.patches[0].corner_twists[2]);
-    assert_eq!(r.rows[1][2], net.patches[0].corner_twists[0]);
+    assert_eq!(r.row(1)[1], net.patches[0].corner_twists[2]);
+    assert_eq!(r.row(1)[2], net.patches[0].corner_twists[0]);
     assert!(ribbon_g1_angle(&s, 17).value > 0.01);
     assert_eq!(s.neighbors[0][0], Some(gbsurf::construct::SideRef { patch: 1, side: 0 }));
     assert_eq!(s.neighbors[0][1], None);
@@ -133,8 +133,8 @@ fn open_sides_adopt_shared_twists() {
     let s = assemble(&net, &opts(TwistMode::Interp)).unwrap();
     let r = s.patches[0].ribbons();
     // Side 1 starts at corner 0 (end of shared side 0).
-    assert_eq!(r[1].rows[1][1], r[0].rows[1][2]);
-    assert_eq!(r[2].rows[1][2], r[0].rows[1][1]);
+    assert_eq!(r[1].row(1)[1], r[0].row(1)[2]);
+    assert_eq!(r[2].row(1)[2], r[0].row(1)[1]);
 }
 
 #[test]

@@ -121,7 +121,7 @@ fn tile_vertex_twists_report_g1_error() {
         let g = ribbon_g1_angle(&s, 17);
         assert!(g.value > 0.01, "{name}: {g:?}");
         let r = s.patches[0].ribbons();
-        assert_eq!(r[0].rows[1][2], r[1].rows[1][1], "{name}: twists shared at corners");
+        assert_eq!(r[0].row(1)[2], r[1].row(1)[1], "{name}: twists shared at corners");
     }
     // Valence 4 everywhere with planar faces (square tiles): the tile-vertex twists are C1 across.
     for name in ["octahedron", "torus"] {

@@ -65,9 +65,7 @@ fn constant_net_gives_constant_surface_and_no_nan() {
         let mut p = mixed(n, 3);
         let c = DVec3::new(0.3, -2.0, 7.0);
         for r in &mut p.ribbons {
-            for row in &mut r.rows {
-                row.iter_mut().for_each(|q| *q = c);
-            }
+            r.points_mut().iter_mut().for_each(|q| *q = c);
         }
         let dom = Domain::regular(n).unwrap();
         let q = mixed(n, 11);
@@ -123,7 +121,7 @@ fn squared_weights_keep_ribbon_normals() {
                             .collect()
                     })
                     .collect();
-                gbsurf::gb::Ribbon { degree: d, rows }
+                gbsurf::gb::Ribbon::from_rows(d, rows).unwrap()
             })
             .collect();
         let p = CgbPatch { ribbons };
@@ -150,7 +148,7 @@ fn squared_weights_keep_ribbon_normals() {
 fn validate_and_errors() {
     use gbsurf::gb::GbError;
     let mut p = mixed(5, 1);
-    p.ribbons[2].rows.clear();
+    p.ribbons[2] = gbsurf::gb::Ribbon::from_rows(p.ribbons[2].degree, vec![]).unwrap();
     assert!(matches!(
         p.validate(),
         Err(GbError::LayerCount { side: 2, .. })
@@ -194,7 +192,7 @@ proptest! {
         let mat = glam::DMat3::from_cols_array(&m);
         let o = DVec3::from_array(off);
         let mut q = p.clone();
-        for rb in &mut q.ribbons { for row in &mut rb.rows { for x in row.iter_mut() { *x = mat * *x + o; } } }
+        for rb in &mut q.ribbons { for x in rb.points_mut() { *x = mat * *x + o; } }
         let x = Domain::regular(n).unwrap().side_point(1, t) * r;
         assert_near!(q.eval(x, WeightForm::Squared), mat * p.eval(x, WeightForm::Squared) + o, 1e-11);
     }

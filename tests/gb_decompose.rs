@@ -150,10 +150,8 @@ fn editing_a_displacement_keeps_the_other_sides() {
             let mut dec = decompose(&p).unwrap();
             let i = (n + d) % n;
             for r in &mut dec.displacements[i].ribbons {
-                for row in &mut r.rows {
-                    for v in row.iter_mut() {
-                        *v *= 3.0;
-                    }
+                for v in r.points_mut() {
+                    *v *= 3.0;
                 }
             }
             let q = dec.recompose();
@@ -193,12 +191,12 @@ fn the_base_carries_the_corner_data() {
                 for k in 0..2 {
                     for j in [0, 1, d - 1, d] {
                         assert_near!(
-                            e.rows[k][j],
-                            r.rows[k][j],
+                            e.row(k)[j],
+                            r.row(k)[j],
                             1e-13,
                             "n={n} d={d} side {i} ({k},{j})"
                         );
-                        assert_eq!(dec.base.ribbons[i].rows[k][j], r.rows[k][j]);
+                        assert_eq!(dec.base.ribbons[i].row(k)[j], r.row(k)[j]);
                     }
                 }
                 // end positions and first derivatives of the boundary and the cross-derivative
@@ -211,7 +209,7 @@ fn the_base_carries_the_corner_data() {
                 let xd = |rb: &Ribbon| {
                     BezierCurve::new(
                         (0..=rb.degree)
-                            .map(|j| (rb.rows[1][j] - rb.rows[0][j]) * rb.degree as f64)
+                            .map(|j| (rb.row(1)[j] - rb.row(0)[j]) * rb.degree as f64)
                             .collect(),
                     )
                     .unwrap()
@@ -221,14 +219,14 @@ fn the_base_carries_the_corner_data() {
                 }
                 // boundary row of S_B and of S_Di is the curve form r = r_B + r_D of row 0
                 let bd =
-                    BaseDisplacement::new(&BezierCurve::new(r.rows[0].clone()).unwrap()).unwrap();
+                    BaseDisplacement::new(&BezierCurve::new(r.row(0).to_vec()).unwrap()).unwrap();
                 assert_near!(
-                    dec.base.ribbons[i].rows[0],
+                    dec.base.ribbons[i].row(0).to_vec(),
                     bd.base_elevated().into_points(),
                     1e-13
                 );
                 assert_near!(
-                    dec.displacements[i].ribbons[i].rows[0],
+                    dec.displacements[i].ribbons[i].row(0).to_vec(),
                     bd.displacement().to_vec(),
                     1e-13
                 );
@@ -254,12 +252,13 @@ fn decomposition_errors() {
     let p = random_patch(5, 2, 1);
     assert_eq!(decompose(&p), Err(DecomposeError::BelowCubic { degree: 2 }));
     let mut bad = random_patch(5, 4, 1);
-    bad.ribbons[3].rows[1].pop();
+    // Rows one point short (a ribbon's rows all have one length).
+    bad.ribbons[3] = Ribbon::from_fn(4, 2, 4, |k, j| bad.ribbons[3].row(k)[j]);
     assert_eq!(
         decompose(&bad),
         Err(DecomposeError::Invalid(GbError::RowLength {
             side: 3,
-            row: 1,
+            row: 0,
             expected: 5,
             found: 4
         }))
@@ -338,10 +337,7 @@ fn common_degree_keeps_boundaries_and_cross_derivatives() {
 fn four_sided(grid: &[Vec<DVec3>]) -> GbPatch {
     let d = grid.len() - 1;
     let l = layers_for_degree(d);
-    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon {
-        degree: d,
-        rows: (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect(),
-    };
+    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
     GbPatch {
         ribbons: vec![
             side(&|j, k| grid[d - k][j]),

@@ -68,10 +68,7 @@ fn four_sided_elevation_is_exact_everywhere() {
         let mut r = common_gb::Rng::new(d as u64);
         let grid: Vec<Vec<DVec3>> = (0..=d).map(|_| (0..=d).map(|_| r.v()).collect()).collect();
         let l = layers_for_degree(d);
-        let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon {
-            degree: d,
-            rows: (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect(),
-        };
+        let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
         let p = GbPatch {
             ribbons: vec![
                 side(&|j, k| grid[d - k][j]),
@@ -98,6 +95,6 @@ fn four_sided_elevation_is_exact_everywhere() {
 fn elevation_rejects_invalid_patches_and_is_a_noop_at_target() {
     let mut p = random_patch(5, 3, 1);
     assert_eq!(p.elevate_to(3).unwrap(), p);
-    p.ribbons[1].rows[0].pop();
+    p.ribbons[1] = Ribbon::from_fn(3, 2, 3, |k, j| p.ribbons[1].row(k)[j]);
     assert!(p.elevate().is_err());
 }

@@ -34,14 +34,11 @@ fn random_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     let mut r = Rng(seed.wrapping_mul(2654435761).wrapping_add(12345) | 1);
     let l = layers_for_degree(d);
     let mut ribbons: Vec<Ribbon> = (0..n)
-        .map(|_| Ribbon {
-            degree: d,
-            rows: (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect(),
-        })
+        .map(|_| Ribbon::from_rows(d, (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect()).unwrap())
         .collect();
     for i in 0..n {
-        let p = ribbons[(i + n - 1) % n].rows[0][d];
-        ribbons[i].rows[0][0] = p;
+        let p = ribbons[(i + n - 1) % n].row(0)[d];
+        ribbons[i].row_mut(0)[0] = p;
     }
     GbPatch {
         ribbons,
@@ -57,8 +54,8 @@ fn shared_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     for i in 0..n {
         for k in 0..l {
             for j in 0..l {
-                let q = p.ribbons[(i + n - 1) % n].rows[j][d - k];
-                p.ribbons[i].rows[k][j] = q;
+                let q = p.ribbons[(i + n - 1) % n].row(j)[d - k];
+                p.ribbons[i].row_mut(k)[j] = q;
             }
         }
     }
@@ -71,10 +68,7 @@ fn shared_patch(n: usize, d: usize, seed: u64) -> GbPatch {
 fn tensor_to_gb(grid: &[Vec<DVec3>]) -> GbPatch {
     let d = grid.len() - 1;
     let l = layers_for_degree(d);
-    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon {
-        degree: d,
-        rows: (0..l).map(|k| (0..=d).map(|j| f(j, k)).collect()).collect(),
-    };
+    let side = |f: &dyn Fn(usize, usize) -> DVec3| Ribbon::from_fn(d, l, d + 1, |k, j| f(j, k));
     GbPatch {
         ribbons: vec![
             side(&|j, k| grid[d - k][j]),
@@ -248,7 +242,7 @@ fn boundary_interpolation_and_exact_corners() {
                     }
                     // corners exactly
                     let c = p.eval_derivs_with_form(&mut ev, dom.vertex(i), form).p;
-                    assert_eq!(c, p.ribbons[i].rows[0][d], "corner {i} n={n} d={d}");
+                    assert_eq!(c, p.ribbons[i].row(0)[d], "corner {i} n={n} d={d}");
                 }
             }
         }
@@ -374,7 +368,7 @@ fn sphere_patch(n: usize, d: usize) -> GbPatch {
                     .collect()
             })
             .collect();
-        ribbons.push(Ribbon { degree: d, rows });
+        ribbons.push(Ribbon::from_rows(d, rows).unwrap());
     }
     GbPatch {
         ribbons,
@@ -458,13 +452,13 @@ fn squared_weights_keep_ribbon_normals_with_independent_corner_blocks() {
                         let a = dom.vertex(i + n - 1);
                         let b = dom.vertex(i);
                         let q = (a + (b - a) * (j as f64 / d as f64)) * (1.0 - k as f64 / d as f64);
-                        p.ribbons[i].rows[k][j] =
+                        p.ribbons[i].row_mut(k)[j] =
                             DVec3::new(q.x, q.y, 0.3 * q.x * q.y + 0.2 * q.x * q.x);
                     }
                 }
                 // independent blocks: the row-1 end points and twists of each side
                 for &j in &[0usize, 1, d - 1, d] {
-                    p.ribbons[i].rows[1][j] += r.v() * 0.05;
+                    p.ribbons[i].row_mut(1)[j] += r.v() * 0.05;
                 }
             }
             p.validate().unwrap();
@@ -510,7 +504,11 @@ proptest! {
         let o = DVec3::from_array(off);
         let map = |q: DVec3| mat * q + o;
         let q = GbPatch {
-            ribbons: p.ribbons.iter().map(|rb| Ribbon { degree: rb.degree, rows: rb.rows.iter().map(|row| row.iter().map(|x| map(*x)).collect()).collect() }).collect(),
+            ribbons: p
+                .ribbons
+                .iter()
+                .map(|rb| Ribbon::from_fn(rb.degree, rb.layers(), rb.width(), |k, j| map(rb.row(k)[j])))
+                .collect(),
             center: map(p.center),
         };
         let x = Domain::regular(n).unwrap().side_point(i % n, t) * r;
@@ -537,12 +535,23 @@ proptest! {
 fn validate_names_the_offending_element() {
     use gbsurf::gb::GbError;
     let mut p = random_patch(5, 4, 1);
-    p.ribbons[3].rows[1].pop();
+    // Ragged rows cannot make a ribbon; rows all one point short make one that does not validate.
+    let mut rows = p.ribbons[3].to_rows();
+    rows[1].pop();
+    assert_eq!(
+        Ribbon::from_rows(4, rows),
+        Err(GbError::RaggedRows {
+            row: 1,
+            expected: 5,
+            found: 4
+        })
+    );
+    p.ribbons[3] = Ribbon::from_fn(4, 2, 4, |k, j| p.ribbons[3].row(k)[j]);
     assert_eq!(
         p.validate(),
         Err(GbError::RowLength {
             side: 3,
-            row: 1,
+            row: 0,
             expected: 5,
             found: 4
         })
@@ -554,13 +563,13 @@ fn validate_names_the_offending_element() {
         Err(GbError::DegreeMismatch { side: 2, .. })
     ));
     let mut p = random_patch(5, 4, 1);
-    p.ribbons[4].rows.pop();
+    p.ribbons[4] = Ribbon::from_fn(4, 1, 5, |k, j| p.ribbons[4].row(k)[j]);
     assert!(matches!(
         p.validate(),
         Err(GbError::LayerCount { side: 4, .. })
     ));
     let mut p = random_patch(5, 4, 1);
-    p.ribbons[1].rows[0][2].x = f64::NAN;
+    p.ribbons[1].row_mut(0)[2].x = f64::NAN;
     assert_eq!(
         p.validate(),
         Err(GbError::NonFinite {
@@ -586,7 +595,7 @@ fn validate_names_the_offending_element() {
     assert_eq!(p.validate(), Err(GbError::TooFewSides(2)));
     // malformed patches evaluate without panicking
     let mut q = random_patch(5, 4, 1);
-    q.ribbons[3].rows[1].truncate(2);
+    q.ribbons[3] = Ribbon::from_fn(4, 2, 2, |k, j| q.ribbons[3].row(k)[j]);
     assert!(q
         .eval(DVec2::new(0.1, 0.1), WeightForm::Squared)
         .is_finite());
@@ -599,7 +608,7 @@ fn malformed_patches_never_panic() {
     use gbsurf::gb::{CgbPatch, GbError};
     let x = DVec2::new(0.1, -0.2);
     let huge = |d: usize, rows: Vec<Vec<DVec3>>| GbPatch {
-        ribbons: vec![Ribbon { degree: d, rows }; 4],
+        ribbons: vec![Ribbon::from_rows(d, rows).unwrap(); 4],
         center: DVec3::ONE,
     };
     let mut cases = vec![
@@ -614,8 +623,8 @@ fn malformed_patches_never_panic() {
         },
     ];
     let mut ragged = random_patch(5, 5, 3);
-    ragged.ribbons[1].rows.clear();
-    ragged.ribbons[2].rows[2] = vec![DVec3::ONE; 9];
+    ragged.ribbons[1] = Ribbon::from_rows(5, vec![]).unwrap();
+    ragged.ribbons[2] = Ribbon::from_fn(5, 3, 9, |_, _| DVec3::ONE);
     ragged.ribbons[4].degree = 7;
     cases.push(ragged);
     for (c, p) in cases.iter().enumerate() {
@@ -641,4 +650,29 @@ fn malformed_patches_never_panic() {
     ));
     // Elevation stops with an error at the cap instead of looping or allocating without bound.
     assert!(random_patch(3, 3, 1).elevate_to(usize::MAX).is_err());
+}
+
+/// A ribbon serializes as before its rows were one buffer, `{"degree": d, "rows": [[[x, y, z], …], …]}`,
+/// reads back equal, and ragged rows in a file are refused with a message naming the row.
+#[test]
+fn ribbon_serde_form_is_rows_of_points() {
+    let p = random_patch(5, 4, 7);
+    let r = &p.ribbons[2];
+    let text = serde_json::to_string(r).unwrap();
+    let rows: Vec<Vec<[f64; 3]>> = r.rows().map(|row| row.iter().map(|q| q.to_array()).collect()).collect();
+    let expected = serde_json::json!({"degree": 4, "rows": rows});
+    assert_eq!(text, serde_json::to_string(&expected).unwrap());
+    // Read back: the rows the same text gives as `Vec<Vec<DVec3>>` (serde_json's float parsing,
+    // not exact to the last bit without its `float_roundtrip` feature, is the same for both).
+    #[derive(serde::Deserialize)]
+    struct Rows {
+        degree: usize,
+        rows: Vec<Vec<DVec3>>,
+    }
+    let (back, old) = (serde_json::from_str::<Ribbon>(&text).unwrap(), serde_json::from_str::<Rows>(&text).unwrap());
+    assert_eq!((back.degree, back.to_rows()), (old.degree, old.rows));
+    assert_near!(back.points().to_vec(), r.points().to_vec(), 1e-15);
+    let ragged = r#"{"degree": 2, "rows": [[[0,0,0],[1,0,0],[2,0,0]], [[0,1,0],[1,1,0]]]}"#;
+    let err = serde_json::from_str::<Ribbon>(ragged).unwrap_err().to_string();
+    assert!(err.contains("ribbon row 1: 2 points, expected 3"), "{err}");
 }

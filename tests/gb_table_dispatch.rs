@@ -14,10 +14,7 @@ fn patch(n: usize, d: usize, coords: &[f64]) -> GbPatch {
         coords[k % coords.len()] + (k as f64 * 0.37).sin()
     };
     let ribbons = (0..n)
-        .map(|_| Ribbon {
-            degree: d,
-            rows: (0..d.div_ceil(2)).map(|_| (0..=d).map(|_| DVec3::new(next(), next(), next())).collect()).collect(),
-        })
+        .map(|_| Ribbon::from_fn(d, d.div_ceil(2), d + 1, |_, _| DVec3::new(next(), next(), next())))
         .collect();
     GbPatch { ribbons, center: DVec3::new(next(), next(), next()) }
 }

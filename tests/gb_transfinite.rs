@@ -155,7 +155,7 @@ impl Tf {
         for i in 0..n {
             for k in 0..surf.layers {
                 for j in 0..=d {
-                    surf.nets[i][j][k] = p.ribbons[i].rows[k][j];
+                    surf.nets[i][j][k] = p.ribbons[i].row(k)[j];
                 }
             }
         }
@@ -393,11 +393,11 @@ fn random_gbp_text(n: usize, d: usize, seed: u64) -> String {
 fn assert_same_nets(ours: &GbPatch, tf: &Tf) {
     assert_eq!(ours.center, tf.central);
     for i in 0..tf.n {
-        assert_eq!(ours.ribbons[i].rows.len(), tf.layers);
+        assert_eq!(ours.ribbons[i].layers(), tf.layers);
         for k in 0..tf.layers {
             for j in 0..=tf.degree {
                 assert_eq!(
-                    ours.ribbons[i].rows[k][j], tf.nets[i][j][k],
+                    ours.ribbons[i].row(k)[j], tf.nets[i][j][k],
                     "n={} d={} side {i} col {j} row {k}",
                     tf.n, tf.degree
                 );
@@ -452,14 +452,11 @@ fn independent_patch(n: usize, d: usize, seed: u64) -> GbPatch {
     let mut r = Rng::new(seed);
     let l = layers_for_degree(d);
     let mut ribbons: Vec<Ribbon> = (0..n)
-        .map(|_| Ribbon {
-            degree: d,
-            rows: (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect(),
-        })
+        .map(|_| Ribbon::from_rows(d, (0..l).map(|_| (0..=d).map(|_| r.v()).collect()).collect()).unwrap())
         .collect();
     for i in 0..n {
-        let p = ribbons[(i + n - 1) % n].rows[0][d];
-        ribbons[i].rows[0][0] = p;
+        let p = ribbons[(i + n - 1) % n].row(0)[d];
+        ribbons[i].row_mut(0)[0] = p;
     }
     GbPatch {
         ribbons,

@@ -27,16 +27,16 @@ fn assert_sharing_rule(p: &GbPatch) {
     for i in 0..n {
         for k in 0..l {
             for j in 0..=d {
-                let here = p.ribbons[i].rows[k][j];
+                let here = p.ribbons[i].row(k)[j];
                 if j < l {
                     assert_eq!(
                         here,
-                        p.ribbons[(i + n - 1) % n].rows[j][d - k],
+                        p.ribbons[(i + n - 1) % n].row(j)[d - k],
                         "({i},{j},{k})"
                     );
                 }
                 if d - j < l {
-                    assert_eq!(here, p.ribbons[(i + 1) % n].rows[d - j][k], "({i},{j},{k})");
+                    assert_eq!(here, p.ribbons[(i + 1) % n].row(d - j)[k], "({i},{j},{k})");
                 }
             }
         }
@@ -98,12 +98,13 @@ fn shape_errors_are_reported() {
         })
     );
     let mut p = sample_patch(4, 3);
-    p.ribbons[2].rows[1].pop();
+    // Rows one point short (a ribbon's rows all have one length).
+    p.ribbons[2] = gbsurf::gb::Ribbon::from_fn(3, 2, 3, |k, j| p.ribbons[2].row(k)[j]);
     assert_eq!(
         p.check_shape(),
         Err(GbError::RowLength {
             side: 2,
-            row: 1,
+            row: 0,
             expected: 4,
             found: 3
         })
@@ -121,7 +122,7 @@ fn shape_errors_are_reported() {
 fn perturbed_shared_point_breaks_connection() {
     let mut p = sample_patch(5, 3);
     // (1, 0, 1) is the copy of (0, 2, 0) (j < l rule); move only the copy.
-    p.ribbons[1].rows[1][0] += DVec3::new(0.0, 1e-6, 0.0);
+    p.ribbons[1].row_mut(1)[0] += DVec3::new(0.0, 1e-6, 0.0);
     assert!(!p.is_connected(1e-9));
     assert!(p.is_connected(1e-5));
     let (defect, at) = p.connection_defect().unwrap();
@@ -145,16 +146,16 @@ fn reads_cubic_sample_file() {
     assert_eq!(p.ribbons[0].degree, 3);
     assert_eq!(p.center, DVec3::new(0.0, 0.0, 0.6));
     // Side 0, row 0 as listed.
-    assert_eq!(p.ribbons[0].rows[0][0], DVec3::new(0.309, -0.9511, 0.0));
-    assert_eq!(p.ribbons[0].rows[0][2], DVec3::new(0.7697, -0.317, 0.0455));
+    assert_eq!(p.ribbons[0].row(0)[0], DVec3::new(0.309, -0.9511, 0.0));
+    assert_eq!(p.ribbons[0].row(0)[2], DVec3::new(0.7697, -0.317, 0.0455));
     // Its column 3 is side 1's column 0 (the corner at domain vertex 0).
-    assert_eq!(p.ribbons[0].rows[0][3], DVec3::new(1.0, 0.0, 0.0));
+    assert_eq!(p.ribbons[0].row(0)[3], DVec3::new(1.0, 0.0, 0.0));
     // Row 1, column 0 of side 0 is side 4's row 0, column 2.
-    assert_eq!(p.ribbons[0].rows[1][0], DVec3::new(-0.0637, -0.83, 0.0495));
+    assert_eq!(p.ribbons[0].row(1)[0], DVec3::new(-0.0637, -0.83, 0.0495));
     // Row 1, column 1 of side 0: the first listed point of row 1.
-    assert_eq!(p.ribbons[0].rows[1][1], DVec3::new(0.3775, -0.4438, 0.3921));
+    assert_eq!(p.ribbons[0].row(1)[1], DVec3::new(0.3775, -0.4438, 0.3921));
     // Row 1, column 2 of side 0 is side 1's row 1, column 1.
-    assert_eq!(p.ribbons[0].rows[1][2], DVec3::new(0.5388, 0.2219, 0.3122));
+    assert_eq!(p.ribbons[0].row(1)[2], DVec3::new(0.5388, 0.2219, 0.3122));
     assert_sharing_rule(&p);
 
     let q = load_gbp(format!("{DATA}/quintic3.gbp")).unwrap();
@@ -162,7 +163,7 @@ fn reads_cubic_sample_file() {
         (
             q.ribbons.len(),
             q.ribbons[0].degree,
-            q.ribbons[0].rows.len()
+            q.ribbons[0].layers()
         ),
         (3, 5, 3)
     );

@@ -27,7 +27,7 @@ fn patch(corners: &[DVec3], bulge: f64) -> GbPatch {
             let (a, b) = (corners[(i + n - 1) % n], corners[i]);
             let row0: Vec<DVec3> = (0..=3).map(|j| a + (b - a) * (j as f64 / 3.0)).collect();
             let row1: Vec<DVec3> = row0.iter().map(|p| *p + (centroid - *p) / 3.0 + DVec3::Z * bulge).collect();
-            Ribbon { degree: 3, rows: vec![row0, row1] }
+            Ribbon::from_rows(3, vec![row0, row1]).unwrap()
         })
         .collect();
     GbPatch { ribbons, center: centroid + DVec3::Z * 1.4 * bulge }

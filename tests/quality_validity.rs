@@ -324,7 +324,7 @@ fn a_quad_torus_ignores_its_central_points_but_folds_with_its_ribbons() {
     let ribbon_pulled = edited_dual(&torus, |g| {
         let d = Domain::regular(g.ribbons.len()).unwrap();
         let su = g.eval_derivs(d.center(), form).su;
-        let row = &mut g.ribbons[0].rows[1];
+        let row = g.ribbons[0].row_mut(1);
         let last = row.len() - 1;
         for p in &mut row[1..last] {
             *p += 2.0 * su;
@@ -505,7 +505,7 @@ fn certificates_keep_the_count_on_folded_surfaces() {
     let crumpled = edited_dual(&torus, |g| {
         let d = Domain::regular(g.ribbons.len()).unwrap();
         let su = g.eval_derivs(d.center(), form).su;
-        let row = &mut g.ribbons[0].rows[1];
+        let row = g.ribbons[0].row_mut(1);
         let last = row.len() - 1;
         for p in &mut row[1..last] {
             *p += 6.0 * su;

@@ -299,24 +299,17 @@ use gbsurf::tessellate::TessellateError;
 fn wavy_patch(n: usize, d: usize, seed: f64) -> GbPatch {
     let l = d.div_ceil(2);
     let ribbons = (0..n)
-        .map(|i| Ribbon {
-            degree: d,
-            rows: (0..l)
-                .map(|k| {
-                    (0..=d)
-                        .map(|j| {
-                            let a =
-                                (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
-                            let rad = 1.0 - 0.6 * k as f64 / d as f64;
-                            DVec3::new(
-                                rad * a.cos() + 0.05 * (seed + j as f64).sin(),
-                                rad * a.sin() + 0.04 * (seed * 1.3 + k as f64 + i as f64).cos(),
-                                0.4 * k as f64 + 0.1 * (seed + 3.0 * i as f64 + j as f64).sin(),
-                            )
-                        })
-                        .collect()
-                })
-                .collect(),
+        .map(|i| {
+            Ribbon::from_fn(d, l, d + 1, |k, j| {
+                let a =
+                    (i as f64 + j as f64 / d as f64) * std::f64::consts::TAU / n as f64;
+                let rad = 1.0 - 0.6 * k as f64 / d as f64;
+                DVec3::new(
+                    rad * a.cos() + 0.05 * (seed + j as f64).sin(),
+                    rad * a.sin() + 0.04 * (seed * 1.3 + k as f64 + i as f64).cos(),
+                    0.4 * k as f64 + 0.1 * (seed + 3.0 * i as f64 + j as f64).sin(),
+                )
+            })
         })
         .collect();
     GbPatch {
@@ -386,7 +379,7 @@ fn table_rejects_mismatched_patches() {
         Err(TableError::Mismatch { .. })
     ));
     let mut bad = wavy_patch(5, 3, 0.0);
-    bad.ribbons[2].rows[0][1].x = f64::NAN;
+    bad.ribbons[2].row_mut(0)[1].x = f64::NAN;
     assert!(matches!(table.controls_of(&bad), Err(TableError::Patch(_))));
 }
 

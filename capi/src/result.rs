@@ -122,8 +122,8 @@ fn flatten(v: &[DVec3]) -> Vec<f64> {
 fn flatten_patches(s: &Surface) -> Vec<FlatPatch> {
     let flat_ribbon = |r: &gbsurf::gb::Ribbon| FlatRibbon {
         degree: r.degree,
-        layers: r.rows.len(),
-        points: r.rows.iter().flat_map(|row| flatten(row)).collect(),
+        layers: r.layers(),
+        points: flatten(r.points()),
     };
     s.patches
         .iter()

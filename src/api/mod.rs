@@ -240,9 +240,7 @@ fn convert_valid(
         ticker.stage(construct, tessellate)?;
         let mut sub = |f: f32| ticker.report(construct + (tessellate - construct) * f).is_ok();
         let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, options.cage_maps, Some(&mut sub))?;
-        for p in &surface.patches {
-            report.count_sides(p.sides());
-        }
+        report.count_sides(surface.patches.iter().map(|p| p.sides()));
         report.patches = surface.patches.len();
         report.resolution = options.resolution;
         report.max_boundary_gap = stats.max_boundary_gap;
@@ -267,9 +265,7 @@ fn convert_valid(
         ticker.stage(0.0, SUBDIV_STAGES[0])?;
         let input_face = |f: u32| he.input_face(crate::mesh::FaceId(f)) as u32;
         let (m, faces) = subdivision_mesh(&he.to_polymesh(), &input_face, options, ticker)?;
-        for f in &faces {
-            report.count_sides(f.len());
-        }
+        report.count_sides(faces.iter().map(Vec::len));
         report.patches = faces.len();
         report.resolution = options.levels as usize;
         (m, None)

@@ -105,7 +105,7 @@ impl Normalisation {
                 }
                 Patch::Cgb(c) => &mut c.ribbons,
             };
-            for q in ribbons.iter_mut().flat_map(|r| r.rows.iter_mut()).flatten() {
+            for q in ribbons.iter_mut().flat_map(|r| r.points_mut()) {
                 *q = self.back(*q);
             }
         }

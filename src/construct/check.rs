@@ -36,10 +36,11 @@ pub fn ribbon_frame(r: &Ribbon, s: f64) -> (DVec3, DVec3, DVec3) {
     let mut p = DVec3::ZERO;
     let mut t = DVec3::ZERO;
     let mut x = DVec3::ZERO;
+    let (r0, r1) = (r.row(0), r.row(1));
     for j in 0..=d {
-        p += b[j] * r.rows[0][j];
-        t += db[j] * r.rows[0][j];
-        x += b[j] * (r.rows[1][j] - r.rows[0][j]);
+        p += b[j] * r0[j];
+        t += db[j] * r0[j];
+        x += b[j] * (r1[j] - r0[j]);
     }
     (p, t, d as f64 * x)
 }
@@ -90,9 +91,9 @@ pub fn corner_block_defect(surface: &Surface) -> Worst {
             let next = &rs[(i + 1) % n];
             let r = &rs[i];
             let d = r.degree;
-            w.update(r.rows[1][0].distance(prev.rows[0][prev.degree - 1]), p, i, 0.0);
-            w.update(r.rows[1][d].distance(next.rows[0][1]), p, i, 1.0);
-            w.update(r.rows[0][d].distance(next.rows[0][0]), p, i, 1.0);
+            w.update(r.row(1)[0].distance(prev.row(0)[prev.degree - 1]), p, i, 0.0);
+            w.update(r.row(1)[d].distance(next.row(0)[1]), p, i, 1.0);
+            w.update(r.row(0)[d].distance(next.row(0)[0]), p, i, 1.0);
         }
     }
     w

@@ -41,24 +41,25 @@ impl Surface {
         for (p, patch) in self.patches.iter().enumerate() {
             let mut inner_middles = Vec::new();
             for rb in patch.ribbons() {
-                let mut row_start = Vec::with_capacity(rb.rows.len());
-                for row in &rb.rows {
+                let mut row_start = Vec::with_capacity(rb.layers());
+                for row in rb.rows() {
                     row_start.push(net.positions.len() as u32);
                     net.positions.extend_from_slice(row);
                 }
-                for k in 0..rb.rows.len().saturating_sub(1) {
+                for k in 0..rb.layers().saturating_sub(1) {
                     let (a, b) = (row_start[k], row_start[k + 1]);
-                    let width = rb.rows[k].len().min(rb.rows[k + 1].len()) as u32;
+                    let width = rb.width() as u32;
                     for j in 0..width.saturating_sub(1) {
                         net.face_sizes.push(4);
                         net.face_indices.extend_from_slice(&[a + j, a + j + 1, b + j + 1, b + j]);
                     }
                 }
-                if let [row] = rb.rows.as_slice() {
+                if rb.layers() == 1 {
+                    let row = rb.row(0);
                     let a = row_start[0];
                     net.edges.extend((0..row.len().saturating_sub(1) as u32).map(|j| [a + j, a + j + 1]));
                 }
-                if let (Some(last), Some(&start)) = (rb.rows.last(), row_start.last()) {
+                if let (Some(last), Some(&start)) = (rb.rows().last(), row_start.last()) {
                     if !last.is_empty() {
                         inner_middles.push(start + (rb.degree / 2).min(last.len() - 1) as u32);
                     }
@@ -136,10 +137,7 @@ mod tests {
     use crate::gb::{CgbPatch, GbPatch, Ribbon};
 
     fn ribbon(degree: usize, layers: usize, z: f64) -> Ribbon {
-        let rows = (0..layers)
-            .map(|k| (0..=degree).map(|j| DVec3::new(j as f64, k as f64, z)).collect())
-            .collect();
-        Ribbon { degree, rows }
+        Ribbon::from_fn(degree, layers, degree + 1, |k, j| DVec3::new(j as f64, k as f64, z))
     }
 
     fn surface(patches: Vec<Patch>, curves: Vec<Vec<DVec3>>) -> Surface {
@@ -256,7 +254,7 @@ mod tests {
             let net = s.control_net();
             let mut expected = Vec::new();
             for (p, patch) in s.patches.iter().enumerate() {
-                let mut n = patch.ribbons().iter().map(|r| r.rows.iter().map(Vec::len).sum::<usize>()).sum::<usize>();
+                let mut n = patch.ribbons().iter().map(|r| r.points().len()).sum::<usize>();
                 if let Patch::Gb(g) = patch {
                     n += 1;
                     assert_eq!(net.edges.iter().filter(|e| net.positions[e[1] as usize] == g.center).count(), patch.sides());

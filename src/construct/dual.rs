@@ -46,12 +46,14 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
     let k = opts.fullness;
     let nf = mesh.n_faces();
     // Face planes, per face in parallel (collected in face order; first degenerate face reported).
+    // A corner buffer per worker, reused over its faces.
     let planes: Vec<Option<(DVec3, DVec3)>> = (0..nf as u32)
         .into_par_iter()
-        .map(|f| {
-            let pts: Vec<DVec3> = mesh.face_vertices(FaceId(f)).map(|v| mesh.position(v)).collect();
+        .map_init(Vec::new, |pts: &mut Vec<DVec3>, f| {
+            pts.clear();
+            pts.extend(mesh.face_vertices(FaceId(f)).map(|v| mesh.position(v)));
             let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
-            let n = newell_normal(&pts);
+            let n = newell_normal(pts);
             let len = n.length();
             (len > 1e-14 * pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max)).then(|| (c, n / len))
         })
@@ -122,16 +124,22 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
     }
 
     let mut patches = Vec::with_capacity(mesh.n_vertices());
+    let mut out = Vec::new();
     for v in mesh.vertices() {
-        patches.push(vertex_patch(mesh, v, opts, &centroid, &fmid, &edge_curve, &edge_node, &mut curves, &mut curve_nodes, &mut mids)?);
+        out.clear();
+        out.extend(mesh.vertex_outgoing(v));
+        let (curves, curve_nodes, mids) = (&mut curves, &mut curve_nodes, &mut mids);
+        patches.push(vertex_patch(mesh, v, &out, opts, &centroid, &fmid, &edge_curve, &edge_node, curves, curve_nodes, mids)?);
     }
     Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease: Vec::new() })
 }
 
+/// The patch of vertex `v`; `out` = its outgoing half-edges (`vertex_outgoing`, CCW).
 #[allow(clippy::too_many_arguments)]
 fn vertex_patch(
     mesh: &HalfEdgeMesh,
     v: VertexId,
+    out: &[HalfedgeId],
     opts: &ConvertOptions,
     centroid: &[DVec3],
     fmid: &dyn Fn(HalfedgeId, FaceId) -> DVec3,
@@ -143,7 +151,6 @@ fn vertex_patch(
 ) -> Result<PatchLayout, ConstructError> {
     let k = opts.fullness;
     let vp = mesh.position(v);
-    let out: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
     let n = out.len();
     // Side crossing the edge of outgoing h: forward iff h is the edge's half-edge 0.
     let cross_side = |h: HalfedgeId| SideUse { curve: edge_curve[mesh.edge(h).idx()], reversed: h.0 & 1 == 1 };

@@ -82,10 +82,13 @@ impl From<crate::progress::Cancelled> for ConstructError {
 pub fn convex_mesh(
     mesh: &crate::mesh::HalfEdgeMesh,
 ) -> Result<(std::borrow::Cow<'_, crate::mesh::HalfEdgeMesh>, Vec<usize>), ConstructError> {
-    use crate::mesh::geometry::{convexify, is_convex_polygon};
+    use crate::mesh::geometry::{convexify, is_convex_polygon_with};
+    // One corner buffer and one projection buffer for all faces.
+    let (mut pts, mut scratch) = (Vec::new(), Vec::new());
     let all_convex = mesh.faces().all(|f| {
-        let pts: Vec<glam::DVec3> = mesh.face_vertices(f).map(|v| mesh.position(v)).collect();
-        pts.len() == 3 || is_convex_polygon(&pts)
+        pts.clear();
+        pts.extend(mesh.face_vertices(f).map(|v| mesh.position(v)));
+        pts.len() == 3 || is_convex_polygon_with(&pts, &mut scratch)
     });
     if all_convex {
         return Ok((std::borrow::Cow::Borrowed(mesh), (0..mesh.n_faces()).collect()));

@@ -92,8 +92,14 @@ const CHUNK: usize = 4096;
 pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<Surface, ConstructError> {
     check_options(opts)?;
     let np = net.patches.len();
-    // Curve uses and consistency.
-    let mut uses: Vec<Vec<Use>> = vec![Vec::new(); net.curves.len()];
+    // Curve uses and consistency: the first two uses of each curve and the count (a third use
+    // is an error), in flat arrays rather than a Vec per curve.
+    let nc = net.curves.len();
+    let mut use_count = vec![0usize; nc];
+    let mut uses: Vec<[Use; 2]> = vec![[(0, 0, false); 2]; nc];
+    // Sides of patch p: flat index start[p] + i (one buffer per quantity for all sides).
+    let mut start = Vec::with_capacity(np + 1);
+    start.push(0usize);
     for (p, lay) in net.patches.iter().enumerate() {
         let n = lay.sides.len();
         if n < 3 {
@@ -106,10 +112,14 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
             )));
         }
         for (i, s) in lay.sides.iter().enumerate() {
-            if s.curve >= net.curves.len() {
+            if s.curve >= nc {
                 return Err(ConstructError::Internal(format!("patch {p} side {i}: no curve {}", s.curve)));
             }
-            uses[s.curve].push((p, i, s.reversed));
+            let k = use_count[s.curve];
+            if k < 2 {
+                uses[s.curve][k] = (p, i, s.reversed);
+            }
+            use_count[s.curve] = k + 1;
         }
         // Consecutive sides must meet.
         for i in 0..n {
@@ -124,55 +134,50 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 )));
             }
         }
+        start.push(start[p] + n);
     }
-    for (c, u) in uses.iter().enumerate() {
-        match u.len() {
+    for (c, (u, &count)) in uses.iter().zip(&use_count).enumerate() {
+        match count {
             0 | 1 => {}
             2 if u[0].2 != u[1].2 => {}
             2 => return Err(ConstructError::InconsistentOrientation { curve: c, patches: [u[0].0, u[1].0] }),
-            _ => return Err(ConstructError::NonManifoldCurve { curve: c, uses: u.len() }),
+            _ => return Err(ConstructError::NonManifoldCurve { curve: c, uses: count }),
         }
     }
+    // The curve's two uses, A (forward) first, when it has two.
+    let pair = |c: usize| -> Option<(Use, Use)> {
+        let u = &uses[c];
+        (use_count[c] == 2).then(|| if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) })
+    };
 
-    // Rows: rows[p][i] = [row0, row1].
+    // Rows: rows[start[p] + i] = [row0, row1] of side i of patch p.
     // Per patch in parallel, collected in patch order.
-    let mut rows: Vec<Vec<[[DVec3; 4]; 2]>> = net
+    let mut rows: Vec<[[DVec3; 4]; 2]> = net
         .patches
         .par_iter()
-        .map(|lay| {
+        .flat_map_iter(|lay| {
             let n = lay.sides.len();
-            let b: Vec<[DVec3; 4]> = lay.sides.iter().map(|&s| side_points(net, s)).collect();
-            (0..n)
-                .map(|i| {
-                    let prev = &b[(i + n - 1) % n];
-                    let next = &b[(i + 1) % n];
-                    let t0 = lay.corner_twists[(i + n - 1) % n];
-                    let t1 = lay.corner_twists[i];
-                    [b[i], [prev[2], t0, t1, next[1]]]
-                })
-                .collect()
+            (0..n).map(move |i| {
+                let prev = side_points(net, lay.sides[(i + n - 1) % n]);
+                let next = side_points(net, lay.sides[(i + 1) % n]);
+                let t0 = lay.corner_twists[(i + n - 1) % n];
+                let t1 = lay.corner_twists[i];
+                [side_points(net, lay.sides[i]), [prev[2], t0, t1, next[1]]]
+            })
         })
         .collect();
 
-    let mut neighbors: Vec<Vec<Option<SideRef>>> =
-        net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
     let kind = match opts.twist {
         TwistMode::None => None,
         TwistMode::Approx => Some(BlendKind::Approx),
         TwistMode::Interp => Some(BlendKind::Interp),
     };
-    let mut shared: Vec<Vec<bool>> = net.patches.iter().map(|l| vec![false; l.sides.len()]).collect();
-    for u in uses.iter() {
-        if u.len() != 2 {
-            continue;
+    let mut shared = vec![false; start[np]];
+    for c in 0..nc {
+        if let Some(((pa, sa, _), (pb, sb, _))) = pair(c) {
+            shared[start[pa] + sa] = true;
+            shared[start[pb] + sb] = true;
         }
-        let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
-        let (pa, sa, _) = a;
-        let (pb, sb, _) = b;
-        neighbors[pa][sa] = Some(SideRef { patch: pb, side: sb });
-        neighbors[pb][sb] = Some(SideRef { patch: pa, side: sa });
-        shared[pa][sa] = true;
-        shared[pb][sb] = true;
     }
     // Sharpness per curve; a creased curve whose blend cannot be built (its node folds, or a
     // corner degenerates) is made sharp instead of refused: G0 is what a crease tends to anyway.
@@ -183,16 +188,14 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
         // first error in curve order is returned, as in a serial loop.
-        let nc = uses.len();
         let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
-            let u = &uses[c];
-            if u.len() != 2 || crease_of(&crease, c) >= 1.0 {
+            let Some((a, b)) = pair(c).filter(|_| crease_of(&crease, c) < 1.0) else {
                 return Ok(None);
-            }
-            let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
-            shared_twists(net, &rows, opts, kind, c, a, b).map(Some)
+            };
+            let side_rows = |p: usize| &rows[start[p]..start[p + 1]];
+            shared_twists(net, opts, kind, c, [side_rows(a.0), side_rows(b.0)], [a.1, b.1]).map(Some)
         }))?;
-        for (c, (u, t)) in uses.iter().zip(twists).enumerate() {
+        for (c, t) in twists.into_iter().enumerate() {
             let t = match t {
                 Err(ConstructError::FoldedCorner { .. } | ConstructError::DegenerateCorner { .. }) if crease_of(&crease, c) > 0.0 => {
                     crease[c] = 1.0;
@@ -202,13 +205,12 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 t => t,
             };
             let Some(t) = t? else { continue };
-            let (a, b) = if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) };
-            let (pa, sa, _) = a;
-            let (pb, sb, _) = b;
-            rows[pa][sa][1][1] = t[0];
-            rows[pa][sa][1][2] = t[1];
-            rows[pb][sb][1][1] = t[2];
-            rows[pb][sb][1][2] = t[3];
+            let Some(((pa, sa, _), (pb, sb, _))) = pair(c) else { continue };
+            let (a, b) = (start[pa] + sa, start[pb] + sb);
+            rows[a][1][1] = t[0];
+            rows[a][1][2] = t[1];
+            rows[b][1][1] = t[2];
+            rows[b][1][2] = t[3];
         }
     }
     // Creased sides (docs/math.md#creases): at each corner the twist an open side would take (the
@@ -218,17 +220,18 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         let blended = rows.clone();
         for (p, lay) in net.patches.iter().enumerate() {
             let n = lay.sides.len();
+            let (shared, blended) = (&shared[start[p]..start[p + 1]], &blended[start[p]..start[p + 1]]);
             for i in 0..n {
                 let c = crease_of(&crease, lay.sides[i].curve);
-                if !shared[p][i] || c == 0.0 {
+                if !shared[i] || c == 0.0 {
                     continue;
                 }
                 let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
                 // The adjacent side j's twist at the corner, itself moved towards the corner twist
                 // by its own sharpness (so the target is continuous in every sharpness).
                 let adj = |j: usize, col: usize, corner: DVec3| {
-                    if kind.is_some() && shared[p][j] {
-                        let b = blended[p][j][1][col];
+                    if kind.is_some() && shared[j] {
+                        let b = blended[j][1][col];
                         b + crease_of(&crease, lay.sides[j].curve) * (corner - b)
                     } else {
                         corner
@@ -236,7 +239,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 };
                 let t0 = adj(prev, 2, lay.corner_twists[prev]);
                 let t1 = adj(next, 1, lay.corner_twists[i]);
-                let r = &mut rows[p][i][1];
+                let r = &mut rows[start[p] + i][1];
                 r[1] += c * (t0 - r[1]);
                 r[2] += c * (t1 - r[2]);
             }
@@ -245,18 +248,19 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
     // Open sides: adopt the adjacent shared side's twist at each corner.
     if kind.is_some() {
         for p in 0..np {
-            let n = rows[p].len();
+            let (shared, rows) = (&shared[start[p]..start[p + 1]], &mut rows[start[p]..start[p + 1]]);
+            let n = rows.len();
             for i in 0..n {
-                if shared[p][i] {
+                if shared[i] {
                     continue;
                 }
                 let prev = (i + n - 1) % n;
                 let next = (i + 1) % n;
-                if shared[p][prev] {
-                    rows[p][i][1][1] = rows[p][prev][1][2];
+                if shared[prev] {
+                    rows[i][1][1] = rows[prev][1][2];
                 }
-                if shared[p][next] {
-                    rows[p][i][1][2] = rows[p][next][1][1];
+                if shared[next] {
+                    rows[i][1][2] = rows[next][1][1];
                 }
             }
         }
@@ -265,16 +269,11 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
     // Per patch in parallel, collected in patch order; the first error in patch order wins.
     let built: Vec<Result<Patch, ConstructError>> = ticker.within(0.5, 1.0, |t| {
         par_map(t, np, CHUNK, |p| {
-            let (lay, rows_p) = (&net.patches[p], &rows[p]);
-            let ribbons: Vec<Ribbon> = rows_p
-                .iter()
-                .map(|r| Ribbon { degree: 3, rows: vec![r[0].to_vec(), r[1].to_vec()] })
-                .collect();
-            for (i, r) in ribbons.iter().enumerate() {
-                if r.rows.iter().flatten().any(|q| !q.is_finite()) {
-                    return Err(ConstructError::NonFinite { patch: p, side: i });
-                }
+            let (lay, rows_p) = (&net.patches[p], &rows[start[p]..start[p + 1]]);
+            if let Some(i) = rows_p.iter().position(|r| r.iter().flatten().any(|q| !q.is_finite())) {
+                return Err(ConstructError::NonFinite { patch: p, side: i });
             }
+            let ribbons: Vec<Ribbon> = rows_p.iter().map(|r| Ribbon::from_fn(3, 2, 4, |k, j| r[k][j])).collect();
             Ok(match lay.center {
                 Some(center) => Patch::Gb(GbPatch { ribbons, center }),
                 None => Patch::Cgb(CgbPatch { ribbons }),
@@ -282,6 +281,13 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         })
     })?;
     let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
+    let mut neighbors: Vec<Vec<Option<SideRef>>> = net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
+    for c in 0..nc {
+        if let Some(((pa, sa, _), (pb, sb, _))) = pair(c) {
+            neighbors[pa][sa] = Some(SideRef { patch: pb, side: sb });
+            neighbors[pb][sb] = Some(SideRef { patch: pa, side: sa });
+        }
+    }
     let sources: Vec<PatchSource> = net.patches.iter().map(|l| l.source).collect();
     let creases: Vec<Vec<f64>> = if net.crease.is_empty() {
         Vec::new()
@@ -289,7 +295,10 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         net.patches
             .iter()
             .enumerate()
-            .map(|(p, l)| l.sides.iter().enumerate().map(|(i, s)| if shared[p][i] { crease_of(&crease, s.curve) } else { 0.0 }).collect())
+            .map(|(p, l)| {
+                let shared = &shared[start[p]..start[p + 1]];
+                l.sides.iter().zip(shared).map(|(s, &sh)| if sh { crease_of(&crease, s.curve) } else { 0.0 }).collect()
+            })
             .collect()
     };
     Ok(Surface {
@@ -311,25 +320,22 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
 
 /// The inner twists of the two sides on shared curve `c` (A traverses it forward, B backwards):
 /// `[A col 1, A col 2, B col 1, B col 2]` of row 1, from one direction blend (seed 000 §4.4).
+/// `[ra, rb]`: the rows of A's and B's sides; `[sa, sb]`: the sides on curve `c`.
 fn shared_twists(
     net: &CurveNetwork,
-    rows: &[Vec<[[DVec3; 4]; 2]>],
     opts: &ConvertOptions,
     kind: BlendKind,
     c: usize,
-    a: Use,
-    b: Use,
+    [ra, rb]: [&[[[DVec3; 4]; 2]]; 2],
+    [sa, sb]: [usize; 2],
 ) -> Result<[DVec3; 4], ConstructError> {
-    let (pa, sa, _) = a;
-    let (pb, sb, _) = b;
     let cc = net.curves[c];
-    let na = rows[pa].len();
-    let nb = rows[pb].len();
+    let (na, nb) = (ra.len(), rb.len());
     // Cross-derivatives fixed by the network, all in A's parameter s.
-    let xa0 = 3.0 * (rows[pa][(sa + na - 1) % na][0][2] - cc[0]);
-    let xa1 = 3.0 * (rows[pa][(sa + 1) % na][0][1] - cc[3]);
-    let xb0 = 3.0 * (rows[pb][(sb + 1) % nb][0][1] - cc[0]);
-    let xb1 = 3.0 * (rows[pb][(sb + nb - 1) % nb][0][2] - cc[3]);
+    let xa0 = 3.0 * (ra[(sa + na - 1) % na][0][2] - cc[0]);
+    let xa1 = 3.0 * (ra[(sa + 1) % na][0][1] - cc[3]);
+    let xb0 = 3.0 * (rb[(sb + 1) % nb][0][1] - cc[0]);
+    let xb1 = 3.0 * (rb[(sb + nb - 1) % nb][0][2] - cc[3]);
     let t0 = 3.0 * (cc[1] - cc[0]);
     let t1 = 3.0 * (cc[3] - cc[2]);
     let d0 = end_direction(xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;

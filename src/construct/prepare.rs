@@ -96,9 +96,12 @@ impl Prepared<'_> {
     /// last boundary edge) to the last face ([`SectorMap::OpenEnd`]).
     pub fn cage_dual(&self, input: &HalfEdgeMesh) -> Vec<Vec<CageSector>> {
         let m = &*self.mesh;
+        // The outgoing half-edges of each vertex in one reused buffer.
+        let mut out: Vec<HalfedgeId> = Vec::new();
         m.vertices()
             .map(|v| {
-                let out: Vec<HalfedgeId> = m.vertex_outgoing(v).collect();
+                out.clear();
+                out.extend(m.vertex_outgoing(v));
                 let n = out.len();
                 let at = |h: HalfedgeId, map| m.face(h).map(|_| self.cage_corner(input, h, map));
                 let unknown = CageSector { face: u32::MAX, corner: u32::MAX, map: SectorMap::Vertex };

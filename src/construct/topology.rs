@@ -99,15 +99,18 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, Constr
     };
     // Tile vertices per face in parallel (each face sets only its own half-edges); collected in
     // face order, the first degenerate face is reported.
+    // Half-edge and corner buffers per worker, reused over its faces.
     let per_face: Vec<Result<Vec<(HalfedgeId, DVec3)>, ConstructError>> = (0..mesh.n_faces() as u32)
         .into_par_iter()
-        .map(|f| {
+        .map_init(|| (Vec::new(), Vec::new()), |(hs, pts): &mut (Vec<HalfedgeId>, Vec<DVec3>), f| {
             let f = FaceId(f);
-            let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
+            hs.clear();
+            hs.extend(mesh.face_halfedges(f));
             let m = hs.len();
-            let pts: Vec<DVec3> = hs.iter().map(|&h| pos(h).0).collect();
+            pts.clear();
+            pts.extend(hs.iter().map(|&h| pos(h).0));
             let c = pts.iter().copied().sum::<DVec3>() / m as f64;
-            let n = newell_normal(&pts);
+            let n = newell_normal(pts);
             let scale = pts.iter().map(|p| (*p - c).length_squared()).fold(0.0, f64::max);
             if !(n.length() > 1e-14 * scale) {
                 return Err(ConstructError::DegenerateFace { face: f.idx() });
@@ -135,10 +138,12 @@ pub fn tiles(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Tiles, Constr
     let mut split: Vec<DVec3> = mesh.halfedges().map(near).collect();
     let mut center = Vec::with_capacity(mesh.n_vertices());
     let mut normal = Vec::with_capacity(mesh.n_vertices());
+    // Ring and corner buffers reused over the vertices.
+    let (mut out, mut ring, mut pts) = (Vec::new(), Vec::new(), Vec::new());
     for v in mesh.vertices() {
-        let ring = tile_ring(mesh, v);
-        let pts: Vec<DVec3> =
-            ring.iter().map(|&(h, is_split)| if is_split { split[h.idx()] } else { vertex[h.idx()] }).collect();
+        tile_ring(mesh, v, &mut out, &mut ring);
+        pts.clear();
+        pts.extend(ring.iter().map(|&(h, is_split)| if is_split { split[h.idx()] } else { vertex[h.idx()] }));
         let p = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
         let nn = newell_normal(&pts);
         let scale = pts.iter().map(|q| (*q - p).length_squared()).fold(0.0, f64::max);
@@ -305,18 +310,26 @@ fn fan_normal(p: DVec3, ring: &[DVec3], closed: bool, start: DVec3, vertices: bo
 }
 
 /// The tile polygon of v, counter-clockwise: (h, true) = split point on the edge of outgoing h,
-/// (h, false) = tile vertex in face(h) for outgoing h.
-fn tile_ring(mesh: &HalfEdgeMesh, v: crate::mesh::VertexId) -> Vec<(HalfedgeId, bool)> {
-    let out: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
+/// (h, false) = tile vertex in face(h) for outgoing h. Written to `ring`; `out` is a buffer for
+/// the outgoing half-edges (both cleared first).
+fn tile_ring(
+    mesh: &HalfEdgeMesh,
+    v: crate::mesh::VertexId,
+    out: &mut Vec<HalfedgeId>,
+    ring: &mut Vec<(HalfedgeId, bool)>,
+) {
+    ring.clear();
     if !mesh.is_boundary_vertex(v) {
-        return out.into_iter().map(|h| (h, false)).collect();
+        ring.extend(mesh.vertex_outgoing(v).map(|h| (h, false)));
+        return;
     }
+    out.clear();
+    out.extend(mesh.vertex_outgoing(v));
     // out[0] is the boundary half-edge (no face); faces follow from out[1].
     let n = out.len();
-    let mut ring = vec![(out[1 % n], true)];
+    ring.push((out[1 % n], true));
     ring.extend(out[1..].iter().map(|&h| (h, false)));
     ring.push((out[0], true));
-    ring
 }
 
 /// Midpoint of the tile edge of origin(h) across the edge of outgoing h.
@@ -366,15 +379,14 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
         .into_par_iter()
         .map(|f| {
             let f = FaceId(f);
-            let hs: Vec<HalfedgeId> = mesh.face_halfedges(f).collect();
-            let m = hs.len();
-            // Side i along hs[i−1] (p_{i−1} → p_i); corner i = p_i, twist = tile vertex of p_i here.
-            let sides = (0..m)
-                .map(|i| hs[(i + m - 1) % m])
-                .map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 });
+            // Side i along hs[i−1] (p_{i−1} → p_i), hs the face's half-edges; corner i = p_i,
+            // twist = tile vertex of p_i here.
+            let mut sides: Vec<SideUse> =
+                mesh.face_halfedges(f).map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 }).collect();
+            sides.rotate_right(1);
             PatchLayout {
-                sides: sides.collect(),
-                corner_twists: hs.iter().map(|h| corner_twist[h.idx()]).collect(),
+                sides,
+                corner_twists: mesh.face_halfedges(f).map(|h| corner_twist[h.idx()]).collect(),
                 center: None,
                 source: PatchSource::Face(f.idx()),
             }

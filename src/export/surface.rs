@@ -20,7 +20,7 @@ pub fn patches_json(surface: &Surface, gbp_files: &[Option<String>]) -> serde_js
             let rbs = patch.ribbons();
             let ribbons_json: Vec<serde_json::Value> = rbs
                 .iter()
-                .map(|r| json!({"degree": r.degree, "rows": r.rows.iter().map(|row| row.iter().map(pt).collect::<Vec<_>>()).collect::<Vec<_>>()}))
+                .map(|r| json!({"degree": r.degree, "rows": r.rows().map(|row| row.iter().map(pt).collect::<Vec<_>>()).collect::<Vec<_>>()}))
                 .collect();
             let (kind, center) = match patch {
                 Patch::Gb(g) => ("gb", Some(pt(&g.center))),

@@ -172,7 +172,7 @@ impl CgbPatch {
 
     /// Layer count (rows) of each side.
     pub fn layer_counts(&self) -> Vec<usize> {
-        self.ribbons.iter().map(|r| r.rows.len()).collect()
+        self.ribbons.iter().map(|r| r.layers()).collect()
     }
 
     /// Checks n ≥ 3, d_i ≥ 2, 1 ≤ l_i ≤ d_i + 1 rows of d_i + 1 finite points.
@@ -181,7 +181,7 @@ impl CgbPatch {
             return Err(GbError::TooFewSides(self.n()));
         }
         validate_ribbons(&self.ribbons, true, |i, r| {
-            let l = r.rows.len();
+            let l = r.layers();
             if l == 0 || l > r.degree + 1 {
                 return Err(GbError::LayerCount {
                     side: i,
@@ -197,7 +197,7 @@ impl CgbPatch {
     pub fn control_points_flat(&self) -> Vec<DVec3> {
         self.ribbons
             .iter()
-            .flat_map(|r| r.rows.iter().flatten().copied())
+            .flat_map(|r| r.points().iter().copied())
             .collect()
     }
 
@@ -218,7 +218,7 @@ impl CgbPatch {
             if let Some(p) = self
                 .ribbons
                 .get(i)
-                .and_then(|r| r.rows.get(k))
+                .and_then(|r| r.get_row(k))
                 .and_then(|row| row.get(j))
             {
                 num.add_weighted(&w, *p);

@@ -71,20 +71,17 @@ impl GbPatch {
         check_nd(n, degree)?;
         let l = layers(degree);
         let mut ribbons: Vec<Ribbon> = (0..n)
-            .map(|_| Ribbon {
-                degree,
-                rows: vec![vec![DVec3::ZERO; degree + 1]; l],
-            })
+            .map(|_| Ribbon::from_fn(degree, l, degree + 1, |_, _| DVec3::ZERO))
             .collect();
         for (i, j, k) in listed_positions(n, degree) {
-            ribbons[i].rows[k][j] = unique(i, j, k);
+            ribbons[i].row_mut(k)[j] = unique(i, j, k);
         }
         for i in 0..n {
             for k in 0..l {
                 for j in 0..=degree {
                     let (ri, rj, rk) = listed_representative(n, degree, i, j, k);
                     if (ri, rj, rk) != (i, j, k) {
-                        ribbons[i].rows[k][j] = ribbons[ri].rows[rk][rj];
+                        ribbons[i].row_mut(k)[j] = ribbons[ri].row(rk)[rj];
                     }
                 }
             }
@@ -121,7 +118,7 @@ impl GbPatch {
         let n = self.n();
         let mut out = Vec::with_capacity(1 + listed_point_count(n, degree));
         out.push(self.center);
-        out.extend(listed_positions(n, degree).map(|(i, j, k)| self.ribbons[i].rows[k][j]));
+        out.extend(listed_positions(n, degree).map(|(i, j, k)| self.ribbons[i].row(k)[j]));
         Ok(out)
     }
 
@@ -135,7 +132,7 @@ impl GbPatch {
             for k in 0..layers(degree) {
                 for j in 0..=degree {
                     let (ri, rj, rk) = listed_representative(n, degree, i, j, k);
-                    let dist = self.ribbons[i].rows[k][j].distance(self.ribbons[ri].rows[rk][rj]);
+                    let dist = self.ribbons[i].row(k)[j].distance(self.ribbons[ri].row(rk)[rj]);
                     // NaN coordinates count as infinitely far.
                     let dist = if dist.is_nan() { f64::INFINITY } else { dist };
                     if dist > worst.0 {

@@ -77,26 +77,24 @@ pub enum CommonDegreeError {
 /// Rows k ≥ 2 are ignored. Only for validated ribbons of degree ≥ 3 (see [`base_patch`]).
 fn hermite_ribbon(ribbon: &Ribbon) -> Ribbon {
     let d = ribbon.degree;
-    let r0 = BezierCurve::from_vec(ribbon.rows[0].clone());
+    let r0 = BezierCurve::from_vec(ribbon.row(0).to_vec());
     let diff = BezierCurve::from_vec(
-        ribbon.rows[1]
+        ribbon
+            .row(1)
             .iter()
-            .zip(&ribbon.rows[0])
+            .zip(ribbon.row(0))
             .map(|(a, b)| *a - *b)
             .collect(),
     );
     let h0 = hermite_cubic(&r0).into_points();
     let f = d as f64 / 3.0;
-    let h1 = hermite_cubic(&diff)
+    let h1: Vec<DVec3> = hermite_cubic(&diff)
         .into_points()
         .into_iter()
         .zip(&h0)
         .map(|(v, p)| *p + v * f)
         .collect();
-    Ribbon {
-        degree: 3,
-        rows: vec![h0, h1],
-    }
+    Ribbon::from_fn(3, 2, h0.len(), |k, j| if k == 0 { h0[j] } else { h1[j] })
 }
 
 /// The cubic base patch of a degree-d patch (d ≥ 3): side i gets row 0 = H(P_{·,0}),
@@ -145,20 +143,7 @@ fn map_points(
             .ribbons
             .iter()
             .enumerate()
-            .map(|(i, r)| Ribbon {
-                degree: r.degree,
-                rows: r
-                    .rows
-                    .iter()
-                    .enumerate()
-                    .map(|(k, row)| {
-                        row.iter()
-                            .enumerate()
-                            .map(|(j, &q)| f(Some(i), k, j, q))
-                            .collect()
-                    })
-                    .collect(),
-            })
+            .map(|(i, r)| Ribbon::from_fn(r.degree, r.layers(), r.width(), |k, j| f(Some(i), k, j, r.row(k)[j])))
             .collect(),
         center: f(None, 0, 0, p.center),
     }
@@ -172,7 +157,7 @@ pub fn decompose(patch: &GbPatch) -> Result<GbDecomposition, DecomposeError> {
     let elevated = base_cubic.elevate_to(d)?;
     let own = |i: Option<usize>, k: usize, j: usize| -> DVec3 {
         match i {
-            Some(i) => patch.ribbons[i].rows[k][j],
+            Some(i) => patch.ribbons[i].row(k)[j],
             None => patch.center,
         }
     };
@@ -223,8 +208,8 @@ impl GbDecomposition {
             .chain(std::iter::once(&self.interior))
         {
             for (r, t) in out.ribbons.iter_mut().zip(&term.ribbons) {
-                for (row, trow) in r.rows.iter_mut().zip(&t.rows) {
-                    for (p, v) in row.iter_mut().zip(trow) {
+                for k in 0..r.layers().min(t.layers()) {
+                    for (p, v) in r.row_mut(k).iter_mut().zip(t.row(k)) {
                         *p += *v;
                     }
                 }

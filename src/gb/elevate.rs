@@ -28,11 +28,11 @@ impl GbPatch {
         let l1 = layers_for_degree(d1);
         let grid = |i: usize, j: usize, k: usize| -> DVec3 {
             if k < l {
-                self.ribbons[i].rows[k][j]
+                self.ribbons[i].row(k)[j]
             } else if j < l {
-                self.ribbons[(i + n - 1) % n].rows[j][d - k]
+                self.ribbons[(i + n - 1) % n].row(j)[d - k]
             } else if d - j < l {
-                self.ribbons[(i + 1) % n].rows[d - j][k]
+                self.ribbons[(i + 1) % n].row(d - j)[k]
             } else {
                 self.center
             }
@@ -47,25 +47,18 @@ impl GbPatch {
         };
         let ribbons = (0..n)
             .map(|i| {
-                let rows = (0..l1)
-                    .map(|k| {
-                        (0..=d1)
-                            .map(|j| {
-                                let mut p = DVec3::ZERO;
-                                for a in 0..2 {
-                                    for b in 0..2 {
-                                        let w = c(j, a) * c(k, b);
-                                        if w != 0.0 && j >= a && k >= b && j - a <= d {
-                                            p += grid(i, j - a, k - b) * w;
-                                        }
-                                    }
-                                }
-                                p
-                            })
-                            .collect()
-                    })
-                    .collect();
-                Ribbon { degree: d1, rows }
+                Ribbon::from_fn(d1, l1, d1 + 1, |k, j| {
+                    let mut p = DVec3::ZERO;
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            let w = c(j, a) * c(k, b);
+                            if w != 0.0 && j >= a && k >= b && j - a <= d {
+                                p += grid(i, j - a, k - b) * w;
+                            }
+                        }
+                    }
+                    p
+                })
             })
             .collect();
         let mut out = GbPatch {

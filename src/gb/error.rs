@@ -41,6 +41,13 @@ pub enum GbError {
         expected: usize,
         found: usize,
     },
+    /// Rows of different lengths given for one ribbon (a ribbon stores `layers × width` points).
+    #[error("ribbon row {row}: {found} points, expected {expected} as row 0")]
+    RaggedRows {
+        row: usize,
+        expected: usize,
+        found: usize,
+    },
     /// A control point is NaN or infinite (`side` = None means the central point).
     #[error("control point side {side:?}, row {row}, column {col} is not finite")]
     NonFinite {

@@ -9,14 +9,9 @@ use crate::bezier::bernstein::bernstein_all_into;
 use glam::{DVec2, DVec3};
 
 impl Ribbon {
-    /// Number of rows (layers).
-    pub fn layers(&self) -> usize {
-        self.rows.len()
-    }
-
     /// Row k as a Bézier curve of degree `degree` at s (zero vector for a missing row).
     pub fn row_point(&self, k: usize, s: f64) -> DVec3 {
-        let Some(row) = self.rows.get(k) else {
+        let Some(row) = self.get_row(k) else {
             return DVec3::ZERO;
         };
         let mut b = vec![0.0; row.len().max(1)];
@@ -31,7 +26,7 @@ impl Ribbon {
 
     /// d/ds of the boundary curve: d Σ_j (P_{j+1,0} − P_{j,0}) B^{d−1}_j(s).
     pub fn boundary_tangent(&self, s: f64) -> DVec3 {
-        let Some(row) = self.rows.first() else {
+        let Some(row) = self.get_row(0) else {
             return DVec3::ZERO;
         };
         if row.len() < 2 {
@@ -48,7 +43,7 @@ impl Ribbon {
     /// The ribbon's cross-boundary derivative d Σ_j (P_{j,1} − P_{j,0}) B^d_j(s) (derivative
     /// with respect to h of the ribbon surface Σ P_{j,k} B^d_j(s) B^d_k(h) at h = 0).
     pub fn cross_derivative(&self, s: f64) -> DVec3 {
-        if self.rows.len() < 2 {
+        if self.layers() < 2 {
             return DVec3::ZERO;
         }
         let d = self.degree as f64;
@@ -113,11 +108,11 @@ impl GbPatch {
                     found: r.degree,
                 });
             }
-            if r.rows.len() != layers_for_degree(d) {
+            if r.layers() != layers_for_degree(d) {
                 return Err(GbError::LayerCount {
                     side: i,
                     expected: layers_for_degree(d),
-                    found: r.rows.len(),
+                    found: r.layers(),
                 });
             }
             Ok(())
@@ -138,9 +133,7 @@ impl GbPatch {
         let mut out = Vec::with_capacity(GbBasis::len_for(self.n(), self.degree()));
         out.push(self.center);
         for r in &self.ribbons {
-            for row in &r.rows {
-                out.extend_from_slice(row);
-            }
+            out.extend_from_slice(r.points());
         }
         out
     }
@@ -171,7 +164,7 @@ impl GbPatch {
         // dividing the flat index.
         let (mut i, mut k, mut j) = (0usize, 0usize, 0usize);
         let b0 = ev.for_each_ribbon_weight(uv, form, |_, w| {
-            if let Some(p) = self.ribbons.get(i).and_then(|r| r.rows.get(k)).and_then(|row| row.get(j)) {
+            if let Some(p) = self.ribbons.get(i).and_then(|r| r.get_row(k)).and_then(|row| row.get(j)) {
                 out.add_weighted(&w, *p);
             }
             j += 1;
@@ -239,7 +232,7 @@ pub(crate) fn validate_ribbons(
             super::weights::check_degree(i, r.degree)?;
         }
         extra(i, r)?;
-        for (k, row) in r.rows.iter().enumerate() {
+        for (k, row) in r.rows().enumerate() {
             if row.len() != r.degree + 1 {
                 return Err(GbError::RowLength {
                     side: i,

@@ -119,13 +119,13 @@ impl ControlSoa {
 
     /// The flat-ordered control points of a GB patch: centre, then side i, row k, column j.
     pub fn fill_gb(&mut self, patch: &GbPatch) {
-        let ribbons = patch.ribbons.iter().flat_map(|r| r.rows.iter().flatten().copied());
+        let ribbons = patch.ribbons.iter().flat_map(|r| r.points().iter().copied());
         self.fill(std::iter::once(patch.center).chain(ribbons));
     }
 
     /// The flat-ordered control points of a CGB patch: side i, row k, column j.
     pub fn fill_cgb(&mut self, patch: &CgbPatch) {
-        self.fill(patch.ribbons.iter().flat_map(|r| r.rows.iter().flatten().copied()));
+        self.fill(patch.ribbons.iter().flat_map(|r| r.points().iter().copied()));
     }
 
     /// Number of control points.
@@ -757,7 +757,7 @@ impl CgbTable {
     /// The SoA control vector of a patch with this table's sides.
     pub fn controls_of(&self, patch: &CgbPatch) -> Result<ControlSoa, TableError> {
         patch.validate()?;
-        let found: Vec<(usize, usize)> = patch.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect();
+        let found: Vec<(usize, usize)> = patch.ribbons.iter().map(|r| (r.degree, r.layers())).collect();
         if found != self.sides {
             return Err(TableError::CgbMismatch {
                 found,
@@ -819,11 +819,10 @@ mod tests {
             .iter()
             .zip(layers)
             .enumerate()
-            .map(|(i, (&d, &l))| crate::gb::Ribbon {
-                degree: d,
-                rows: (0..l)
-                    .map(|k| (0..=d).map(|j| DVec3::new(i as f64 + next(), j as f64 + next(), k as f64 + next())).collect())
-                    .collect(),
+            .map(|(i, (&d, &l))| {
+                crate::gb::Ribbon::from_fn(d, l, d + 1, |k, j| {
+                    DVec3::new(i as f64 + next(), j as f64 + next(), k as f64 + next())
+                })
             })
             .collect()
     }

@@ -103,8 +103,17 @@ pub fn planarity(pts: &[DVec3]) -> f64 {
 /// The polygon projected into its best-fit plane frame (counter-clockwise, since `u × v` is the
 /// Newell normal), or `None` when it has zero area.
 pub fn project_polygon(pts: &[DVec3]) -> Option<Vec<DVec2>> {
-    let pl = best_fit_plane(pts)?;
-    Some(pts.iter().map(|p| pl.to_2d(*p)).collect())
+    let mut out = Vec::with_capacity(pts.len());
+    project_polygon_into(pts, &mut out).then_some(out)
+}
+
+/// [`project_polygon`] into `out` (cleared first; a buffer reused over many polygons); false
+/// when the polygon has zero area.
+pub fn project_polygon_into(pts: &[DVec3], out: &mut Vec<DVec2>) -> bool {
+    out.clear();
+    let Some(pl) = best_fit_plane(pts) else { return false };
+    out.extend(pts.iter().map(|p| pl.to_2d(*p)));
+    true
 }
 
 fn cross2(a: DVec2, b: DVec2) -> f64 {
@@ -130,7 +139,12 @@ pub fn is_convex_2d(p: &[DVec2]) -> bool {
 
 /// Whether a 3D polygon is convex in its best-fit plane (false if it has zero area).
 pub fn is_convex_polygon(pts: &[DVec3]) -> bool {
-    project_polygon(pts).is_some_and(|p| is_convex_2d(&p))
+    is_convex_polygon_with(pts, &mut Vec::new())
+}
+
+/// [`is_convex_polygon`] with `scratch` for the projected polygon (reused over many polygons).
+pub fn is_convex_polygon_with(pts: &[DVec3], scratch: &mut Vec<DVec2>) -> bool {
+    project_polygon_into(pts, scratch) && is_convex_2d(scratch)
 }
 
 /// Splits a simple polygon into convex pieces (see [`convexify`] for the rule). `pts` are the

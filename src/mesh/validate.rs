@@ -169,7 +169,11 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
     if let Some(e) = mesh.positions.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(coordinate_error) {
         return Err(e);
     }
-    if let Some(e) = mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(|(f, face)| face_error(mesh, f, face).err()) {
+    // Corner buffers per worker, reused over its faces.
+    let face_errors = mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN);
+    let face_errors =
+        face_errors.map_init(<[Vec<DVec3>; 2]>::default, |buf, (f, face)| face_error(mesh, f, face, buf).err());
+    if let Some(e) = face_errors.find_map_first(|e| e) {
         return Err(e);
     }
     check_extent(mesh)?;
@@ -224,12 +228,15 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         }
     }
     // 7.
-    let opposite = |(f, face): (usize, &Vec<u32>)| {
-        let rev: Vec<u32> = face.iter().rev().copied().collect();
-        let first = *cycles.get(&canonical_cycle(&rev))?;
+    // The reversed cycle in a buffer per worker (the map is looked up by slice).
+    let opposite = |rev: &mut Vec<u32>, (f, face): (usize, &Vec<u32>)| {
+        rev.clear();
+        rev.extend(face.iter().rev());
+        rotate_to_least(rev);
+        let first = *cycles.get(rev.as_slice())?;
         (first < f).then_some(MeshError::DuplicateFace { face: f, first, line: None })
     };
-    match mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).find_map_first(opposite) {
+    match mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).map_init(Vec::new, opposite).find_map_first(|e| e) {
         Some(e) => Err(e),
         None => Ok(()),
     }
@@ -240,7 +247,8 @@ const PAR_MIN: usize = 1024;
 
 /// The checks of one face `f` of [`check_polymesh`] that need nothing else: at least three
 /// corners, indices in range, no repeated index (named at its second use), area above zero.
-fn face_error(mesh: &PolyMesh, f: usize, face: &[u32]) -> Result<(), MeshError> {
+/// `buf`: two scratch buffers for the corners (reused over faces).
+fn face_error(mesh: &PolyMesh, f: usize, face: &[u32], buf: &mut [Vec<DVec3>; 2]) -> Result<(), MeshError> {
     let nv = mesh.positions.len();
     if face.len() < 3 {
         return Err(MeshError::FaceTooSmall { face: f, len: face.len(), line: None });
@@ -260,8 +268,10 @@ fn face_error(mesh: &PolyMesh, f: usize, face: &[u32]) -> Result<(), MeshError> 
     if let Some(c) = repeated {
         return Err(MeshError::RepeatedIndex { face: f, vertex: face[c] as usize, line: None });
     }
-    let pts: Vec<DVec3> = face.iter().map(|&i| mesh.positions[i as usize]).collect();
-    let (area, h) = scaled_area(&pts);
+    let [pts, local] = buf;
+    pts.clear();
+    pts.extend(face.iter().map(|&i| mesh.positions[i as usize]));
+    let (area, h) = scaled_area(pts, local);
     // relative to d² with d = 2h the largest extent: area/4 ≤ ZERO_AREA_REL
     if area * 0.25 <= ZERO_AREA_REL {
         return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
@@ -276,14 +286,22 @@ pub(crate) fn face_edges(face: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ 
 
 /// The face loop rotated to start at its smallest index (same orientation).
 fn canonical_cycle(face: &[u32]) -> Vec<u32> {
-    let k = (0..face.len()).min_by_key(|&i| face[i]).unwrap_or(0);
-    face[k..].iter().chain(face[..k].iter()).copied().collect()
+    let mut c = face.to_vec();
+    rotate_to_least(&mut c);
+    c
+}
+
+/// Rotates a cycle in place to start at its (first) least index: [`canonical_cycle`] in place.
+fn rotate_to_least(cycle: &mut [u32]) {
+    let k = (0..cycle.len()).min_by_key(|&i| cycle[i]).unwrap_or(0);
+    cycle.rotate_left(k);
 }
 
 /// Area of the polygon scaled to unit size, and the scale `h` (half the largest bounding-box
 /// extent; the scaled polygon fits in `[-1, 1]³`): the true area is `area · h²`. Scaling first
 /// keeps every product finite for any finite input.
-pub(crate) fn scaled_area(pts: &[DVec3]) -> (f64, f64) {
+/// `local` is a scratch buffer for the scaled corners (reused over polygons).
+pub(crate) fn scaled_area(pts: &[DVec3], local: &mut Vec<DVec3>) -> (f64, f64) {
     let (lo, hi) = pts
         .iter()
         .fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| {
@@ -294,8 +312,9 @@ pub(crate) fn scaled_area(pts: &[DVec3]) -> (f64, f64) {
         return (0.0, h);
     }
     let c_half = lo * 0.25 + hi * 0.25;
-    let local: Vec<DVec3> = pts.iter().map(|p| (*p * 0.5 - c_half) / (h * 0.5)).collect();
-    (0.5 * newell_normal(&local).length(), h)
+    local.clear();
+    local.extend(pts.iter().map(|p| (*p * 0.5 - c_half) / (h * 0.5)));
+    (0.5 * newell_normal(local).length(), h)
 }
 
 /// Drops vertices used by no face; returns the renumbered mesh, `new → old` vertex map and one

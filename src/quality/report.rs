@@ -82,9 +82,16 @@ pub struct Report {
 }
 
 impl Report {
-    /// Adds one patch (face) with `n` sides to the histogram.
-    pub fn count_sides(&mut self, n: usize) {
-        *self.sides_histogram.entry(n.to_string()).or_insert(0) += 1;
+    /// Adds patches (faces) to the histogram, one per side count `sides` yields.
+    pub fn count_sides(&mut self, sides: impl IntoIterator<Item = usize>) {
+        // Counted by number first (one key string per distinct count, not one per patch).
+        let mut counts: BTreeMap<usize, usize> = BTreeMap::new();
+        for n in sides {
+            *counts.entry(n).or_insert(0) += 1;
+        }
+        for (n, c) in counts {
+            *self.sides_histogram.entry(n.to_string()).or_insert(0) += c;
+        }
     }
 
     /// What makes the output invalid, one phrase each (empty when valid): not a closed

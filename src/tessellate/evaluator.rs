@@ -49,7 +49,7 @@ enum Kind {
 fn kind_of(p: &Patch) -> Kind {
     match p {
         Patch::Gb(g) => Kind::Gb(g.ribbons.len(), g.ribbons.first().map_or(0, |r| r.degree)),
-        Patch::Cgb(c) => Kind::Cgb(c.ribbons.iter().map(|r| (r.degree, r.rows.len())).collect()),
+        Patch::Cgb(c) => Kind::Cgb(c.ribbons.iter().map(|r| (r.degree, r.layers())).collect()),
     }
 }
 

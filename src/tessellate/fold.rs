@@ -121,7 +121,7 @@ impl Binomials {
 /// (made once per degree): the same value.
 pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) -> DVec3 {
     let d = ribbon.degree;
-    let (r0, r1) = (&ribbon.rows[0], &ribbon.rows[1]);
+    let (r0, r1) = (ribbon.row(0), ribbon.row(1));
     let u = 1.0 - s;
     // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
     // with these very values); on the stack up to degree [`POWERS`] − 1.

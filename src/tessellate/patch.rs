@@ -159,7 +159,7 @@ fn symmetric_points(patch: &GbPatch, ev: &crate::gb::GbBasisEvaluator, layout: &
     let ctrl: Vec<DVec3> = patch
         .ribbons
         .iter()
-        .flat_map(|rb| (0..l).flat_map(move |k| (0..d1).map(move |c| rb.rows.get(k).and_then(|row| row.get(c)).copied().unwrap_or(DVec3::ZERO))))
+        .flat_map(|rb| (0..l).flat_map(move |k| (0..d1).map(move |c| rb.get_row(k).and_then(|row| row.get(c)).copied().unwrap_or(DVec3::ZERO))))
         .collect();
     let reps: Vec<(usize, usize)> = (1..=r).flat_map(|m| (0..m).map(move |t| (m, t))).collect();
     let done: Vec<Vec<(usize, DVec3, DVec3, DVec3)>> = reps

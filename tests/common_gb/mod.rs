@@ -30,17 +30,12 @@ pub fn random_ribbons(degrees: &[usize], layers: &[usize], seed: u64) -> Vec<Rib
     let mut r = Rng::new(seed);
     let n = degrees.len();
     let mut ribbons: Vec<Ribbon> = (0..n)
-        .map(|i| Ribbon {
-            degree: degrees[i],
-            rows: (0..layers[i])
-                .map(|_| (0..=degrees[i]).map(|_| r.v()).collect())
-                .collect(),
-        })
+        .map(|i| Ribbon::from_fn(degrees[i], layers[i], degrees[i] + 1, |_, _| r.v()))
         .collect();
     for i in 0..n {
         let prev = &ribbons[(i + n - 1) % n];
-        let p = prev.rows[0][prev.degree];
-        ribbons[i].rows[0][0] = p;
+        let p = prev.row(0)[prev.degree];
+        ribbons[i].row_mut(0)[0] = p;
     }
     ribbons
 }

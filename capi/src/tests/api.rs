@@ -372,12 +372,12 @@ fn check_patches_match_rust(method: u32, rust_method: gbsurf::api::Method) {
             for (si, rb) in ribbons.iter().enumerate() {
                 let (mut d, mut l) = (0usize, 0usize);
                 assert_eq!(gbsurf_patch_degree(r, pi, si, &mut d, &mut l), GBSURF_OK);
-                assert_eq!((d, l), (rb.degree, rb.rows.len()));
+                assert_eq!((d, l), (rb.degree, rb.layers()));
                 let (mut ptr, mut len) = (null(), 0usize);
                 assert_eq!(gbsurf_patch_ribbon_points(r, pi, si, &mut ptr, &mut len), GBSURF_OK);
                 let pts = std::slice::from_raw_parts(ptr, len);
                 assert_eq!(len, 3 * l * (d + 1));
-                for (kk, row) in rb.rows.iter().enumerate() {
+                for (kk, row) in rb.rows().enumerate() {
                     for (j, q) in row.iter().enumerate() {
                         let at = 3 * (kk * (d + 1) + j);
                         assert_eq!(&pts[at..at + 3], &q.to_array(), "patch {pi} side {si} P[{j},{kk}]");
