@@ -674,5 +674,5 @@ fn ribbon_serde_form_is_rows_of_points() {
     assert_near!(back.points().to_vec(), r.points().to_vec(), 1e-15);
     let ragged = r#"{"degree": 2, "rows": [[[0,0,0],[1,0,0],[2,0,0]], [[0,1,0],[1,1,0]]]}"#;
     let err = serde_json::from_str::<Ribbon>(ragged).unwrap_err().to_string();
-    assert!(err.contains("ribbon row 1: 2 points, expected 3"), "{err}");
+    assert!(err.contains("ribbon row 1 has 2 points where row 0 has 3"), "{err}");
 }

@@ -383,7 +383,9 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
             // twist = tile vertex of p_i here.
             let mut sides: Vec<SideUse> =
                 mesh.face_halfedges(f).map(|h| SideUse { curve: mesh.edge(h).idx(), reversed: h.0 & 1 == 1 }).collect();
-            sides.rotate_right(1);
+            if !sides.is_empty() {
+                sides.rotate_right(1);
+            }
             PatchLayout {
                 sides,
                 corner_twists: mesh.face_halfedges(f).map(|h| corner_twist[h.idx()]).collect(),

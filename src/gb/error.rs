@@ -42,7 +42,7 @@ pub enum GbError {
         found: usize,
     },
     /// Rows of different lengths given for one ribbon (a ribbon stores `layers × width` points).
-    #[error("ribbon row {row}: {found} points, expected {expected} as row 0")]
+    #[error("ribbon row {row} has {found} points where row 0 has {expected}: every row of a ribbon has the same number of points")]
     RaggedRows {
         row: usize,
         expected: usize,

@@ -66,8 +66,10 @@ impl serde::Serialize for Ribbon {
 }
 
 impl Ribbon {
-    /// `layers` rows of `width` points, point (k, j) = `f(k, j)`.
+    /// `layers` rows of `width` points, point (k, j) = `f(k, j)` (no rows: width 0, as a ribbon
+    /// read back from its rows).
     pub fn from_fn(degree: usize, layers: usize, width: usize, mut f: impl FnMut(usize, usize) -> DVec3) -> Self {
+        let width = if layers == 0 { 0 } else { width };
         let mut points = Vec::with_capacity(layers * width);
         for k in 0..layers {
             points.extend((0..width).map(|j| f(k, j)));

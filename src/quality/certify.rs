@@ -97,6 +97,16 @@ pub struct Certified {
     sector: Vec<u32>,
 }
 
+/// |n|² of a triangle's normal n = e1 × e2, or `None` for a sliver (|n| ≤ SLIVER·|e1||e2|), a
+/// value that is not finite, or one so small that |n|²·SLIVER² is not a normal f64 (edges below
+/// about 1e-74: the divisions of [`normal_cone`] would lose their precision in the subnormal
+/// range, and a cone computed from them could come out too narrow).
+fn normal_len2(e1: DVec3, e2: DVec3, n: DVec3) -> Option<f64> {
+    let len2 = n.length_squared();
+    (len2.is_finite() && len2 * (SLIVER * SLIVER) >= f64::MIN_POSITIVE && len2 > SLIVER * SLIVER * e1.length_squared() * e2.length_squared())
+        .then_some(len2)
+}
+
 /// Normal cone of a patch: unit axis and the cosine of the largest angle between the axis and a
 /// triangle's unit normal; `None` when a triangle is degenerate, a sliver or not finite.
 fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f64)> {
@@ -107,8 +117,7 @@ fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f6
         let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(DVec3::NAN));
         let (e1, e2) = (b - a, c - a);
         let n = e1.cross(e2);
-        let len2 = n.length_squared();
-        (len2.is_finite() && len2 > SLIVER * SLIVER * e1.length_squared() * e2.length_squared()).then(|| n / len2.sqrt())
+        normal_len2(e1, e2, n).map(|len2| n / len2.sqrt())
     };
     let mut sum = DVec3::ZERO;
     for t in triangles.iter().step_by((triangles.len() / 16).max(1)) {
@@ -125,10 +134,7 @@ fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f6
         let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(DVec3::NAN));
         let (e1, e2) = (b - a, c - a);
         let n = e1.cross(e2);
-        let len2 = n.length_squared();
-        if !(len2.is_finite() && len2 > SLIVER * SLIVER * e1.length_squared() * e2.length_squared()) {
-            return None;
-        }
+        let len2 = normal_len2(e1, e2, n)?;
         let d = n.dot(axis);
         low = low.min(d * d.abs() / len2);
     }

@@ -970,6 +970,16 @@ mod tests {
             if n > 4 {
                 assert!(brute.contains(&(1, 2)) && brute.contains(&(0, 3)));
             }
+            // A symmetric filter (boxes in one "region", the index's residue mod 3) drops exactly
+            // the pairs it rejects, whichever order the tree meets them in.
+            let keep = |a: u32, b: u32| a % 3 != b % 3;
+            let mut kept: Vec<(u32, u32)> = overlapping_boxes(&boxes, keep).into_iter().map(|(a, b)| (a.min(b), a.max(b))).collect();
+            kept.sort_unstable();
+            let filtered: Vec<(u32, u32)> = brute.iter().copied().filter(|&(a, b)| keep(a, b)).collect();
+            assert_eq!(kept, filtered, "{n} boxes, filtered");
+            if n >= 300 {
+                assert!(filtered.len() < brute.len() && !filtered.is_empty(), "the filter drops some pairs and keeps some");
+            }
         }
     }
 }
