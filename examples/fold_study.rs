@@ -9,6 +9,9 @@
 //! near 0, a patch that only bends more than 90° from a side's reference keeps both away from it.
 //! Options from the environment: FULLNESS, DEPTH, TWIST (none|approx|interp), MID, METHOD.
 
+#[path = "common/fine.rs"]
+mod fine;
+
 use gbsurf::construct::PatchSource;
 use gbsurf::mesh::geometry::newell_normal;
 use gbsurf::mesh::{FaceId, HalfEdgeMesh, VertexId};
@@ -93,37 +96,8 @@ fn main() {
                             println!("    worst-normal vs side-mid refs {:?}; refs spread {:.0}; vs mean ref {:.0}", a, spread, cn.dot(mean).clamp(-1.0, 1.0).acos().to_degrees());
                         }
                         if std::env::var("FINE").is_ok() {
-                            let patch = &s.patches[p];
-                            let n = patch.sides();
-                            let dom = gbsurf::gb::Domain::regular(n).unwrap();
-                            let vs = dom.vertices().to_vec();
-                            let l = 80usize;
-                            let (mut min_dot, mut min_len, mut max_len) = (1.0f64, f64::MAX, 0.0f64);
-                            for i in 0..n {
-                                let (a, b) = (vs[(i + n - 1) % n], vs[i]);
-                                let mut grid = vec![vec![DVec3::ZERO; l + 1]; l + 1];
-                                for r in 0..=l {
-                                    for t in 0..=r {
-                                        let rr = r as f64 / l as f64;
-                                        let tt = if r == 0 { 0.0 } else { t as f64 / r as f64 };
-                                        let uv = rr * ((1.0 - tt) * a + tt * b) * 0.999;
-                                        let d = patch.eval_derivs(uv, o.weights);
-                                        let nn = d.su.cross(d.sv);
-                                        min_len = min_len.min(nn.length());
-                                        max_len = max_len.max(nn.length());
-                                        grid[r][t] = nn.normalize_or_zero();
-                                    }
-                                }
-                                for r in 1..=l {
-                                    for t in 0..=r {
-                                        if t < r {
-                                            min_dot = min_dot.min(grid[r][t].dot(grid[r][t + 1]));
-                                        }
-                                        min_dot = min_dot.min(grid[r][t].dot(grid[r - 1][t.min(r - 1)]));
-                                    }
-                                }
-                            }
-                            println!("    fine: min neighbour normal dot {:.3}, min/max |Su x Sv| {:.2e}", min_dot, min_len / max_len);
+                            let (min_dot, _, ratio) = fine::neighbour_normals(&s.patches[p], o.weights, 80);
+                            println!("    fine: min neighbour normal dot {:.3}, min/max |Su x Sv| {:.2e}", min_dot, ratio);
                         }
                         match s.sources[p] {
                             PatchSource::Vertex(v) => {

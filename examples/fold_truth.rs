@@ -13,47 +13,11 @@
 //! A fold rule is right when `rule@L` approaches `flips` as L grows; a report is right when
 //! `missed` is 0. This reads no reference normal, so it judges the rule from outside.
 
-use gbsurf::gb::Evaluate;
-use gbsurf::{ConvertOptions, DVec3, Method};
-use rayon::prelude::*;
+#[path = "common/fine.rs"]
+mod fine;
 
-/// Per patch: the smallest dot of neighbouring unit normals on the fine grid, where, and
-/// min/max |S_u × S_v|.
-fn flip(patch: &gbsurf::construct::Patch, form: gbsurf::gb::WeightForm) -> (f64, (usize, usize, usize), f64) {
-    let n = patch.sides();
-    let Ok(dom) = gbsurf::gb::Domain::regular(n) else { return (1.0, (0, 0, 0), 1.0) };
-    let vs = dom.vertices().to_vec();
-    let l = 60usize;
-    let (mut min_dot, mut at, mut lo, mut hi) = (1.0f64, (0, 0, 0), f64::MAX, 0.0f64);
-    for i in 0..n {
-        let (a, b) = (vs[(i + n - 1) % n], vs[i]);
-        let mut grid = vec![vec![DVec3::ZERO; l + 1]; l + 1];
-        for r in 0..=l {
-            for t in 0..=r {
-                let rr = r as f64 / l as f64;
-                let tt = if r == 0 { 0.0 } else { t as f64 / r as f64 };
-                let d = patch.eval_derivs(rr * ((1.0 - tt) * a + tt * b) * 0.999, form);
-                let j = d.su.cross(d.sv);
-                (lo, hi) = (lo.min(j.length()), hi.max(j.length()));
-                grid[r][t] = j.normalize_or_zero();
-            }
-        }
-        for r in 1..=l {
-            for t in 0..=r {
-                let mut take = |d: f64| {
-                    if d < min_dot {
-                        (min_dot, at) = (d, (i, r, t));
-                    }
-                };
-                if t < r {
-                    take(grid[r][t].dot(grid[r][t + 1]));
-                }
-                take(grid[r][t].dot(grid[r - 1][t.min(r - 1)]));
-            }
-        }
-    }
-    (min_dot, at, if hi > 0.0 { lo / hi } else { 0.0 })
-}
+use gbsurf::{ConvertOptions, Method};
+use rayon::prelude::*;
 
 fn main() {
     for file in std::env::args().skip(1) {
@@ -77,7 +41,7 @@ fn main() {
             let Some(s) = c.surface.as_ref() else { continue };
             let levels: Vec<usize> = [4, 8, 16, 40].iter().map(|&l| gbsurf::quality::find_folds(s, l, o.weights).patches).collect();
             let flips: Vec<(usize, (f64, (usize, usize, usize), f64))> =
-                s.patches.par_iter().map(|p| flip(p, o.weights)).enumerate().filter(|(_, f)| f.0 < 0.0).collect();
+                s.patches.par_iter().map(|p| fine::neighbour_normals(p, o.weights, 60)).enumerate().filter(|(_, f)| f.0 < 0.0).collect();
             let reported: std::collections::HashSet<usize> =
                 c.mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect();
             let missed = flips.iter().filter(|(p, _)| !reported.contains(p)).count();
