@@ -161,7 +161,7 @@ def main(argv):
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = 'PNG'
     stamp_note(scene, f"left: GB surface ({a.method.lower()}, r={a.resolution}), mean curvature "
-               f"blue < 0 < red    right: Subdivision Surface level {a.levels}")
+               f"convex red, concave blue    right: Subdivision Surface level {a.levels}")
     out = os.path.abspath(a.output)
     os.makedirs(os.path.dirname(out), exist_ok=True)
     scene.render.filepath = out
