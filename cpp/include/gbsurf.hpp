@@ -159,7 +159,6 @@ struct holes;
 /// The result of a conversion (owns a GbsurfResult handle; move-only, noexcept moves; a
 /// moved-from result throws GBSURF_ERR_NULL from every accessor). The spans returned point into
 /// the handle: valid while this result lives (view accessors are deleted on temporaries).
-
 class result {
 public:
     explicit result(GbsurfResult* h) : h_(h) {}
@@ -193,14 +192,7 @@ public:
     /// sizes or lengths do not fit.
     std::vector<float> cage_loop_values(const std::vector<uint32_t>& face_sizes, const std::vector<float>& values,
                                         std::size_t dim) const {
-        span<uint32_t> fc = view(gbsurf_mesh_cage_corner);
-        span<uint32_t> lc = view(gbsurf_mesh_cage_loop_corner);
-        span<double> st = view(gbsurf_mesh_cage_coords);
-        std::vector<float> out(st.size() / 2 * dim);
-        check(gbsurf_cage_loop_values(face_sizes.data(), face_sizes.size(), values.data(), values.size(), dim,
-                                      fc.data(), fc.size(), lc.data(), lc.size(), st.data(), st.size(), out.data(),
-                                      out.size()));
-        return out;
+        return cage_values(face_sizes, nullptr, nullptr, 0, values, dim);
     }
     /// cage_loop_values for a control mesh with faces with holes `h` (the holes it was converted
     /// with): `values` has `dim` floats per face corner in the user's numbering, face by face the
@@ -338,6 +330,20 @@ private:
         check(f(get(), &d, &n));
         return {d, n};
     }
+    /// Both cage_loop_values overloads: gbsurf_cage_loop_values_holed at this result's face
+    /// corners (no holes: nullptr, nullptr, 0, which is gbsurf_cage_loop_values).
+    std::vector<float> cage_values(const std::vector<uint32_t>& face_sizes, const uint32_t* hole_faces,
+                                   const uint32_t* hole_sizes, std::size_t n_holes, const std::vector<float>& values,
+                                   std::size_t dim) const {
+        span<uint32_t> fc = view(gbsurf_mesh_cage_corner);
+        span<uint32_t> lc = view(gbsurf_mesh_cage_loop_corner);
+        span<double> st = view(gbsurf_mesh_cage_coords);
+        std::vector<float> out(st.size() / 2 * dim);
+        check(gbsurf_cage_loop_values_holed(face_sizes.data(), face_sizes.size(), hole_faces, hole_sizes, n_holes,
+                                            values.data(), values.size(), dim, fc.data(), fc.size(), lc.data(),
+                                            lc.size(), st.data(), st.size(), out.data(), out.size()));
+        return out;
+    }
 };
 
 namespace detail {
@@ -467,14 +473,7 @@ inline std::vector<float> result::cage_loop_values(const std::vector<uint32_t>& 
     if (h.faces.size() != h.sizes.size()) {
         throw error(GBSURF_ERR_COUNT, "holes: need one size per hole face");
     }
-    span<uint32_t> fc = view(gbsurf_mesh_cage_corner);
-    span<uint32_t> lc = view(gbsurf_mesh_cage_loop_corner);
-    span<double> st = view(gbsurf_mesh_cage_coords);
-    std::vector<float> out(st.size() / 2 * dim);
-    check(gbsurf_cage_loop_values_holed(face_sizes.data(), face_sizes.size(), h.faces.data(), h.sizes.data(),
-                                        h.faces.size(), values.data(), values.size(), dim, fc.data(), fc.size(),
-                                        lc.data(), lc.size(), st.data(), st.size(), out.data(), out.size()));
-    return out;
+    return cage_values(face_sizes, h.faces.data(), h.sizes.data(), h.faces.size(), values, dim);
 }
 
 /// Converts a polygon mesh with creases and faces with holes (see gbsurf_convert_holed). The

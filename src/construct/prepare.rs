@@ -229,13 +229,11 @@ pub fn prepare(mesh: &HalfEdgeMesh) -> Result<Prepared<'_>, ConstructError> {
     let input = mesh;
     // Faces named by an error here are faces of `input` (pieces of a face with holes included):
     // named as the user wrote them.
+    // (`input_face` keeps an index it does not know.)
+    let input_face = |f: usize| input.input_face(FaceId(f as u32));
     let user = |e: ConstructError| match e {
-        ConstructError::DegenerateFace { face } if face < input.n_faces() => {
-            ConstructError::DegenerateFace { face: input.input_face(FaceId(face as u32)) }
-        }
-        ConstructError::Valence2 { vertex, face, reason } if face < input.n_faces() => {
-            ConstructError::Valence2 { vertex, face: input.input_face(FaceId(face as u32)), reason }
-        }
+        ConstructError::DegenerateFace { face } => ConstructError::DegenerateFace { face: input_face(face) },
+        ConstructError::Valence2 { vertex, face, reason } => ConstructError::Valence2 { vertex, face: input_face(face), reason },
         e => e,
     };
     let (dissolved, vertex_origin, warnings) = dissolve_valence2(mesh).map_err(user)?;
@@ -246,6 +244,6 @@ pub fn prepare(mesh: &HalfEdgeMesh) -> Result<Prepared<'_>, ConstructError> {
             (Cow::Owned(c.into_owned()), o)
         }
     };
-    let face_input = face_origin.iter().map(|&g| if g < input.n_faces() { input.input_face(FaceId(g as u32)) } else { g }).collect();
+    let face_input = face_origin.iter().map(|&g| input_face(g)).collect();
     Ok(Prepared { mesh, vertex_origin, face_origin, face_input, warnings })
 }

@@ -83,12 +83,7 @@ impl Ribbon {
         if let Some(row) = rows.iter().position(|r| r.len() != width) {
             return Err(GbError::RaggedRows { row, expected: width, found: rows[row].len() });
         }
-        let layers = rows.len();
-        let mut points = Vec::with_capacity(layers * width);
-        for r in &rows {
-            points.extend_from_slice(r);
-        }
-        Ok(Ribbon { degree, layers, width, points })
+        Ok(Ribbon { degree, layers: rows.len(), width, points: rows.concat() })
     }
 
     /// Number of rows (layers).

@@ -113,12 +113,14 @@ fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f6
     // The unit normal of a triangle, None for a sliver. Any axis gives a valid cone (cos is the
     // smallest dot product over all triangles): it is the mean of about 16 spread triangles'
     // normals, then one pass over all of them, without allocating.
-    let unit = |t: &[u32; 3]| -> Option<DVec3> {
+    // A triangle's normal n and |n|², None for a sliver.
+    let normal = |t: &[u32; 3]| -> Option<(DVec3, f64)> {
         let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(DVec3::NAN));
         let (e1, e2) = (b - a, c - a);
         let n = e1.cross(e2);
-        normal_len2(e1, e2, n).map(|len2| n / len2.sqrt())
+        normal_len2(e1, e2, n).map(|len2| (n, len2))
     };
+    let unit = |t: &[u32; 3]| normal(t).map(|(n, len2)| n / len2.sqrt());
     let mut sum = DVec3::ZERO;
     for t in triangles.iter().step_by((triangles.len() / 16).max(1)) {
         sum += unit(t)?;
@@ -131,10 +133,7 @@ fn normal_cone(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<(DVec3, f6
     // c·|c| increases with c): one division per triangle, one square root at the end.
     let mut low = 1.0f64;
     for t in triangles {
-        let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(DVec3::NAN));
-        let (e1, e2) = (b - a, c - a);
-        let n = e1.cross(e2);
-        let len2 = normal_len2(e1, e2, n)?;
+        let (n, len2) = normal(t)?;
         let d = n.dot(axis);
         low = low.min(d * d.abs() / len2);
     }

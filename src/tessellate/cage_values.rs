@@ -112,13 +112,13 @@ impl LoopStarts {
         let mut start = Vec::with_capacity(nf + nh + 1);
         let mut face = Vec::with_capacity(nf + 1);
         let mut total = 0usize;
+        // A corner count that does not fit in usize (sizes made up on a 32-bit target) is a wrong
+        // length, never a wrapped sum.
+        let overflow = || CageValuesError::WrongLength { what: "corner count (sum of the face and hole sizes)", expected: usize::MAX, got: usize::MAX };
         for (f, &size) in faces.sizes.iter().enumerate() {
             if size < 3 {
                 return Err(CageValuesError::FaceTooSmall { face: f, size });
             }
-            // A corner count that does not fit in usize (sizes made up on a 32-bit target) is a
-            // wrong length, never a wrapped sum.
-            let overflow = || CageValuesError::WrongLength { what: "corner count (sum of the face and hole sizes)", expected: usize::MAX, got: usize::MAX };
             face.push(start.len());
             start.push(total);
             total = total.checked_add(size as usize).ok_or_else(overflow)?;
