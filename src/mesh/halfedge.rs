@@ -16,7 +16,8 @@
 //! [`super::validate`]; isolated vertices are dropped (see [`HalfEdgeMesh::warnings`]).
 
 use super::error::{MeshError, MeshWarning};
-use super::validate::{check_polymesh, drop_isolated, fx_map, FxHashMap};
+use super::edges::{first_corners, Corners};
+use super::validate::{check_polymesh, drop_isolated};
 use super::PolyMesh;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -159,41 +160,50 @@ impl HalfEdgeMesh {
         let (clean, original_vertex, warnings) = drop_isolated(mesh);
         let nv = clean.positions.len();
         let total = clean.faces.len() + nv;
-        let n_corners: usize = clean.faces.iter().map(Vec::len).sum();
-        let mut edge_of: FxHashMap<(u32, u32), u32> = fx_map(n_corners);
+        // Edges numbered in order of first use (super::edges), no hash map.
+        let corners = Corners::new(&clean.faces).ok_or_else(|| MeshError::Degenerate(format!("more than {} face corners", u32::MAX)))?;
+        let first = first_corners(&corners, nv);
+        let n_corners = corners.len();
+        let mut corner_edge = vec![NONE; n_corners];
         let mut he_origin = Vec::with_capacity(n_corners + 8);
         let mut he_face = Vec::with_capacity(n_corners + 8);
         let mut he_next = Vec::with_capacity(n_corners + 8);
         let mut he_prev = Vec::with_capacity(n_corners + 8);
         let mut face_he = Vec::with_capacity(clean.faces.len());
-        let mut hs = Vec::new();
-        for (f, face) in clean.faces.iter().enumerate() {
+        for f in 0..clean.faces.len() {
             if f % TICK_FACES == 0 {
                 tick(f, total)?;
             }
-            let n = face.len();
-            hs.clear();
-            for i in 0..n {
-                let (a, b) = (face[i], face[(i + 1) % n]);
-                let key = (a.min(b), a.max(b));
-                let e = *edge_of.entry(key).or_insert_with(|| {
+            let (c0, c1) = (corners.start[f] as usize, corners.start[f + 1] as usize);
+            for c in c0..c1 {
+                let (a, b) = corners.edge(f, c);
+                let (lo, hi) = (a.min(b), a.max(b));
+                let e = if first[c] as usize == c {
                     let e = (he_origin.len() / 2) as u32;
-                    he_origin.extend([key.0, key.1]);
+                    he_origin.extend([lo, hi]);
                     he_face.extend([NONE, NONE]);
                     he_next.extend([NONE, NONE]);
                     he_prev.extend([NONE, NONE]);
                     e
-                });
-                let h = 2 * e + u32::from(a != key.0);
+                } else {
+                    corner_edge[first[c] as usize]
+                };
+                corner_edge[c] = e;
+                let h = 2 * e + u32::from(a != lo);
                 // check_polymesh guarantees each directed edge is used once.
                 he_face[h as usize] = f as u32;
-                hs.push(h);
             }
-            for i in 0..n {
-                he_next[hs[i] as usize] = hs[(i + 1) % n];
-                he_prev[hs[(i + 1) % n] as usize] = hs[i];
+            let h_of = |c: usize| {
+                let (a, b) = corners.edge(f, c);
+                2 * corner_edge[c] + u32::from(a > b)
+            };
+            for c in c0..c1 {
+                let next = if c + 1 == c1 { c0 } else { c + 1 };
+                let (h, g) = (h_of(c), h_of(next));
+                he_next[h as usize] = g;
+                he_prev[g as usize] = h;
             }
-            face_he.push(hs[0]);
+            face_he.push(h_of(c0));
         }
         // Outgoing half-edge per vertex (boundary preferred); count boundary outgoing.
         let nh = he_origin.len();
@@ -273,7 +283,7 @@ impl HalfEdgeMesh {
             }
         }
         m.warnings.shrink_to_fit();
-        m.apply_creases(&mesh.creases, &edge_of)?;
+        m.apply_creases(&mesh.creases)?;
         Ok(m)
     }
 
@@ -281,20 +291,25 @@ impl HalfEdgeMesh {
     /// [`check_polymesh`] (re-checked here for meshes built without it). An edge crease must name
     /// an edge of the mesh; a vertex crease on a dropped isolated vertex is ignored; a repeated
     /// entry keeps the larger value. Nothing is stored when every value is 0.
-    fn apply_creases(&mut self, creases: &super::Creases, edge_of: &FxHashMap<(u32, u32), u32>) -> Result<(), MeshError> {
+    fn apply_creases(&mut self, creases: &super::Creases) -> Result<(), MeshError> {
         if creases.is_smooth() {
             return Ok(());
         }
         super::validate::check_creases(creases, usize::MAX)?;
-        let mut new_index: FxHashMap<u32, u32> = fx_map(self.original_vertex.len());
+        let n_input = self.original_vertex.last().map_or(0, |&o| o as usize + 1);
+        let mut index = vec![NONE; n_input];
         for (v, &o) in self.original_vertex.iter().enumerate() {
-            new_index.insert(o, v as u32);
+            index[o as usize] = v as u32;
         }
+        let new_index = |v: u32| index.get(v as usize).copied().filter(|&x| x != NONE);
         self.edge_crease = vec![0.0; self.n_edges()];
         self.vertex_crease = vec![0.0; self.n_vertices()];
         for (entry, &([a, b], c)) in creases.edges.iter().enumerate() {
-            let e = match (new_index.get(&a), new_index.get(&b)) {
-                (Some(&x), Some(&y)) => edge_of.get(&(x.min(y), x.max(y))).copied(),
+            let e = match (new_index(a), new_index(b)) {
+                (Some(x), Some(y)) => self
+                    .vertex_outgoing(VertexId(x))
+                    .find(|&h| self.he_origin[h.idx() ^ 1] == y)
+                    .map(|h| h.idx() as u32 / 2),
                 _ => None,
             };
             let e = e.ok_or(MeshError::CreaseEdgeMissing { entry, edge: (a as usize, b as usize), line: None })?;
@@ -302,7 +317,7 @@ impl HalfEdgeMesh {
             *slot = slot.max(c);
         }
         for &(v, c) in &creases.vertices {
-            if let Some(&x) = new_index.get(&v) {
+            if let Some(x) = new_index(v) {
                 let slot = &mut self.vertex_crease[x as usize];
                 *slot = slot.max(c);
             }

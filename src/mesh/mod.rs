@@ -98,6 +98,7 @@ impl MeshSink for TriMesh {
     }
 }
 
+pub(crate) mod edges;
 pub mod error;
 pub mod geometry;
 pub mod halfedge;

@@ -19,7 +19,8 @@
 //! Isolated vertices (used by no face) are not errors: they are dropped, the remaining vertices
 //! renumbered in order, and a [`MeshWarning::IsolatedVertex`] recorded.
 //!
-//! All steps are linear in the mesh size (hash maps of edges and of canonical face cycles).
+//! Steps 4–7 group corners by edge and faces by cycle without hash maps ([`super::edges`]):
+//! linear in the mesh size but for one sort of the faces on a 64-bit key.
 //!
 //! [`HalfEdgeMesh::from_polymesh`]: super::halfedge::HalfEdgeMesh::from_polymesh
 
@@ -30,7 +31,7 @@ use super::PolyMesh;
 use crate::limits::MIN_RELATIVE_EXTENT;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::hash_map::Entry;
+use super::edges::{cycle_groups, first_corners, Corners};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
@@ -177,67 +178,49 @@ pub fn check_polymesh(mesh: &PolyMesh) -> Result<(), MeshError> {
         return Err(e);
     }
     check_extent(mesh)?;
-    // 4. duplicates with the same orientation; 7. with the opposite one.
-    let mut cycles: FxHashMap<Vec<u32>, usize> = fx_map(mesh.faces.len());
-    let canonical: Vec<Vec<u32>> = mesh.faces.par_iter().with_min_len(PAR_MIN).map(|f| canonical_cycle(f)).collect();
-    for (f, cycle) in canonical.into_iter().enumerate() {
-        match cycles.entry(cycle) {
-            Entry::Occupied(e) => return Err(MeshError::DuplicateFace { face: f, first: *e.get(), line: None }),
-            Entry::Vacant(e) => {
-                e.insert(f);
-            }
-        }
+    // 4.–7. from one grouping of equal cycles and one of corners by edge (super::edges).
+    let groups = cycle_groups(&mesh.faces);
+    // 4. the first face (in face order) repeating an earlier face's oriented cycle.
+    let same = groups.iter().flat_map(|g| {
+        [true, false].into_iter().filter_map(move |o| {
+            let mut it = g.iter().filter(move |x| x.1 == o).map(|x| x.0);
+            let first = it.next()?;
+            Some((it.next()?, first))
+        })
+    });
+    if let Some((face, first)) = same.min() {
+        return Err(MeshError::DuplicateFace { face, first, line: None });
     }
-    let n_corners: usize = mesh.faces.iter().map(Vec::len).sum();
-    // 5. edge use counts (undirected), faces listed in order.
-    // Only the use counts are stored; the face list of an offending edge is rebuilt in face order.
-    let mut edge_uses: FxHashMap<(u32, u32), u32> = fx_map(n_corners);
-    for face in mesh.faces.iter() {
-        for (a, b) in face_edges(face) {
-            *edge_uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-        }
+    let corners = Corners::new(&mesh.faces).ok_or_else(|| MeshError::Degenerate(format!("more than {} face corners", u32::MAX)))?;
+    let first = first_corners(&corners, mesh.positions.len());
+    // 5. the first corner (in face order) of an edge used more than twice; its faces in order.
+    let mut uses = vec![0u8; corners.len()];
+    for &c in &first {
+        uses[c as usize] = uses[c as usize].saturating_add(1);
     }
-    for face in mesh.faces.iter() {
-        for (a, b) in face_edges(face) {
-            let key = (a.min(b), a.max(b));
-            if edge_uses[&key] > 2 {
-                let faces = mesh
-                    .faces
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(g, fc)| face_edges(fc).map(move |(x, y)| (g, (x.min(y), x.max(y)))))
-                    .filter(|&(_, k)| k == key)
-                    .map(|(g, _)| g)
-                    .collect();
-                return Err(MeshError::NonManifoldEdge { edge: (key.0 as usize, key.1 as usize), faces, line: None });
-            }
-        }
+    if let Some(c) = (0..corners.len()).find(|&c| uses[c] > 2) {
+        let (a, b) = corners.edge(corners.face_of(c), c);
+        let faces = (0..corners.len()).filter(|&d| first[d] as usize == c).map(|d| corners.face_of(d)).collect();
+        return Err(MeshError::NonManifoldEdge { edge: (a.min(b) as usize, a.max(b) as usize), faces, line: None });
     }
-    // 6. directed edges.
-    let mut directed: FxHashMap<(u32, u32), usize> = fx_map(n_corners);
-    for (f, face) in mesh.faces.iter().enumerate() {
-        for (a, b) in face_edges(face) {
-            if let Some(&g) = directed.get(&(a, b)) {
-                return Err(MeshError::InconsistentOrientation {
-                    edge: (a as usize, b as usize),
-                    faces: (g, f),
-                    line: None,
-                });
-            }
-            directed.insert((a, b), f);
-        }
+    // 6. the first corner whose directed edge an earlier corner has (edges have ≤ 2 uses now).
+    let again = corners.iter().find(|&(_, c)| {
+        let e = first[c] as usize;
+        e != c && corners.verts[e] == corners.verts[c]
+    });
+    if let Some((f, c)) = again {
+        let (a, b) = corners.edge(f, c);
+        return Err(MeshError::InconsistentOrientation { edge: (a as usize, b as usize), faces: (corners.face_of(first[c] as usize), f), line: None });
     }
-    // 7.
-    // The reversed cycle in a buffer per worker (the map is looked up by slice).
-    let opposite = |rev: &mut Vec<u32>, (f, face): (usize, &Vec<u32>)| {
-        rev.clear();
-        rev.extend(face.iter().rev());
-        rotate_to_least(rev);
-        let first = *cycles.get(rev.as_slice())?;
-        (first < f).then_some(MeshError::DuplicateFace { face: f, first, line: None })
-    };
-    match mesh.faces.par_iter().enumerate().with_min_len(PAR_MIN).map_init(Vec::new, opposite).find_map_first(|e| e) {
-        Some(e) => Err(e),
+    // 7. a face repeating an earlier face's cycle reversed (each orientation once per group now):
+    // the later face of the pair, the first such in face order.
+    let opposite = groups.iter().filter_map(|g| {
+        let a = g.iter().find(|x| x.1)?.0;
+        let b = g.iter().find(|x| !x.1)?.0;
+        Some((a.max(b), a.min(b)))
+    });
+    match opposite.min() {
+        Some((face, first)) => Err(MeshError::DuplicateFace { face, first, line: None }),
         None => Ok(()),
     }
 }
@@ -277,24 +260,6 @@ fn face_error(mesh: &PolyMesh, f: usize, face: &[u32], buf: &mut [Vec<DVec3>; 2]
         return Err(MeshError::ZeroAreaFace { face: f, area: area * h * h, line: None });
     }
     Ok(())
-}
-
-/// The directed edges `(face[i], face[i+1])` of a face loop.
-pub(crate) fn face_edges(face: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
-    (0..face.len()).map(move |i| (face[i], face[(i + 1) % face.len()]))
-}
-
-/// The face loop rotated to start at its smallest index (same orientation).
-fn canonical_cycle(face: &[u32]) -> Vec<u32> {
-    let mut c = face.to_vec();
-    rotate_to_least(&mut c);
-    c
-}
-
-/// Rotates a cycle in place to start at its (first) least index: [`canonical_cycle`] in place.
-fn rotate_to_least(cycle: &mut [u32]) {
-    let k = (0..cycle.len()).min_by_key(|&i| cycle[i]).unwrap_or(0);
-    cycle.rotate_left(k);
 }
 
 /// Area of the polygon scaled to unit size, and the scale `h` (half the largest bounding-box
