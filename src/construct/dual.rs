@@ -258,7 +258,8 @@ pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mu
         }
         if cuts.any() {
             let smooth = ticker.within(PREPARE, NETWORK, |t| super::network::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?;
-            if let Some(split) = super::dual_crease::split_creases(&prep.mesh, &cuts, &net, &smooth, &cage, opts) {
+            let diagonals = |h| prep.diagonals(h);
+            if let Some(split) = super::dual_crease::split_creases(&prep.mesh, &cuts, &net, &smooth, &cage, &diagonals, opts) {
                 net = split.net;
                 cage = split.cage;
             }
