@@ -256,6 +256,7 @@ fn dual_crease_sectors_stay_continuous_across_split_diagonals() {
                 let opts = ConvertOptions { method: Method::Dual, resolution: 4, ..Default::default() };
                 let conv = convert(&m, &opts, None).unwrap_or_else(|e| panic!("{name}, {what} sharp: {e}"));
                 assert!(conv.report.sharp_edges > 0, "{name}, {what} sharp at {c}: no crease was built");
+                assert!(conv.report.max_g1_deg <= 1e-4, "{name}, {what} sharp at {c}: G1 {}", conv.report.max_g1_deg);
                 let out = conv.mesh.cage_loop_values(faces, &values, 3).unwrap();
                 let jump = loop_jump(&conv.mesh, &out, 3, false);
                 let step = neighbour_difference(&conv.mesh, &out, 3, false);

@@ -131,7 +131,8 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
         let (curves, curve_nodes, mids) = (&mut curves, &mut curve_nodes, &mut mids);
         patches.push(vertex_patch(mesh, v, &out, opts, &centroid, &fmid, &edge_curve, &edge_node, curves, curve_nodes, mids)?);
     }
-    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease: Vec::new() })
+    let (crease, end_scale) = (Vec::new(), Vec::new());
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease, end_scale })
 }
 
 /// The patch of vertex `v`; `out` = its outgoing half-edges (`vertex_outgoing`, CCW).

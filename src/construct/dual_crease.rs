@@ -25,7 +25,9 @@
 //! - F_e = F⁰ + c_e (M_e − F⁰): F⁰ = D_e(½), M_e the edge midpoint;
 //! - A_e, B_e: from the de Casteljau halves of D_e at ½ to the open-boundary curves of §4.1
 //!   (c_f → M_e: C1 = c_f + ((1−κ)/2)(F′_f − c_f) (= the first de Casteljau point, unchanged),
-//!   C2 = c_f + ((3−κ)/4)(M_e − c_f), C3 = M_e), point by point;
+//!   C2 = c_f + ((3−κ)/4)(M_e − c_f), C3 = M_e), point by point; their face-centroid ends count
+//!   twice in the blends' D there (`CurveNetwork::end_scale`: a half's parameter runs twice as
+//!   fast as D_e's), so D stays S₀'s and the unsplit neighbours do not move as c → 0;
 //! - the crossing direction at F_e: u_e = unit(u⁰ + c_e (u¹ − u⁰)), u⁰ the edge direction
 //!   V − W projected into S₀'s tangent plane at F⁰ (spanned by D_e′(½) and D_{0.5}), u¹ =
 //!   unit(V − W). Every cut curve and spoke leaves F_e along ±u_e, so the two halves stay G1 at
@@ -56,8 +58,8 @@
 //! the mesh were cut open there), corners (w₃ = 1) end the spokes at V itself, and the cube with
 //! every edge sharp is the cube. **Limit at 0:** for 0 < c ≤ 1 the surface moves continuously, but
 //! the sector split itself is not the unsplit patch: as c → 0 the sectors tend to a G1 surface
-//! that follows S₀ along its nodes and cut curves, not to S₀ exactly (measured in
-//! tests/creases.rs). Sharpness exactly 0 takes none of these steps.
+//! that follows S₀ along its nodes and cut curves, not to S₀ exactly (the unsplit patches do;
+//! measured in tests/creases.rs). Sharpness exactly 0 takes none of these steps.
 
 use crate::gb::Evaluate;
 use super::network::{side_points, CurveNetwork, PatchLayout, SideUse};
@@ -319,6 +321,11 @@ pub fn split_creases(
         out.curve_nodes.push([node, net.curve_nodes[e.idx()][1]]);
         out.mid.push(net.mid[e.idx()]);
         out.crease.push(0.0);
+        // The halves' parameters run twice as fast as D_e's: at the face centroids their end
+        // vectors count twice in the blends' D, which stays S₀'s there.
+        out.end_scale.resize(out.curves.len() - 1, [1.0, 1.0]);
+        out.end_scale[e.idx()] = [2.0, 1.0];
+        out.end_scale.push([1.0, 2.0]);
         edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u, a, b, node, b_curve });
     }
 

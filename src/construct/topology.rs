@@ -394,7 +394,7 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
             }
         })
         .collect();
-    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease })
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease, end_scale: Vec::new() })
 }
 
 /// Control point `k` (1 = next to the start) of the curve of the edge of outgoing half-edge `h`,
