@@ -49,6 +49,7 @@ fn two_triangles(n0: DVec3, n3: DVec3, q: [f64; 6], th: [f64; 4], mid: DVec3) ->
         curve_nodes: vec![[0, 1], [1, 2], [2, 0], [0, 3], [3, 1]],
         mid: vec![mid, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO],
         crease: Vec::new(),
+        end_scale: Vec::new(),
         patches: vec![
             PatchLayout {
                 sides: vec![s(0, false), s(1, false), s(2, false)],

@@ -223,6 +223,79 @@ fn checker_uvs_on_holed_faces_stay_continuous() {
     }
 }
 
+/// The holed slabs with a sharp loop on the top cap (dual structure, docs/math.md#dual-creases):
+/// its outer loop, its (first) hole's loop, or both, at sharpness `c`. The top cap is face 0, its
+/// outer loop the first `n` top vertices, its holes' loops follow (see [`slab`]).
+fn sharp_cap_loops(m: &PolyMesh, c: f64) -> Vec<(&'static str, PolyMesh)> {
+    let cap_loops = user_loops(m, 0).into_iter().map(|l| l.to_vec()).collect::<Vec<_>>();
+    let ring = |l: &[u32]| (0..l.len()).map(|i| ([l[i], l[(i + 1) % l.len()]], c)).collect::<Vec<_>>();
+    let with = |loops: &[usize]| {
+        let mut s = m.clone();
+        s.creases.edges = loops.iter().flat_map(|&i| ring(&cap_loops[i])).collect();
+        s
+    };
+    vec![("outer loop", with(&[0])), ("hole loop", with(&[1])), ("both loops", with(&[0, 1]))]
+}
+
+/// A dual crease sector whose sector side runs along a split diagonal of a holed cap (the cap's
+/// outer or hole loop sharp, so its vertices' patches are split into sectors, each holding the
+/// diagonals at its vertex) takes the rule across split diagonals too: the cage positions stay
+/// continuous at every output vertex (docs/math.md#cage-corners). Values: the cage positions over
+/// the bounding box's largest extent; same bound as above.
+#[test]
+fn dual_crease_sectors_stay_continuous_across_split_diagonals() {
+    let mut bad = Vec::new();
+    for (name, base) in holed_slabs() {
+        let (sizes, hole_faces, hole_sizes) = cage_faces(&base);
+        let faces = CageFaces { sizes: &sizes, hole_faces: &hole_faces, hole_sizes: &hole_sizes };
+        let (lo, hi) = base.positions.iter().fold((DVec3::MAX, DVec3::MIN), |(a, b), &p| (a.min(p), b.max(p)));
+        let extent = (hi - lo).max_element();
+        let values = per_corner(&base, |_, v| (base.positions[v as usize] / extent).to_array().map(|x| x as f32));
+        for c in [1.0, 0.5] {
+            for (what, m) in sharp_cap_loops(&base, c) {
+                let opts = ConvertOptions { method: Method::Dual, resolution: 4, ..Default::default() };
+                let conv = convert(&m, &opts, None).unwrap_or_else(|e| panic!("{name}, {what} sharp: {e}"));
+                assert!(conv.report.sharp_edges > 0, "{name}, {what} sharp at {c}: no crease was built");
+                assert!(conv.report.max_g1_deg <= 1e-4, "{name}, {what} sharp at {c}: G1 {}", conv.report.max_g1_deg);
+                let out = conv.mesh.cage_loop_values(faces, &values, 3).unwrap();
+                let jump = loop_jump(&conv.mesh, &out, 3, false);
+                let step = neighbour_difference(&conv.mesh, &out, 3, false);
+                eprintln!("{name}, {what} sharp at {c}: positions/extent jump {jump:.2e}, neighbour diff. {step:.3}");
+                if jump > 1e-5 {
+                    bad.push(format!("{name}, {what} sharp at {c}: the positions jump by {jump} (of the extent)"));
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
+/// `Surface::sources` names the faces as the user wrote them (the pieces of a holed cap, and of
+/// a concave cap, share their face's source; every face is named) and the mesh's vertices (the
+/// hole split adds none: one dual patch per vertex, in its numbering).
+#[test]
+fn patch_sources_name_the_users_faces_and_vertices() {
+    use gbsurf::construct::PatchSource;
+    for (name, m) in holed_slabs() {
+        let pieces = split_holes(&m).unwrap().mesh.faces.len();
+        let topo = convert(&m, &ConvertOptions { method: Method::Topology, ..Default::default() }, None).unwrap();
+        let sources = topo.surface.unwrap().sources;
+        assert!(sources.len() >= pieces, "{name}: {} patches for {pieces} pieces", sources.len());
+        let mut count = vec![0usize; m.faces.len()];
+        for s in &sources {
+            match *s {
+                PatchSource::Face(f) if f < m.faces.len() => count[f] += 1,
+                s => panic!("{name} topology: source {s:?} is no face of the {} written", m.faces.len()),
+            }
+        }
+        assert!(count.iter().all(|&c| c >= 1), "{name}: a face without patches: {count:?}");
+        assert!(count[0] > 1 && count[1] > 1, "{name}: the holed caps' pieces share their source: {count:?}");
+        let dual = convert(&m, &ConvertOptions { method: Method::Dual, ..Default::default() }, None).unwrap();
+        let want: Vec<PatchSource> = (0..m.positions.len()).map(PatchSource::Vertex).collect();
+        assert_eq!(dual.surface.unwrap().sources, want, "{name} dual");
+    }
+}
+
 /// The square ring splits into four trapezoids (each diagonal of a trapezoid is removed, the
 /// corner diagonals keep the hole corners convex).
 #[test]

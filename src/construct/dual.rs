@@ -131,7 +131,8 @@ pub fn dual_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveN
         let (curves, curve_nodes, mids) = (&mut curves, &mut curve_nodes, &mut mids);
         patches.push(vertex_patch(mesh, v, &out, opts, &centroid, &fmid, &edge_curve, &edge_node, curves, curve_nodes, mids)?);
     }
-    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease: Vec::new() })
+    let (crease, end_scale) = (Vec::new(), Vec::new());
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease, end_scale })
 }
 
 /// The patch of vertex `v`; `out` = its outgoing half-edges (`vertex_outgoing`, CCW).
@@ -258,7 +259,8 @@ pub fn build_dual_ticked(mesh: &HalfEdgeMesh, opts: &ConvertOptions, ticker: &mu
         }
         if cuts.any() {
             let smooth = ticker.within(PREPARE, NETWORK, |t| super::network::assemble_ticked(&net, opts, t)).map_err(|e| prep.error(e, true))?;
-            if let Some(split) = super::dual_crease::split_creases(&prep.mesh, &cuts, &net, &smooth, &cage, opts) {
+            let diagonals = |h| prep.diagonals(h);
+            if let Some(split) = super::dual_crease::split_creases(&prep.mesh, &cuts, &net, &smooth, &cage, &diagonals, opts) {
                 net = split.net;
                 cage = split.cage;
             }

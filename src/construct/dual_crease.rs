@@ -25,7 +25,9 @@
 //! - F_e = F⁰ + c_e (M_e − F⁰): F⁰ = D_e(½), M_e the edge midpoint;
 //! - A_e, B_e: from the de Casteljau halves of D_e at ½ to the open-boundary curves of §4.1
 //!   (c_f → M_e: C1 = c_f + ((1−κ)/2)(F′_f − c_f) (= the first de Casteljau point, unchanged),
-//!   C2 = c_f + ((3−κ)/4)(M_e − c_f), C3 = M_e), point by point;
+//!   C2 = c_f + ((3−κ)/4)(M_e − c_f), C3 = M_e), point by point; their face-centroid ends count
+//!   twice in the blends' D there (`CurveNetwork::end_scale`: a half's parameter runs twice as
+//!   fast as D_e's), so D stays S₀'s and the unsplit neighbours do not move as c → 0;
 //! - the crossing direction at F_e: u_e = unit(u⁰ + c_e (u¹ − u⁰)), u⁰ the edge direction
 //!   V − W projected into S₀'s tangent plane at F⁰ (spanned by D_e′(½) and D_{0.5}), u¹ =
 //!   unit(V − W). Every cut curve and spoke leaves F_e along ±u_e, so the two halves stay G1 at
@@ -56,12 +58,12 @@
 //! the mesh were cut open there), corners (w₃ = 1) end the spokes at V itself, and the cube with
 //! every edge sharp is the cube. **Limit at 0:** for 0 < c ≤ 1 the surface moves continuously, but
 //! the sector split itself is not the unsplit patch: as c → 0 the sectors tend to a G1 surface
-//! that follows S₀ along its nodes and cut curves, not to S₀ exactly (measured in
-//! tests/creases.rs). Sharpness exactly 0 takes none of these steps.
+//! that follows S₀ along its nodes and cut curves, not to S₀ exactly (the unsplit patches do;
+//! measured in tests/creases.rs). Sharpness exactly 0 takes none of these steps.
 
 use crate::gb::Evaluate;
 use super::network::{side_points, CurveNetwork, PatchLayout, SideUse};
-use super::surface::{CageSector, Patch, SectorMap, Surface};
+use super::surface::{CageSector, Diagonals, Patch, SectorMap, Surface};
 use crate::gb::Domain;
 use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, VertexId};
 use crate::options::ConvertOptions;
@@ -169,13 +171,11 @@ enum Pt {
     Vertex,
 }
 
-/// A side's midpoint: a point, the mean of two, or the middle (a + 2V + b)/4 of a cut curve
-/// (the quadratic B-spline of the crease polygon at sharpness 1).
+/// A side's midpoint: a point or the mean of two.
 #[derive(Clone, Copy)]
 enum Mid {
     At(Pt),
     Avg(Pt, Pt),
-    Crease(Pt, Pt),
 }
 
 /// The cage coordinates (σ, τ) of `p` in V's cage corner j (face(out_j)): (0,0) V, (1,0) the
@@ -194,20 +194,37 @@ fn frame_coords(j: usize, p: Pt, n: usize) -> Option<[f64; 2]> {
 /// The cage row of a crease sector (docs/math.md#dual-creases): `corners[i]` = (the point at
 /// corner i, the cage corner j of V whose frame its quad sector uses), `mids[i]` = the midpoint
 /// of side i. The sector's centre maps to V, or, for a sector within one face, to the mean of its
-/// corners. Points outside a frame count as V.
+/// corners. A point's coordinates in frame j are those in the user's cage corner of j
+/// (`face_cage(j)`): [`Diagonals::phi`] (the rule across split diagonals, as the unsplit maps do
+/// in [`SectorMap::across_diagonals`]) of its coordinates in j or, when it is not a point of j,
+/// in another piece of the same split face at V (the pieces agree on the points they share);
+/// points outside all of them count as V.
 fn sector_cage(
     corners: &[(Pt, usize)],
     mids: &[Mid],
     n: usize,
     one_face: bool,
     face_cage: &dyn Fn(usize) -> Option<CageSector>,
+    face_diagonals: &dyn Fn(usize) -> Diagonals,
 ) -> Vec<Option<CageSector>> {
-    let at = |j: usize, p: Pt| frame_coords(j, p, n).unwrap_or([0.0, 0.0]);
+    let user_corner = |k: usize| face_cage(k).map(|c| (c.face, c.corner));
+    let same_corner = |j: usize, k: usize| k == j || (user_corner(k).is_some() && user_corner(k) == user_corner(j));
+    let at = |j: usize, p: Pt| {
+        let frames = match p {
+            Pt::Face(i) => [i, i],
+            Pt::Edge(i) => [i, (i + n - 1) % n],
+            Pt::Vertex => [j, j],
+        };
+        std::iter::once(j)
+            .chain(frames)
+            .filter(|&k| same_corner(j, k))
+            .find_map(|k| frame_coords(k, p, n).map(|x| face_diagonals(k).phi(x)))
+            .unwrap_or([0.0, 0.0])
+    };
     let add = |a: [f64; 2], b: [f64; 2], w: f64| [w * (a[0] + b[0]), w * (a[1] + b[1])];
     let mid = |j: usize, m: Mid| match m {
         Mid::At(p) => at(j, p),
         Mid::Avg(a, b) => add(at(j, a), at(j, b), 0.5),
-        Mid::Crease(a, b) => add(at(j, a), at(j, b), 0.25),
     };
     let m = corners.len();
     (0..m)
@@ -246,13 +263,16 @@ fn mid_constraint(curve: &[DVec3; 4], s0: crate::gb::SurfaceDerivs, d0: DVec3, d
 
 /// Splits the dual network `net` of `mesh` (built by [`super::dual::dual_network`], its patch v
 /// the vertex v) along the cut edges of `cuts` (module doc). `smooth` is the surface assembled
-/// from `net` (S₀), `cage` its cage rows (or empty). `None` when no edge is cut.
+/// from `net` (S₀), `cage` its cage rows (or empty), `diagonals(h)` the split diagonals of the
+/// cage corner at half-edge h of `mesh` ([`super::prepare::Prepared::diagonals`]). `None` when
+/// no edge is cut.
 pub fn split_creases(
     mesh: &HalfEdgeMesh,
     cuts: &Cuts,
     net: &CurveNetwork,
     smooth: &Surface,
     cage: &[Vec<CageSector>],
+    diagonals: &dyn Fn(HalfedgeId) -> Diagonals,
     opts: &ConvertOptions,
 ) -> Option<CreaseSplit> {
     let cut = &cuts.cut;
@@ -301,6 +321,11 @@ pub fn split_creases(
         out.curve_nodes.push([node, net.curve_nodes[e.idx()][1]]);
         out.mid.push(net.mid[e.idx()]);
         out.crease.push(0.0);
+        // The halves' parameters run twice as fast as D_e's: at the face centroids their end
+        // vectors count twice in the blends' D, which stays S₀'s there.
+        out.end_scale.resize(out.curves.len() - 1, [1.0, 1.0]);
+        out.end_scale[e.idx()] = [2.0, 1.0];
+        out.end_scale.push([1.0, 2.0]);
         edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u, a, b, node, b_curve });
     }
 
@@ -461,6 +486,7 @@ pub fn split_creases(
         // twist of the unsplit patch (face corners) or None (parallelogram), and the cage sector.
         let row = cage.get(v.idx());
         let face_cage = |j: usize| row.and_then(|r| r.get(j % n)).copied();
+        let face_diagonals = |j: usize| diagonals(outg[j % n]);
         let mut parts: Vec<(Vec<SideUse>, Vec<Option<DVec3>>, Vec<Option<CageSector>>)> = Vec::new();
         for s in 0..kc {
             let (j0, j1) = (js[s], if s + 1 < kc { js[s + 1] } else { js[0] + n });
@@ -479,14 +505,16 @@ pub fn split_creases(
             mids.push(Mid::Avg(Pt::Face((j1 - 1) % n), Pt::Edge(j1 % n)));
             corners.push((Pt::Edge(j1 % n), (j1 - 1) % n));
             if kc == 2 {
-                mids.push(Mid::Crease(Pt::Edge(j1 % n), Pt::Edge(j0 % n)));
+                // The cut curve follows the crease polygon F_a → V → F_b (its quadratic B-spline
+                // at sharpness 1): its midpoint maps to V, the one point of every frame it meets.
+                mids.push(Mid::At(Pt::Vertex));
             } else {
                 mids.push(Mid::Avg(Pt::Edge(j1 % n), Pt::Vertex));
                 mids.push(Mid::Avg(Pt::Vertex, Pt::Edge(j0 % n)));
                 corners.push((Pt::Vertex, j0 % n));
             }
             corners.push((Pt::Edge(j0 % n), j0 % n));
-            let cage_row = sector_cage(&corners, &mids, n, j1 - j0 == 1, &face_cage);
+            let cage_row = sector_cage(&corners, &mids, n, j1 - j0 == 1, &face_cage, &face_diagonals);
             parts.push((sides_out, twists, cage_row));
         }
         for (i, (sides_out, twists, cage_row)) in parts.into_iter().enumerate() {

@@ -20,7 +20,7 @@ pub use derived::ControlNet;
 pub use dual::{build_dual, build_dual_ticked, dual_network};
 pub use network::{assemble, assemble_ticked, CurveNetwork, PatchLayout, SideUse};
 pub use prepare::{dissolve_valence2, prepare, Prepared};
-pub use surface::{CageSector, Patch, PatchSource, SectorMap, SideRef, Surface};
+pub use surface::{CageSector, Diagonals, Patch, PatchSource, SectorMap, SideRef, Surface};
 pub use topology::{build_topology, build_topology_ticked, tiles, topology_network, Tiles};
 
 use crate::options::ConvertOptions;

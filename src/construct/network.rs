@@ -55,6 +55,12 @@ pub struct CurveNetwork {
     /// smooth. A shared curve of sharpness 1 gets no direction blend: each side keeps the twists
     /// of an open side (G0 across it); in between the blended twists move towards those.
     pub crease: Vec<f64>,
+    /// `end_scale[c][k]`: the factor by which the end vector X = 3(P − C) that curve c gives a
+    /// blend at its end k (as the side next to the blended one at that corner) enters
+    /// D = (X_A − X_B)/2 (docs/math.md#direction-blends): 2 at the face-centroid ends of the halves
+    /// of a cut dual curve, whose parameter runs twice as fast as the curve's
+    /// (docs/math.md#dual-creases). Empty or shorter than `curves`: 1.
+    pub end_scale: Vec<[f64; 2]>,
 }
 
 /// Which patch sides use a curve: (patch, side, reversed).
@@ -193,7 +199,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 return Ok(None);
             };
             let side_rows = |p: usize| &rows[start[p]..start[p + 1]];
-            shared_twists(net, opts, kind, c, [side_rows(a.0), side_rows(b.0)], [a.1, b.1]).map(Some)
+            shared_twists(net, opts, kind, c, [side_rows(a.0), side_rows(b.0)], [a.1, b.1], [a.0, b.0]).map(Some)
         }))?;
         for (c, t) in twists.into_iter().enumerate() {
             let t = match t {
@@ -320,7 +326,9 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
 
 /// The inner twists of the two sides on shared curve `c` (A traverses it forward, B backwards):
 /// `[A col 1, A col 2, B col 1, B col 2]` of row 1, from one direction blend (seed 000 §4.4).
-/// `[ra, rb]`: the rows of A's and B's sides; `[sa, sb]`: the sides on curve `c`.
+/// `[ra, rb]`: the rows of A's and B's sides; `[sa, sb]`: the sides on curve `c`; `[pa, pb]`:
+/// the two patches. D at each end is (λ_A X_A − λ_B X_B)/2 with the end scales λ of the sides
+/// next to the corner ([`CurveNetwork::end_scale`]); X_A, X_B themselves are kept.
 fn shared_twists(
     net: &CurveNetwork,
     opts: &ConvertOptions,
@@ -328,9 +336,18 @@ fn shared_twists(
     c: usize,
     [ra, rb]: [&[[[DVec3; 4]; 2]]; 2],
     [sa, sb]: [usize; 2],
+    [pa, pb]: [usize; 2],
 ) -> Result<[DVec3; 4], ConstructError> {
     let cc = net.curves[c];
     let (na, nb) = (ra.len(), rb.len());
+    // The end scale (CurveNetwork::end_scale) of the side next to the corner: side i of patch p,
+    // at its end (`at_end`) or its start.
+    let scale = |p: usize, i: usize, at_end: bool| {
+        let u = net.patches[p].sides[i];
+        net.end_scale.get(u.curve).map_or(1.0, |s| s[usize::from(at_end != u.reversed)])
+    };
+    let (la0, la1) = (scale(pa, (sa + na - 1) % na, true), scale(pa, (sa + 1) % na, false));
+    let (lb0, lb1) = (scale(pb, (sb + 1) % nb, false), scale(pb, (sb + nb - 1) % nb, true));
     // Cross-derivatives fixed by the network, all in A's parameter s.
     let xa0 = 3.0 * (ra[(sa + na - 1) % na][0][2] - cc[0]);
     let xa1 = 3.0 * (ra[(sa + 1) % na][0][1] - cc[3]);
@@ -338,8 +355,8 @@ fn shared_twists(
     let xb1 = 3.0 * (rb[(sb + nb - 1) % nb][0][2] - cc[3]);
     let t0 = 3.0 * (cc[1] - cc[0]);
     let t1 = 3.0 * (cc[3] - cc[2]);
-    let d0 = end_direction(xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
-    let d1 = end_direction(xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
+    let d0 = end_direction(la0 * xa0, lb0 * xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
+    let d1 = end_direction(la1 * xa1, lb1 * xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
     let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
     let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
         decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })

@@ -18,7 +18,7 @@
 
 use super::surface::PatchSource;
 use super::ConstructError;
-use super::surface::{CageSector, SectorMap};
+use super::surface::{CageSector, Diagonals, SectorMap};
 use crate::mesh::{FaceId, HalfEdgeMesh, HalfedgeId};
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -41,11 +41,13 @@ pub struct Prepared<'a> {
 }
 
 impl Prepared<'_> {
-    /// A patch source of the prepared mesh in the input numbering.
+    /// A patch source of the prepared mesh in the user's numbering: a vertex of the input mesh
+    /// (splits add no vertices), a face as the user wrote it ([`Self::face_input`]: the pieces of
+    /// a concave face or a face with holes share its source).
     pub fn source(&self, s: PatchSource) -> PatchSource {
         match s {
             PatchSource::Vertex(v) => PatchSource::Vertex(self.vertex_origin[v]),
-            PatchSource::Face(f) => PatchSource::Face(self.face_origin[f]),
+            PatchSource::Face(f) => PatchSource::Face(self.input_face(FaceId(f as u32))),
         }
     }
 
@@ -75,9 +77,19 @@ impl Prepared<'_> {
         } else {
             None
         };
-        let diagonal = |e: HalfedgeId| m.face(m.twin(e)).is_some_and(|o| self.input_face(o) == face);
-        let map = map.across_diagonals(diagonal(h), diagonal(m.prev(h)));
+        let map = map.across_diagonals(self.diagonals(h));
         CageSector { face: face as u32, corner: corner.map_or(u32::MAX, |c| c as u32), map }
+    }
+
+    /// Which edges of the cage corner at half-edge `h` of the prepared mesh (its origin in its
+    /// face) are split diagonals: the edge of h (`next`) or of its previous half-edge (`prev`)
+    /// has the same input face on both sides (docs/math.md#cage-corners).
+    pub fn diagonals(&self, h: HalfedgeId) -> Diagonals {
+        let m = &*self.mesh;
+        let Some(f) = m.face(h) else { return Diagonals::default() };
+        let face = self.input_face(f);
+        let diagonal = |e: HalfedgeId| m.face(m.twin(e)).is_some_and(|o| self.input_face(o) == face);
+        Diagonals { next: diagonal(h), prev: diagonal(m.prev(h)) }
     }
 
     /// Topology structure: per patch (face of the prepared mesh) and corner i (the origin of the

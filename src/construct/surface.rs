@@ -91,21 +91,19 @@ impl SectorMap {
     }
 
     /// The rule across split diagonals (docs/math.md#cage-corners): when the face's edge to its
-    /// next vertex (`next`) or from its previous vertex (`prev`) is a diagonal of a split face
-    /// (concave or with holes; not an edge of the input face), the diagonal's midpoint maps to
-    /// the face centre (1,1) instead of (1,0) or (0,1), so both sides of the diagonal map it to
-    /// the same cage points (σ = τ in the same cage corner). The map is composed with the
-    /// bilinear φ of the cage square fixing (0,0) and (1,1), with φ(1,0) = (1,1) when `next`,
-    /// φ(0,1) = (1,1) when `prev`; for [`SectorMap::Face`] and [`SectorMap::Vertex`] (affine)
-    /// the result is bilinear, a [`SectorMap::Corners`] with exact 0/1 entries. The open maps lie
-    /// on a boundary edge (never a diagonal) and dual crease sectors are returned unchanged.
-    pub fn across_diagonals(self, next: bool, prev: bool) -> SectorMap {
-        if !(next || prev) || !matches!(self, SectorMap::Face | SectorMap::Vertex) {
+    /// next vertex or from its previous vertex is a diagonal of a split face (concave or with
+    /// holes; not an edge of the input face), the diagonal's midpoint maps to the face centre
+    /// (1,1) instead of (1,0) or (0,1), so both sides of the diagonal map it to the same cage
+    /// points (σ = τ in the same cage corner): the map is composed with [`Diagonals::phi`]. For
+    /// [`SectorMap::Face`] and [`SectorMap::Vertex`] (affine) the result is bilinear, a
+    /// [`SectorMap::Corners`] with exact 0/1 entries. The open maps lie on a boundary edge (never
+    /// a diagonal); dual crease sectors apply φ to their points where they are built
+    /// (`dual_crease::sector_cage`), so they are returned unchanged.
+    pub fn across_diagonals(self, diagonals: Diagonals) -> SectorMap {
+        if !diagonals.any() || !matches!(self, SectorMap::Face | SectorMap::Vertex) {
             return self;
         }
-        let (a, b) = ([1.0, if next { 1.0 } else { 0.0 }], [if prev { 1.0 } else { 0.0 }, 1.0]);
-        let phi = |[x, y]: [f64; 2]| [0, 1].map(|i| x * (1.0 - y) * a[i] + (1.0 - x) * y * b[i] + x * y);
-        let at = |s: f64, t: f64| phi(self.cage_coords(s, t));
+        let at = |s: f64, t: f64| diagonals.phi(self.cage_coords(s, t));
         SectorMap::corners(at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0))
     }
 
@@ -114,6 +112,31 @@ impl SectorMap {
     pub fn corners(centre: [f64; 2], mid_i: [f64; 2], corner: [f64; 2], mid_next: [f64; 2]) -> SectorMap {
         let q = |p: [f64; 2]| p.map(|x| (x.clamp(0.0, 1.0) * CORNERS_UNIT).round() as u16);
         SectorMap::Corners([q(centre), q(mid_i), q(corner), q(mid_next)])
+    }
+}
+
+/// Which edges of a cage corner (a corner of a face of the prepared mesh) are diagonals of a split
+/// face (concave or with holes, docs/math.md#cage-corners): `next` the edge to the face's next
+/// vertex ((σ, τ) = (1,0) is its midpoint), `prev` the edge from its previous vertex ((0,1)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Diagonals {
+    pub next: bool,
+    pub prev: bool,
+}
+
+impl Diagonals {
+    /// Some edge is a diagonal (φ is not the identity).
+    pub fn any(self) -> bool {
+        self.next || self.prev
+    }
+
+    /// The rule across split diagonals (docs/math.md#cage-corners): the bilinear φ of the cage
+    /// square fixing (0,0) and (1,1), with φ(1,0) = a = (1,1) when `next` (else (1,0)) and
+    /// φ(0,1) = b = (1,1) when `prev` (else (0,1)): φ(σ, τ) = σ(1−τ)·a + (1−σ)τ·b + στ·(1,1). The
+    /// identity when neither edge is a diagonal; maps the unit square into itself.
+    pub fn phi(self, [x, y]: [f64; 2]) -> [f64; 2] {
+        let (a, b) = ([1.0, if self.next { 1.0 } else { 0.0 }], [if self.prev { 1.0 } else { 0.0 }, 1.0]);
+        [0, 1].map(|i| x * (1.0 - y) * a[i] + (1.0 - x) * y * b[i] + x * y)
     }
 }
 
@@ -140,7 +163,9 @@ pub struct Surface {
     pub patches: Vec<Patch>,
     /// `neighbors[p][i]`: the side across side i of patch p; `None` on an open boundary.
     pub neighbors: Vec<Vec<Option<SideRef>>>,
-    /// `sources[p]`: the control-mesh element patch p was built for.
+    /// `sources[p]`: the control-mesh element patch p was built for, in the user's numbering
+    /// (filled by [`super::build_topology`] and [`super::build_dual`]): a face as written (the
+    /// pieces of a split concave face or face with holes share it), a vertex of the mesh.
     pub sources: Vec<PatchSource>,
     /// The curve network: every boundary curve once, as cubic (or degree-d) Bézier control points.
     pub curves: Vec<Vec<DVec3>>,

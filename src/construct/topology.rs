@@ -394,7 +394,7 @@ pub fn topology_network(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cu
             }
         })
         .collect();
-    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease })
+    Ok(CurveNetwork { nodes, node_normals, curves, curve_nodes, mid: mids, patches, crease, end_scale: Vec::new() })
 }
 
 /// Control point `k` (1 = next to the start) of the curve of the edge of outgoing half-edge `h`,
@@ -547,8 +547,9 @@ fn corner_warning(mesh: &HalfEdgeMesh, opts: &ConvertOptions, origin: &[usize]) 
 
 /// Topology-preserving construction (seed 000 §3, §4): interior valence-2 vertices dissolved and
 /// concave faces split by [`super::prepare`], then [`topology_network`] and [`assemble`]. One
-/// patch per face of the split mesh; its source is the input face it came from (a split face
-/// gives several patches; a face that lost a dissolved vertex has one side fewer). Dissolved
+/// patch per face of the split mesh; its source is the input face it came from, as the user wrote
+/// it (a split face, concave or with holes, gives several patches with one source; a face that
+/// lost a dissolved vertex has one side fewer). Dissolved
 /// vertices are listed in `warnings`. Errors name elements of `mesh`.
 pub fn build_topology(mesh: &HalfEdgeMesh, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
     build_topology_ticked(mesh, opts, &mut crate::progress::Ticker::none())

@@ -119,8 +119,10 @@ pub fn cage_fold_vertices(cage: &crate::mesh::HalfEdgeMesh) -> Vec<bool> {
 }
 
 /// Of the folded patches of `mesh` (as [`Folds::of_tessellation`] counts them), those whose
-/// cage element (`sources`, numbered like `cage`) has a vertex where the cage itself folds
-/// ([`cage_fold_vertices`]): their number and the first such cage vertex.
+/// cage element (`sources`, in the user's numbering: a vertex of `cage`, or a face as written,
+/// which is several faces of `cage` when it has holes, [`crate::mesh::HalfEdgeMesh::input_face`])
+/// has a vertex where the cage itself folds ([`cage_fold_vertices`]): their number and the first
+/// such cage vertex.
 pub fn folds_at_cage_folds(mesh: &SurfaceMesh, sources: &[crate::construct::PatchSource], cage: &crate::mesh::HalfEdgeMesh) -> (usize, Option<usize>) {
     use crate::construct::PatchSource;
     let folded = folded_patches(mesh);
@@ -129,13 +131,22 @@ pub fn folds_at_cage_folds(mesh: &SurfaceMesh, sources: &[crate::construct::Patc
     }
     let bad = cage_fold_vertices(cage);
     let at = |v: usize| bad.get(v).copied().unwrap_or(false);
+    // Per face as written: its first vertex (piece by piece) where the cage folds.
+    let mut face_hit: Vec<Option<usize>> = Vec::new();
+    for g in cage.faces() {
+        let f = cage.input_face(g);
+        if f >= face_hit.len() {
+            face_hit.resize(f + 1, None);
+        }
+        if face_hit[f].is_none() {
+            face_hit[f] = cage.face_vertices(g).map(|v| v.idx()).find(|&v| at(v));
+        }
+    }
     let (mut count, mut first) = (0, None);
     for (p, _) in folded.iter().enumerate().filter(|x| *x.1) {
         let hit = match sources.get(p) {
             Some(&PatchSource::Vertex(v)) => at(v).then_some(v),
-            Some(&PatchSource::Face(f)) if f < cage.n_faces() => {
-                cage.face_vertices(crate::mesh::FaceId(f as u32)).map(|v| v.idx()).find(|&v| at(v))
-            }
+            Some(&PatchSource::Face(f)) => face_hit.get(f).copied().flatten(),
             _ => None,
         };
         if let Some(v) = hit {
