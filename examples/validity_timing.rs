@@ -6,6 +6,7 @@
 //! the dense reference check ([`gbsurf::quality::find_folds`]), timed separately after the
 //! conversion with and without its checks. The first line times the conversion with and
 //! without its checks after a warm-up conversion, alternating, the best of `RUNS` (default 3).
+//! `ONLY=checked|unchecked|none` runs one conversion (or none) and stops, for instruction counts.
 
 use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
 use gbsurf::mesh::generate::torus;
@@ -28,6 +29,15 @@ fn main() {
         Some(f) => gbsurf::read_mesh(f).expect("model"),
         None => torus(a, b, 10.0, 3.0).expect("torus"),
     };
+    // `ONLY=checked|unchecked|none`: one conversion with or without its checks (or none), and
+    // nothing else, for instruction counts (`valgrind --tool=callgrind`, all threads): the
+    // checks' share is (checked − unchecked) / (unchecked − none).
+    match std::env::var("ONLY").as_deref() {
+        Ok("checked") => return drop(convert(&mesh, &opts, None).expect("conversion")),
+        Ok("unchecked") => return drop(convert_unchecked(&mesh, &opts).expect("conversion")),
+        Ok("none") => return,
+        _ => {}
+    }
     let level = std::env::var("FOLD_LEVEL").ok().and_then(|s| s.parse().ok()).unwrap_or(gbsurf::quality::validity::fold_level(opts.resolution));
     // A warm-up conversion first (the thread pool's start and the first touch of fresh memory
     // otherwise fall on whichever conversion runs first), then `RUNS` (default 3) alternating
