@@ -123,11 +123,12 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     };
     let (t_with, t_without) = (tess(true), tess(false));
     let m = &c.mesh;
-    let mut closed = false;
-    let t_check = time(&mut || closed = gbsurf::quality::check_mesh(&m.positions, &m.triangles).is_closed_manifold());
+    let mut check = gbsurf::quality::MeshCheck::default();
+    let t_check = time(&mut || check = gbsurf::quality::check_mesh(&m.positions, &m.triangles));
+    let closed = check.is_closed_manifold();
     let mut si = 0;
     let t_si = time(&mut || {
-        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, closed, &mut gbsurf::progress::Ticker::none()).expect("not cancelled")
+        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, &check, &mut gbsurf::progress::Ticker::none()).expect("not cancelled")
     });
     let mut ci = 0;
     let t_cage = time(&mut || ci = gbsurf::quality::cage_self_intersections(mesh));

@@ -286,7 +286,7 @@ fn convert_valid(
     report.input_closed = he.is_closed();
     if checks {
         ticker.stage(self_start, cage_start)?;
-        report.self_intersections = crate::quality::validity::mesh_self_intersections_checked(&out, report.closed, ticker)?;
+        report.self_intersections = crate::quality::validity::mesh_self_intersections_checked(&out, &check, ticker)?;
         ticker.stage(cage_start, cage_end)?;
         // The cage's own intersections matter only to excuse the output's (Report::validity_problems):
         // counted only when there are some. A face with holes is checked as its split pieces (the
