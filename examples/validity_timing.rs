@@ -128,7 +128,8 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     let closed = check.is_closed_manifold();
     let mut si = 0;
     let t_si = time(&mut || {
-        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, &check, &mut gbsurf::progress::Ticker::none()).expect("not cancelled")
+        let mut ticker = gbsurf::progress::Ticker::none();
+        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, &check, &mut ticker).expect("not cancelled")
     });
     let mut ci = 0;
     let t_cage = time(&mut || ci = gbsurf::quality::cage_self_intersections(mesh));

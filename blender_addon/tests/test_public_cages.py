@@ -52,7 +52,8 @@ def test_the_report_agrees_with_meshlab_on_public_cages(cage, method):
     METRICS.append(
         f"public cage {cage:14s} {method:9s} valid {bool(rep['valid'])!s:5s} folds {rep['folds']:3d} "
         f"flipped {rep['flipped_triangles']:3d} self-int pairs {rep['self_intersections']:5d} "
-        f"(cage {'not checked' if cage_pairs is None else cage_pairs}), MeshLab: {check.self_intersecting_faces_within_shells} faces")
+        f"(cage {'not checked' if cage_pairs is None else cage_pairs}), "
+        f"MeshLab: {check.self_intersecting_faces_within_shells} faces")
     # The output's topology as MeshLab sees it.
     assert bool(rep["closed"]) == check.closed
     assert bool(rep["two_manifold"]) == check.two_manifold

@@ -329,7 +329,7 @@ pub struct GbsurfReport {
     pub flipped_triangles: u64,
     /// Pairs of output triangles of one shell, sharing no vertex, that meet.
     pub self_intersections: u64,
-    /// Pairs of faces of the input cage, sharing no vertex, that meet; [`GBSURF_NOT_CHECKED`]
+    /// Pairs of faces of the input cage, sharing no vertex, that meet; `GBSURF_NOT_CHECKED`
     /// (`UINT64_MAX`) when not counted: the cage is checked only when the output self-intersects
     /// (`self_intersections` > 0), the only case in which `valid` depends on it.
     pub input_self_intersections: u64,

@@ -814,7 +814,8 @@ const PAIRS_PER_TICK: usize = 256;
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None, &Certified::none(), None, false, &mut Ticker::none()).map_or(0, |p| p.len())
+    let none = Certified::none();
+    intersecting_pairs(positions, triangles, None, &none, None, false, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
@@ -840,14 +841,22 @@ pub fn mesh_self_intersections_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_
 /// known (`free`, per triangle, from [`free_shells`]): 0 at once when every shell is, else the
 /// certificates of the nodes and the search over the other shells (`sound`: see
 /// [`intersecting_pairs`]).
-fn mesh_self_intersections_free(mesh: &SurfaceMesh, free: &[bool], sound: bool, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+fn mesh_self_intersections_free(
+    mesh: &SurfaceMesh,
+    free: &[bool],
+    sound: bool,
+    ticker: &mut Ticker<'_>,
+) -> Result<usize, Cancelled> {
     if free.len() == mesh.triangles.len() && free.iter().all(|&f| f) {
         return Ok(0);
     }
     // Meshes without patch loops (subdivision methods) have no certificates to compute.
     let share = if mesh.patch_loops.is_empty() { 0.0 } else { CERTIFY };
     let certified = ticker.within(0.0, share, |t| Certified::of_mesh_ticked(mesh, t))?;
-    ticker.within(share, 1.0, |t| intersecting_pairs(&mesh.positions, &mesh.triangles, None, &certified, Some(free), sound, t)).map(|p| p.len())
+    let (positions, triangles) = (&mesh.positions, &mesh.triangles);
+    ticker
+        .within(share, 1.0, |t| intersecting_pairs(positions, triangles, None, &certified, Some(free), sound, t))
+        .map(|p| p.len())
 }
 
 /// [`mesh_self_intersections_ticked`] for a mesh the caller has checked (`check`, its
@@ -856,7 +865,11 @@ fn mesh_self_intersections_free(mesh: &SurfaceMesh, free: &[bool], sound: bool, 
 /// central-projection certificate ([`star_shaped_shells`]) comes first when the mesh is closed and
 /// passes its gate ([`star_shaped_about_centroid`]), with 95 % of the progress range (the search
 /// then usually has nothing left to do); otherwise the search has it all.
-pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, check: &crate::quality::MeshCheck, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+pub fn mesh_self_intersections_checked(
+    mesh: &SurfaceMesh,
+    check: &crate::quality::MeshCheck,
+    ticker: &mut Ticker<'_>,
+) -> Result<usize, Cancelled> {
     let (positions, triangles) = (&mesh.positions, &mesh.triangles);
     let of_this = check.vertices == positions.len() && check.triangles == triangles.len();
     let closed = of_this && check.is_closed_manifold();
@@ -909,7 +922,9 @@ pub fn cage_self_intersections_ticked(mesh: &PolyMesh, ticker: &mut Ticker<'_>) 
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
     ticker.at(1, 20)?;
-    let mut pairs: Vec<(u32, u32)> = ticker.within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none(), None, false, t))?
+    let none = Certified::none();
+    let mut pairs: Vec<(u32, u32)> = ticker
+        .within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &none, None, false, t))?
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);
