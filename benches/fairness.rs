@@ -217,7 +217,7 @@ fn cages() {
                 Ok(c) => {
                     let rep = &c.report;
                     let (p99, max) = dihedral(&c);
-                    let goals = rep.folds == 0 && rep.self_intersections <= rep.input_self_intersections;
+                    let goals = rep.folds == 0 && rep.self_intersections <= rep.input_self_intersections.unwrap_or(0);
                     println!(
                         "| {name} | {} | {} | {} | {} | {} / {} | {} | {:.2} | {p99:.1} / {max:.1} | {cc_quads} | {cc_h} | {cc_dih} | {} |",
                         mesh.faces.len(),
@@ -225,7 +225,7 @@ fn cages() {
                         rep.quads,
                         rep.folds,
                         rep.self_intersections,
-                        rep.input_self_intersections,
+                        rep.input_self_intersections.map_or("not checked".to_string(), |n| n.to_string()),
                         yes(rep.valid),
                         rep.max_abs_mean_curvature_times_diagonal,
                         yes(goals)

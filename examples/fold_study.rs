@@ -71,7 +71,7 @@ fn main() {
                         method.name(),
                         r.folds,
                         r.self_intersections,
-                        r.input_self_intersections,
+                        r.input_self_intersections.map_or("not checked".to_string(), |n| n.to_string()),
                         r.valid,
                         r.max_abs_mean_curvature_times_diagonal,
                         g1

@@ -6,6 +6,7 @@
 //! the dense reference check ([`gbsurf::quality::find_folds`]), timed separately after the
 //! conversion with and without its checks. The first line times the conversion with and
 //! without its checks after a warm-up conversion, alternating, the best of `RUNS` (default 3).
+//! `ONLY=checked|unchecked|none` runs one conversion (or none) and stops, for instruction counts.
 
 use gbsurf::api::{convert, convert_unchecked, ConvertOptions, Method};
 use gbsurf::mesh::generate::torus;
@@ -28,6 +29,15 @@ fn main() {
         Some(f) => gbsurf::read_mesh(f).expect("model"),
         None => torus(a, b, 10.0, 3.0).expect("torus"),
     };
+    // `ONLY=checked|unchecked|none`: one conversion with or without its checks (or none), and
+    // nothing else, for instruction counts (`valgrind --tool=callgrind`, all threads): the
+    // checks' share is (checked − unchecked) / (unchecked − none).
+    match std::env::var("ONLY").as_deref() {
+        Ok("checked") => return drop(convert(&mesh, &opts, None).expect("conversion")),
+        Ok("unchecked") => return drop(convert_unchecked(&mesh, &opts).expect("conversion")),
+        Ok("none") => return,
+        _ => {}
+    }
     let level = std::env::var("FOLD_LEVEL").ok().and_then(|s| s.parse().ok()).unwrap_or(gbsurf::quality::validity::fold_level(opts.resolution));
     // A warm-up conversion first (the thread pool's start and the first touch of fresh memory
     // otherwise fall on whichever conversion runs first), then `RUNS` (default 3) alternating
@@ -96,7 +106,9 @@ fn main() {
 
 /// The checks of one conversion, phase by phase, as `convert` runs them on its output `c`:
 /// the in-pass fold test (tessellation with it minus without it), the mesh check, the
-/// self-intersection search (with its certificates), the cage search and the curvature maximum.
+/// self-intersection search (with its certificates), the cage search (timed always, counted in
+/// the checks only when the output self-intersects, as `convert` runs it) and the curvature
+/// maximum.
 fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api::Conversion) {
     use gbsurf::tessellate::surface::tessellate_surface_checked;
     let surface = c.surface.as_ref().expect("surface");
@@ -113,11 +125,13 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     };
     let (t_with, t_without) = (tess(true), tess(false));
     let m = &c.mesh;
-    let mut closed = false;
-    let t_check = time(&mut || closed = gbsurf::quality::check_mesh(&m.positions, &m.triangles).is_closed_manifold());
+    let mut check = gbsurf::quality::MeshCheck::default();
+    let t_check = time(&mut || check = gbsurf::quality::check_mesh(&m.positions, &m.triangles));
+    let closed = check.is_closed_manifold();
     let mut si = 0;
     let t_si = time(&mut || {
-        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, closed, &mut gbsurf::progress::Ticker::none()).expect("not cancelled")
+        let mut ticker = gbsurf::progress::Ticker::none();
+        si = gbsurf::quality::validity::mesh_self_intersections_checked(m, &check, &mut ticker).expect("not cancelled")
     });
     let mut ci = 0;
     let t_cage = time(&mut || ci = gbsurf::quality::cage_self_intersections(mesh));
@@ -126,9 +140,11 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     });
     sub_phases(mesh, m, closed);
     let folds = t_with - t_without;
-    let checks = folds + t_si + t_cage + t_h;
+    // `convert` counts the cage only when the output self-intersects.
+    let cage_run = if si > 0 { "" } else { ", not run by convert" };
+    let checks = folds + t_si + if si > 0 { t_cage } else { 0.0 } + t_h;
     println!(
-        "phases: tessellation {t_without:.3} s + in-pass folds {folds:.3} s; mesh check {t_check:.3} s; self-intersections {t_si:.3} s [{si}]; cage {t_cage:.3} s [{ci}]; |H| max {t_h:.4} s; checks {checks:.3} s = {:.1} % of convert {:.3} s, {:.1} % of the rest (mesh check counted as conversion)",
+        "phases: tessellation {t_without:.3} s + in-pass folds {folds:.3} s; mesh check {t_check:.3} s; self-intersections {t_si:.3} s [{si}]; cage {t_cage:.3} s [{ci}{cage_run}]; |H| max {t_h:.4} s; checks {checks:.3} s = {:.1} % of convert {:.3} s, {:.1} % of the rest (mesh check counted as conversion)",
         100.0 * checks / c.report.seconds,
         c.report.seconds,
         100.0 * checks / (c.report.seconds - checks)

@@ -332,9 +332,10 @@ def _report_text(conv):
         text += f", max G1 {r['max_g1_deg']:.3g} deg"
     if not r["valid"]:
         # The same figures as the report's validity problems; `gb_fold` marks the folds.
+        cage = r["input_self_intersections"]
         text += (f"; NOT VALID: {r['folds']} folded patches, {r['flipped_triangles']} flipped "
                  f"triangles, {r['self_intersections']} self-intersecting triangle pairs "
-                 f"(input cage: {r['input_self_intersections']})")
+                 f"(input cage: {'not checked' if cage is None else cage})")
         if not r["closed"] and r["input_closed"]:
             text += ", open output"
     return text

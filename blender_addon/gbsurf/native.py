@@ -28,7 +28,10 @@ from ctypes import (
 
 import numpy as np
 
-ABI_VERSION = 3
+ABI_VERSION = 4
+
+# GBSURF_NOT_CHECKED: a report count that was not computed (read as None).
+NOT_CHECKED = 2**64 - 1
 
 METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
 TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
@@ -516,6 +519,9 @@ def _unpack(lib, h, want_patches, want_curves, want_control_net, owner=None):
     rep.struct_size = ctypes.sizeof(Report)
     _check(lib, lib.gbsurf_result_report(h, ctypes.byref(rep)))
     c.report = {name: getattr(rep, name) for name, _ in Report._fields_ if name != "struct_size"}
+    # The cage is checked only when the output self-intersects (GbsurfReport docs).
+    if c.report["input_self_intersections"] == NOT_CHECKED:
+        c.report["input_self_intersections"] = None
     c.warnings = []
     for i in range(_count(lib, lib.gbsurf_warning_count, h)):
         msg = c_char_p()

@@ -1,6 +1,7 @@
 """The Convert operator on the shared models and Blender's primitives, both structures, with the
 MeshLab checks on every output and the Hausdorff distance to Blender's Subdivision Surface."""
 
+import re
 import time
 
 import bpy
@@ -284,6 +285,9 @@ def test_a_folded_result_says_so_and_marks_the_fold():
         if pulled:
             assert "NOT VALID" in out.gbsurf.info and "folded patches" in out.gbsurf.info, out.gbsurf.info
             assert fold.max() == 1.0 and fold.sum() < len(fold)
+            # The cage is checked only when the output self-intersects; else the info says so.
+            m = re.search(r"(\d+) self-intersecting triangle pairs \(input cage: (not checked|\d+)\)", out.gbsurf.info)
+            assert m and (m.group(2) == "not checked") == (m.group(1) == "0"), out.gbsurf.info
         else:
             assert "NOT VALID" not in out.gbsurf.info, out.gbsurf.info
             assert fold.max() == 0.0

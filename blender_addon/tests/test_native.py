@@ -72,6 +72,12 @@ def test_ctypes_structs_match_the_header():
         assert [(renamed.get((name, f), f), _ctype(n, t)) for t, f in fields] == list(cls._fields_), name
 
 
+def test_not_checked_is_the_header_sentinel():
+    """`native.NOT_CHECKED` (a report count not computed, read as None) is GBSURF_NOT_CHECKED."""
+    m = re.search(r"#define GBSURF_NOT_CHECKED (\d+)ull", _header())
+    assert m and int(m.group(1)) == native().NOT_CHECKED == 2**64 - 1
+
+
 def test_ctypes_signatures_match_the_header():
     """Every function the add-on declares exists in the header with the same argument and
     result types."""

@@ -269,6 +269,10 @@ pub unsafe extern "C" fn gbsurf_options_validate(options: *const GbsurfOptions) 
     })
 }
 
+/// A count of `GbsurfReport` that was not computed (`UINT64_MAX`): see
+/// `GbsurfReport::input_self_intersections`.
+pub const GBSURF_NOT_CHECKED: u64 = 0xFFFF_FFFF_FFFF_FFFF;
+
 /// Report figures of a conversion. Set `struct_size = sizeof(GbsurfReport)` before calling
 /// `gbsurf_result_report` (unknown sizes are rejected so the struct can grow).
 #[repr(C)]
@@ -325,7 +329,9 @@ pub struct GbsurfReport {
     pub flipped_triangles: u64,
     /// Pairs of output triangles of one shell, sharing no vertex, that meet.
     pub self_intersections: u64,
-    /// Pairs of faces of the input cage, sharing no vertex, that meet.
+    /// Pairs of faces of the input cage, sharing no vertex, that meet; `GBSURF_NOT_CHECKED`
+    /// (`UINT64_MAX`) when not counted: the cage is checked only when the output self-intersects
+    /// (`self_intersections` > 0), the only case in which `valid` depends on it.
     pub input_self_intersections: u64,
     /// Sharp (crease) patch sides built G0.
     pub sharp_edges: u64,
@@ -366,7 +372,7 @@ impl GbsurfReport {
             fold_sites: r.fold_sites.len() as u64,
             flipped_triangles: r.flipped_triangles as u64,
             self_intersections: r.self_intersections as u64,
-            input_self_intersections: r.input_self_intersections as u64,
+            input_self_intersections: r.input_self_intersections.map_or(GBSURF_NOT_CHECKED, |n| n as u64),
             sharp_edges: r.sharp_edges as u64,
             quads: r.quads as u64,
             max_abs_mean_curvature_times_diagonal: r.max_abs_mean_curvature_times_diagonal,

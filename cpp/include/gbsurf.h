@@ -77,8 +77,10 @@
 #define GBSURF_ERR_DEGENERATE 15
 
 // ABI version: incremented on every incompatible change of this header (3: `GbsurfOffsetReport`
-// gained `frame_seams` and `max_normal_angle_pn`, so its size changed).
-#define GBSURF_ABI_VERSION 3
+// gained `frame_seams` and `max_normal_angle_pn`, so its size changed; 4:
+// `GbsurfReport::input_self_intersections` may be `GBSURF_NOT_CHECKED`, a new meaning of a
+// field's values).
+#define GBSURF_ABI_VERSION 4
 
 // Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 #define GBSURF_METHOD_DUAL 0
@@ -113,6 +115,10 @@
 // Layout: n·r² quads per n-sided patch (r samples per half side; Catmull–Clark level L counts
 // at r = 2^(L−1)). The default.
 #define GBSURF_LAYOUT_QUADS 1
+
+// A count of `GbsurfReport` that was not computed (`UINT64_MAX`): see
+// `GbsurfReport::input_self_intersections`.
+#define GBSURF_NOT_CHECKED 18446744073709551615ull
 
 // Patch kind: an n-sided Generalized Bézier patch (ribbons plus a central control point).
 #define GBSURF_PATCH_GB 0
@@ -272,7 +278,9 @@ typedef struct {
   uint64_t flipped_triangles;
   // Pairs of output triangles of one shell, sharing no vertex, that meet.
   uint64_t self_intersections;
-  // Pairs of faces of the input cage, sharing no vertex, that meet.
+  // Pairs of faces of the input cage, sharing no vertex, that meet; `GBSURF_NOT_CHECKED`
+  // (`UINT64_MAX`) when not counted: the cage is checked only when the output self-intersects
+  // (`self_intersections` > 0), the only case in which `valid` depends on it.
   uint64_t input_self_intersections;
   // Sharp (crease) patch sides built G0.
   uint64_t sharp_edges;

@@ -147,10 +147,12 @@ int main() {
         CHECK(code_of([&] { (void)a.cage_loop_values(S, std::vector<float>(5), 3); }) == GBSURF_ERR_COUNT);
     }
 
-    // Validity in the report: the unit cube is valid; with its corner (1, 1, 1) pulled inside to
-    // (-0.5, -0.5, -0.5) the dual surface folds, and the fold sites name folded patches.
+    // Validity in the report: the unit cube is valid (no self-intersections, so its cage is not
+    // checked: GBSURF_NOT_CHECKED); with its corner (1, 1, 1) pulled inside to (-0.5, -0.5, -0.5)
+    // the dual surface folds, and the fold sites name folded patches.
     {
         CHECK(a.report().valid == 1 && a.report().folds == 0 && a.fold_sites().empty());
+        CHECK(a.report().self_intersections == 0 && a.report().input_self_intersections == GBSURF_NOT_CHECKED);
         std::vector<double> pulled = P;
         for (int k = 18; k < 21; ++k) pulled[k] = -0.5;  // vertex 6 = (1, 1, 1)
         gbsurf::result f = gbsurf::convert(pulled, S, F, gbsurf::options().method(gbsurf::method::dual).resolution(3));

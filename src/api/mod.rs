@@ -176,8 +176,8 @@ pub fn convert(mesh: &PolyMesh, options: &ConvertOptions, progress: Progress<'_>
 }
 
 /// [`convert`] without the validity checks (no fold test, no self-intersection counts: the
-/// report's `folds`, `flipped_triangles`, `self_intersections` and `input_self_intersections`
-/// stay 0 and `valid` is false). Only for measuring what the checks cost (benches/convert.rs).
+/// report's `folds`, `flipped_triangles` and `self_intersections` stay 0,
+/// `input_self_intersections` `None` and `valid` false). Only for measuring what the checks cost (benches/convert.rs).
 #[doc(hidden)]
 pub fn convert_unchecked(mesh: &PolyMesh, options: &ConvertOptions) -> Result<Conversion, ConvertError> {
     let start = std::time::Instant::now();
@@ -286,17 +286,21 @@ fn convert_valid(
     report.input_closed = he.is_closed();
     if checks {
         ticker.stage(self_start, cage_start)?;
-        report.self_intersections = crate::quality::validity::mesh_self_intersections_checked(&out, report.closed, ticker)?;
+        report.self_intersections = crate::quality::validity::mesh_self_intersections_checked(&out, &check, ticker)?;
         ticker.stage(cage_start, cage_end)?;
-        // A face with holes is checked as its split pieces (the outer loop alone covers the holes).
-        let split;
-        let cage = if mesh.holes.is_empty() {
-            mesh
-        } else {
-            split = he.to_polymesh();
-            &split
-        };
-        report.input_self_intersections = crate::quality::cage_self_intersections_ticked(cage, ticker)?;
+        // The cage's own intersections matter only to excuse the output's (Report::validity_problems):
+        // counted only when there are some. A face with holes is checked as its split pieces (the
+        // outer loop alone covers the holes).
+        if report.self_intersections > 0 {
+            let split;
+            let cage = if mesh.holes.is_empty() {
+                mesh
+            } else {
+                split = he.to_polymesh();
+                &split
+            };
+            report.input_self_intersections = Some(crate::quality::cage_self_intersections_ticked(cage, ticker)?);
+        }
     }
     ticker.stage(cage_end, 1.0)?;
     report.max_abs_mean_curvature_times_diagonal =

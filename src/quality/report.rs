@@ -66,9 +66,11 @@ pub struct Report {
     #[serde(default)]
     pub self_intersections: usize,
     /// Pairs of input faces of one connected shell, sharing no vertex, that meet (fan triangles
-    /// of the convex pieces).
+    /// of the convex pieces); `None` (JSON `null`): not counted. The cage is checked only when
+    /// the output self-intersects (`self_intersections` > 0), the only case in which
+    /// [`Report::valid`] depends on it.
     #[serde(default)]
-    pub input_self_intersections: usize,
+    pub input_self_intersections: Option<usize>,
     /// Largest |mean curvature| of the output times its bounding-box diagonal.
     #[serde(default)]
     pub max_abs_mean_curvature_times_diagonal: f64,
@@ -96,7 +98,7 @@ impl Report {
 
     /// What makes the output invalid, one phrase each (empty when valid): not a closed
     /// two-manifold (for a closed input) or not a two-manifold, folds, self-intersections beyond
-    /// the input's (any, when the input has none).
+    /// the input's (any, when the input has none or was not checked).
     pub fn validity_problems(&self) -> Vec<String> {
         let mut out = Vec::new();
         if !self.two_manifold {
@@ -109,7 +111,7 @@ impl Report {
             let flipped = if self.flipped_triangles > 0 { format!(", {} flipped triangles", self.flipped_triangles) } else { String::new() };
             out.push(format!("{} folded patches{first}{flipped}", self.folds));
         }
-        if self.self_intersections > 0 && self.input_self_intersections == 0 {
+        if self.self_intersections > 0 && self.input_self_intersections.unwrap_or(0) == 0 {
             out.push(format!("{} self-intersecting triangle pairs", self.self_intersections));
         }
         out

@@ -474,7 +474,9 @@ fn shells(nv: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 /// Pairs (i, j), i < j, of triangles in the same shell, sharing no vertex index, whose closed
 /// triangles meet. `group[i]` ties triangles together (pairs within a group are skipped: a group
 /// is one input face cut into triangles; pass `None` for the output mesh). Triangles naming a
-/// missing vertex and degenerate ones are skipped.
+/// missing vertex and degenerate ones are skipped; with `sound` the caller has checked there are
+/// none ([`crate::quality::check_mesh`]: no bad index and no zero-area triangle, a superset of the
+/// degenerate ones), and the filter pass is skipped.
 ///
 /// Chunk pairs whose triangles all lie in one region of `certified` are skipped: such a region
 /// is proven free of self-intersections ([`super::certify`]), so the count stays exact. The
@@ -489,17 +491,20 @@ fn intersecting_pairs(
     group: Option<&[u32]>,
     certified: &Certified,
     free: Option<&[bool]>,
+    sound: bool,
     ticker: &mut Ticker<'_>,
 ) -> Result<Vec<(u32, u32)>, Cancelled> {
     let nv = positions.len();
-    let kept: Vec<u32> = (0..triangles.len() as u32)
-        .into_par_iter()
-        .with_min_len(1 << 12)
-        .filter(|&i| {
+    let all = (0..triangles.len() as u32).into_par_iter().with_min_len(1 << 12);
+    let kept: Vec<u32> = if sound {
+        all.collect()
+    } else {
+        all.filter(|&i| {
             let t = &triangles[i as usize];
             t.iter().all(|&v| (v as usize) < nv) && !degenerate(t.map(|v| positions[v as usize]))
         })
-        .collect();
+        .collect()
+    };
     if kept.len() < 2 {
         return Ok(Vec::new());
     }
@@ -519,7 +524,12 @@ fn intersecting_pairs(
     if kept.len() < 2 {
         return Ok(Vec::new());
     }
-    let kept_tris: Vec<[u32; 3]> = kept.par_iter().with_min_len(1 << 12).map(|&i| triangles[i as usize]).collect();
+    // `kept` ascends: all of them are the triangles themselves (no copy).
+    let kept_tris: std::borrow::Cow<[[u32; 3]]> = if kept.len() == triangles.len() {
+        std::borrow::Cow::Borrowed(triangles)
+    } else {
+        std::borrow::Cow::Owned(kept.par_iter().with_min_len(1 << 12).map(|&i| triangles[i as usize]).collect())
+    };
     let to_aabb = |lo: DVec3, hi: DVec3| Aabb::new(parry3d_f64::math::Vector::new(lo.x, lo.y, lo.z), parry3d_f64::math::Vector::new(hi.x, hi.y, hi.z));
     // The box of a triangle, computed where needed when certified regions are skipped (most
     // pairs never need one, so no array of boxes is built).
@@ -815,13 +825,14 @@ const PAIRS_PER_TICK: usize = 256;
 /// Number of pairs of triangles of one connected shell that share no vertex and meet (see the
 /// module doc). Two separate shells crossing each other do not count.
 pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
-    intersecting_pairs(positions, triangles, None, &Certified::none(), None, &mut Ticker::none()).map_or(0, |p| p.len())
+    let none = Certified::none();
+    intersecting_pairs(positions, triangles, None, &none, None, false, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections`] skipping the pairs inside the `certified` regions (proven free of
 /// self-intersections, see [`super::certify`]): the same count, faster on smooth surfaces.
 pub fn self_intersections_certified(positions: &[DVec3], triangles: &[[u32; 3]], certified: &Certified) -> usize {
-    intersecting_pairs(positions, triangles, None, certified, None, &mut Ticker::none()).map_or(0, |p| p.len())
+    intersecting_pairs(positions, triangles, None, certified, None, false, &mut Ticker::none()).map_or(0, |p| p.len())
 }
 
 /// [`self_intersections_certified`] of a tessellation with the certified stars of its nodes
@@ -834,29 +845,46 @@ pub fn mesh_self_intersections(mesh: &SurfaceMesh) -> usize {
 /// certificates, then the search in chunks; see [`crate::progress`]).
 pub fn mesh_self_intersections_ticked(mesh: &SurfaceMesh, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
     let free = free_shells(&mesh.positions, &mesh.triangles);
-    mesh_self_intersections_free(mesh, &free, ticker)
+    mesh_self_intersections_free(mesh, &free, false, ticker)
 }
 
 /// [`mesh_self_intersections_ticked`] with the shells certified by central projection already
 /// known (`free`, per triangle, from [`free_shells`]): 0 at once when every shell is, else the
-/// certificates of the nodes and the search over the other shells.
-fn mesh_self_intersections_free(mesh: &SurfaceMesh, free: &[bool], ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+/// certificates of the nodes and the search over the other shells (`sound`: see
+/// [`intersecting_pairs`]).
+fn mesh_self_intersections_free(
+    mesh: &SurfaceMesh,
+    free: &[bool],
+    sound: bool,
+    ticker: &mut Ticker<'_>,
+) -> Result<usize, Cancelled> {
     if free.len() == mesh.triangles.len() && free.iter().all(|&f| f) {
         return Ok(0);
     }
     // Meshes without patch loops (subdivision methods) have no certificates to compute.
     let share = if mesh.patch_loops.is_empty() { 0.0 } else { CERTIFY };
     let certified = ticker.within(0.0, share, |t| Certified::of_mesh_ticked(mesh, t))?;
-    ticker.within(share, 1.0, |t| intersecting_pairs(&mesh.positions, &mesh.triangles, None, &certified, Some(free), t)).map(|p| p.len())
+    let (positions, triangles) = (&mesh.positions, &mesh.triangles);
+    ticker
+        .within(share, 1.0, |t| intersecting_pairs(positions, triangles, None, &certified, Some(free), sound, t))
+        .map(|p| p.len())
 }
 
-/// [`mesh_self_intersections_ticked`] for a mesh the caller has checked (`closed`: a closed
-/// two-manifold, so every shell is closed). The central-projection certificate
-/// ([`star_shaped_shells`]) comes first when the mesh passes its gate
-/// ([`star_shaped_about_centroid`]), with 95 % of the progress range (the search then usually
-/// has nothing left to do); otherwise the search has it all.
-pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, closed: bool, ticker: &mut Ticker<'_>) -> Result<usize, Cancelled> {
+/// [`mesh_self_intersections_ticked`] for a mesh the caller has checked (`check`, its
+/// [`crate::quality::check_mesh`]): a closed two-manifold has only closed shells, and without bad
+/// indices and zero-area triangles the search skips its filter of degenerate triangles. The
+/// central-projection certificate ([`star_shaped_shells`]) comes first when the mesh is closed and
+/// passes its gate ([`star_shaped_about_centroid`]), with 95 % of the progress range (the search
+/// then usually has nothing left to do); otherwise the search has it all.
+pub fn mesh_self_intersections_checked(
+    mesh: &SurfaceMesh,
+    check: &crate::quality::MeshCheck,
+    ticker: &mut Ticker<'_>,
+) -> Result<usize, Cancelled> {
     let (positions, triangles) = (&mesh.positions, &mesh.triangles);
+    let of_this = check.vertices == positions.len() && check.triangles == triangles.len();
+    let closed = of_this && check.is_closed_manifold();
+    let sound = of_this && check.bad_indices == 0 && check.zero_area_triangles == 0;
     let count = if closed && star_shaped_about_centroid(positions, triangles) {
         let share = 0.95;
         let shell = shells(positions.len(), triangles);
@@ -864,9 +892,9 @@ pub fn mesh_self_intersections_checked(mesh: &SurfaceMesh, closed: bool, ticker:
         if free.iter().all(|&f| f) {
             return Ok(0);
         }
-        ticker.within(share, 1.0, |t| mesh_self_intersections_free(mesh, &free, t))?
+        ticker.within(share, 1.0, |t| mesh_self_intersections_free(mesh, &free, sound, t))?
     } else {
-        mesh_self_intersections_free(mesh, &vec![false; triangles.len()], ticker)?
+        mesh_self_intersections_free(mesh, &vec![false; triangles.len()], sound, ticker)?
     };
     Ok(count)
 }
@@ -905,7 +933,9 @@ pub fn cage_self_intersections_ticked(mesh: &PolyMesh, ticker: &mut Ticker<'_>) 
     }
     // Two faces sharing a vertex are adjacent even where their fan triangles share none.
     ticker.at(1, 20)?;
-    let mut pairs: Vec<(u32, u32)> = ticker.within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &Certified::none(), None, t))?
+    let none = Certified::none();
+    let mut pairs: Vec<(u32, u32)> = ticker
+        .within(0.05, 1.0, |t| intersecting_pairs(&convex.positions, &tris, Some(&face), &none, None, false, t))?
         .into_iter()
         .filter(|&(i, j)| {
             let (fi, fj) = (&mesh.faces[face[i as usize] as usize], &mesh.faces[face[j as usize] as usize]);

@@ -798,7 +798,9 @@ fn dual_report(mesh: &gbsurf::mesh::PolyMesh) -> (*mut GbsurfResult, gbsurf::qua
 fn report_carries_validity_and_accepts_the_first_version() {
     // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
     // themselves (valid: no intersections beyond the cage's own). A cube with a corner pulled
-    // inside to (-0.5, -0.5, -0.5): the dual surface folds (not valid).
+    // inside to (-0.5, -0.5, -0.5): the dual surface folds (not valid). The plain torus: no
+    // self-intersections, so the cage is not checked (GBSURF_NOT_CHECKED).
+    let plain = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let c = torus.positions[0];
     torus.positions[0] = c - 10.0 * glam::DVec3::new(c.x, c.y, 0.0).normalize();
@@ -812,12 +814,18 @@ fn report_carries_validity_and_accepts_the_first_version() {
     );
     let corner = cube.positions.iter().position(|p| *p == glam::DVec3::ONE).expect("a corner at (1, 1, 1)");
     cube.positions[corner] = glam::DVec3::splat(-0.5);
-    for (mesh, folded) in [(torus, false), (cube, true)] {
+    for (mesh, kind) in [(torus, "crossing"), (cube, "folded"), (plain, "plain")] {
         let (r, rust) = dual_report(&mesh);
-        if folded {
-            assert!(rust.folds > 0 && !rust.fold_sites.is_empty() && !rust.valid, "{rust:?}");
-        } else {
-            assert!(rust.self_intersections > 0 && rust.input_self_intersections > 0 && rust.valid, "{rust:?}");
+        match kind {
+            "folded" => assert!(rust.folds > 0 && !rust.fold_sites.is_empty() && !rust.valid, "{rust:?}"),
+            "crossing" => assert!(
+                rust.self_intersections > 0 && rust.input_self_intersections > Some(0) && rust.valid,
+                "{rust:?}"
+            ),
+            _ => assert!(
+                rust.self_intersections == 0 && rust.input_self_intersections.is_none() && rust.valid,
+                "{rust:?}"
+            ),
         }
         // SAFETY: `r` is a live handle; the out pointers are writable locals.
         unsafe {
@@ -827,7 +835,9 @@ fn report_carries_validity_and_accepts_the_first_version() {
             assert_eq!(rep.valid, rust.valid as u32);
             assert_eq!(rep.input_closed, 1);
             assert_eq!(rep.self_intersections as usize, rust.self_intersections);
-            assert_eq!(rep.input_self_intersections as usize, rust.input_self_intersections);
+            let cage = rust.input_self_intersections.map_or(GBSURF_NOT_CHECKED, |n| n as u64);
+            assert_eq!(rep.input_self_intersections, cage);
+            assert_eq!(rep.input_self_intersections == GBSURF_NOT_CHECKED, rep.self_intersections == 0);
             assert_eq!(rep.folds as usize, rust.folds);
             assert_eq!(rep.flipped_triangles as usize, rust.flipped_triangles);
             assert_eq!(rep.fold_sites as usize, rust.fold_sites.len());
