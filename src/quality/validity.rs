@@ -876,6 +876,11 @@ fn mesh_self_intersections_free(
 /// central-projection certificate ([`star_shaped_shells`]) comes first when the mesh is closed and
 /// passes its gate ([`star_shaped_about_centroid`]), with 95 % of the progress range (the search
 /// then usually has nothing left to do); otherwise the search has it all.
+///
+/// `check` must be [`crate::quality::check_mesh`] of exactly these arrays: only its counts are
+/// compared with the mesh, so a check of other arrays of the same sizes would let bad indices
+/// (a panic) or degenerate triangles into the search. [`crate::api::convert`] checks the mesh
+/// it has just built.
 pub fn mesh_self_intersections_checked(
     mesh: &SurfaceMesh,
     check: &crate::quality::MeshCheck,
