@@ -26,7 +26,7 @@
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
-use super::fold::{flipped_triangles, patch_folds, Sectors};
+use super::fold::{dense_folds, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
@@ -162,10 +162,14 @@ impl PatchLoops {
 /// The fold test's result for one patch on the samples of the tessellation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TessellationFolds {
-    /// Folded samples of the patch (those shared with a neighbour counted here too).
+    /// Folded samples of the patch: of the tessellation (those shared with a neighbour counted
+    /// here too) and, when `dense`, of the dense pass.
     pub samples: usize,
-    /// Domain point of the worst folded sample.
+    /// Domain point of the worst folded sample (the dense pass's when it found one).
     pub worst: Option<glam::DVec2>,
+    /// The tessellation's samples did not clear the patch ([`super::fold::ClearTest`]), so the
+    /// dense pass ([`super::fold::dense_folds`]) decided it.
+    pub dense: bool,
 }
 
 /// Measurements taken while welding.
@@ -542,10 +546,23 @@ fn evaluate_patch<E: PatchEvaluator>(
     if !folds {
         return Ok(());
     }
-    let folds = patch_folds(&surface.patches[p], sectors, &layout.uv, buf);
+    let patch = &surface.patches[p];
+    let folds = patch_folds(patch, sectors, layout, buf);
     out.fold.samples = folds.samples.len();
     out.fold.worst = folds.worst;
-    out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
+    // Marked: the folded samples and, for a fold the dense pass finds, the tessellation samples
+    // around its worst point (the star of the nearest sample).
+    let mut marked = folds.samples;
+    if !folds.cleared {
+        let (count, worst) = dense_folds(patch, dense_level(layout.resolution), evaluator.weight_form());
+        out.fold.dense = true;
+        out.fold.samples += count;
+        if let Some(at) = worst {
+            out.fold.worst = Some(at);
+            marked.extend(samples_around(layout, at));
+        }
+    }
+    out.folded = marked.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
 }
 
