@@ -90,7 +90,9 @@ pub struct SurfaceMesh {
     /// 0 inside patches and on open boundaries.
     pub g1_deviation_deg: Vec<f64>,
     /// Per vertex: 1 where the vertex is folded (a folded sample of some patch, see
-    /// [`super::fold`], or a vertex of a flipped triangle), else 0 (all 0 for subdivision methods).
+    /// [`super::fold`]; for a fold the dense pass found between the samples, the vertices around
+    /// its worst point, [`super::fold::samples_around`]; or a vertex of a flipped triangle), else
+    /// 0 (all 0 for subdivision methods).
     pub fold: Vec<u8>,
     /// Per patch: the fold test's result on the tessellation samples (empty for subdivision).
     pub patch_folds: Vec<TessellationFolds>,
