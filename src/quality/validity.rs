@@ -31,14 +31,11 @@
 //!   ([`super::certify::star_shaped_shells`], with the proof) leave the search altogether.
 
 use super::certify::{star_shaped_about_centroid, star_shaped_shells, star_shaped_shells_ticked, Certified, ChunkRegions};
-use crate::construct::{Patch, Surface};
-use crate::gb::{SampleLayout, WeightForm};
-use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator};
-use crate::tessellate::fold::Sectors;
+use crate::construct::Surface;
+use crate::gb::WeightForm;
 use crate::tessellate::SurfaceMesh;
-use std::collections::HashMap;
 use crate::mesh::PolyMesh;
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use rayon::prelude::*;
 use crate::progress::{Cancelled, Ticker};
@@ -156,28 +153,21 @@ pub fn fold_level(resolution: usize) -> usize {
     (2 * resolution).max(8)
 }
 
-/// Folds of one patch on the grids of [`fold_sample_points`](crate::construct::check::fold_sample_points) at `level`, evaluated directly
-/// ([`crate::tessellate::fold::dense_folds`]): (folded samples, worst domain point).
-fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
-    crate::tessellate::fold::dense_folds(patch, level, form)
-}
-
 /// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
 /// whose Jacobian turns negative against their ribbons' normals (see the module doc).
 ///
-/// The samples are those of a tessellation at resolution `level` (the [`SampleLayout`] of the
+/// The samples are those of a tessellation at resolution `level` (the [`crate::gb::SampleLayout`] of the
 /// patch's domain, 1 + n·level(level+1)/2 points, boundary included), evaluated with the same
-/// weight-table kernel as the tessellation ([`GbSurfaceEvaluator`]); the sign of the unit normal
+/// weight-table kernel as the tessellation ([`crate::tessellate::GbSurfaceEvaluator`]); the sign of the unit normal
 /// (S_u × S_v)/|S_u × S_v| is that of the Jacobian. Samples whose normal is undefined (a
 /// degenerate Jacobian, e.g. at a collapsed corner) are skipped, as the sign is meaningless there.
 /// A surface the table evaluator refuses falls back to the direct evaluator on the grids of
-/// [`fold_sample_points`](crate::construct::check::fold_sample_points).
+/// [`fold_sample_points`](crate::construct::check::fold_sample_points)
+/// ([`crate::tessellate::fold::dense_folds_of`], the dense pass of every conversion).
 pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
     let level = level.max(1);
-    let per: Vec<(usize, Option<DVec2>)> = match table_folds(surface, level, form) {
-        Some(per) => per,
-        None => surface.patches.par_iter().map(|p| patch_folds(p, level, form)).collect(),
-    };
+    let all: Vec<usize> = (0..surface.patches.len()).collect();
+    let per = crate::tessellate::fold::dense_folds_of(surface, &all, level, form);
     let mut f = Folds::default();
     for (p, (count, at)) in per.into_iter().enumerate() {
         if count == 0 {
@@ -190,37 +180,6 @@ pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
         }
     }
     f
-}
-
-/// Per patch (folded samples, worst point) through the table evaluator; `None` where it or a
-/// layout cannot be built.
-fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<(usize, Option<DVec2>)>> {
-    let eval = GbSurfaceEvaluator::new(surface, level, form).ok()?;
-    let mut layouts: HashMap<usize, (Sectors, SampleLayout)> = HashMap::new();
-    for p in &surface.patches {
-        let n = p.sides();
-        if let std::collections::hash_map::Entry::Vacant(e) = layouts.entry(n) {
-            let domain = eval.domain(n);
-            let layout = SampleLayout::new(&domain, level).ok()?;
-            e.insert((Sectors::new(&domain, &layout.uv), layout));
-        }
-    }
-    Some(
-        surface
-            .patches
-            .par_iter()
-            .enumerate()
-            .map_init(Vec::new, |buf, (i, p)| {
-                let (sectors, layout) = &layouts[&p.sides()];
-                eval.evaluate(surface, i, layout, buf);
-                if buf.len() != layout.uv.len() {
-                    return patch_folds(p, level, form);
-                }
-                let f = crate::tessellate::fold::patch_folds(p, sectors, layout, buf);
-                (f.samples.len(), f.worst)
-            })
-            .collect(),
-    )
 }
 
 fn c3(p: DVec3) -> Coord3D<f64> {

@@ -18,9 +18,10 @@
 //! [`crate::construct::check::ribbon_frame`], with the binomial coefficients made once per degree) and compares. The tessellation
 //! runs it on the samples it has just evaluated, so the check costs no second evaluation.
 
-use super::evaluator::SurfacePoint;
+use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use crate::construct::check::fold_sample_points;
-use crate::construct::Patch;
+use crate::construct::{Patch, Surface};
+use std::collections::HashMap;
 use crate::gb::{Domain, Ribbon, SampleLayout, WeightForm};
 use glam::{DVec2, DVec3};
 
@@ -378,6 +379,48 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
         }
     }
     (count, at)
+}
+
+/// [`dense_folds`] of the patches `which` of `surface` (per listed patch: folded samples, worst
+/// domain point), through weight tables of the triangle layout of resolution `level`
+/// ([`GbSurfaceEvaluator`] on a surface of those patches alone, each sample with its sector
+/// ([`Sectors`]) and the rule of [`patch_folds`]): the same rule on the level's own samples, the
+/// boundary included, at a fraction of the direct evaluator's cost. A patch the tables do not
+/// evaluate (or a layout that cannot be built) falls back to [`dense_folds`].
+pub fn dense_folds_of(surface: &Surface, which: &[usize], level: usize, form: WeightForm) -> Vec<(usize, Option<DVec2>)> {
+    use rayon::prelude::*;
+    let level = level.max(1);
+    let direct = || which.par_iter().map(|&p| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form))).collect();
+    if which.is_empty() {
+        return Vec::new();
+    }
+    let patches: Vec<Patch> = which.iter().filter_map(|&p| surface.patches.get(p).cloned()).collect();
+    if patches.len() != which.len() {
+        return direct();
+    }
+    let sub = Surface { patches, neighbors: Vec::new(), sources: Vec::new(), curves: Vec::new(), warnings: Vec::new(), creases: Vec::new(), cage: Vec::new() };
+    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else { return direct() };
+    let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
+    for p in &sub.patches {
+        layouts.entry(p.sides()).or_insert_with(|| {
+            let domain = eval.domain(p.sides());
+            let layout = SampleLayout::new(&domain, level).ok()?;
+            Some((Sectors::new(&domain, &layout.uv), layout))
+        });
+    }
+    sub.patches
+        .par_iter()
+        .enumerate()
+        .map_init(Vec::new, |buf, (i, p)| {
+            let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
+            eval.evaluate(&sub, i, layout, buf);
+            if buf.len() != layout.uv.len() {
+                return dense_folds(p, level, form);
+            }
+            let f = patch_folds(p, sectors, layout, buf);
+            (f.samples.len(), f.worst)
+        })
+        .collect()
 }
 
 /// The samples of `layout` around the domain point `at`: the nearest sample and the other corners

@@ -26,7 +26,7 @@
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
-use super::fold::{dense_folds, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
+use super::fold::{dense_folds_of, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
@@ -548,23 +548,13 @@ fn evaluate_patch<E: PatchEvaluator>(
     if !folds {
         return Ok(());
     }
-    let patch = &surface.patches[p];
-    let folds = patch_folds(patch, sectors, layout, buf);
+    let folds = patch_folds(&surface.patches[p], sectors, layout, buf);
     out.fold.samples = folds.samples.len();
     out.fold.worst = folds.worst;
-    // Marked: the folded samples and, for a fold the dense pass finds, the tessellation samples
-    // around its worst point (the star of the nearest sample).
-    let mut marked = folds.samples;
-    if !folds.cleared {
-        let (count, worst) = dense_folds(patch, dense_level(layout.resolution), evaluator.weight_form());
-        out.fold.dense = true;
-        out.fold.samples += count;
-        if let Some(at) = worst {
-            out.fold.worst = Some(at);
-            marked.extend(samples_around(layout, at));
-        }
-    }
-    out.folded = marked.iter().map(|&s| ids[s as usize]).collect();
+    // A patch its samples do not clear goes to the dense pass after this one
+    // (`tessellate_checked`, [`dense_folds_of`]).
+    out.fold.dense = !folds.cleared;
+    out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
 }
 
@@ -669,6 +659,22 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         }
         folded
     };
+    // The dense pass on the patches the tessellation's samples did not clear (docs/math.md#fold-clearing):
+    // its folded samples add to the patch's count, its worst point is the patch's site, and the
+    // output vertices around that point are marked (the star of the nearest sample).
+    let mut folded = folded;
+    let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
+    if let Some(&first) = uncleared.first() {
+        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.resolution);
+        let found = dense_folds_of(surface, &uncleared, level, evaluator.weight_form());
+        for (&p, (count, worst)) in uncleared.iter().zip(found) {
+            mesh.patch_folds[p].samples += count;
+            let Some(at) = worst else { continue };
+            mesh.patch_folds[p].worst = Some(at);
+            let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
+            folded.extend(samples_around(&with_sectors[&surface.patches[p].sides()].0, at).iter().map(|&s| ids[s as usize]));
+        }
+    }
     for v in folded {
         if let Some(f) = mesh.fold.get_mut(v as usize) {
             *f = 1;
