@@ -9,9 +9,10 @@
 //! The tessellation's samples are too sparse to see a small fold (a Jacobian that turns over near
 //! a corner, inside one output face), so the pass runs in two steps (docs/math.md#fold-clearing):
 //! [`patch_folds`] applies the rule to the samples just evaluated and, from the same samples,
-//! decides whether the patch is *cleared* ([`ClearTest`]); a patch that is not gets
-//! [`dense_folds`], the rule on a dense grid with the direct evaluator, whose verdict replaces the
-//! coarse one.
+//! decides whether the patch is *cleared* ([`ClearTest`]); the patches that are not go, after the
+//! tessellation's evaluation, to [`dense_folds_of`]: the rule on the samples of a dense triangle
+//! layout through weight tables (or [`dense_folds`], the direct evaluator), whose folded samples
+//! are added and whose worst point becomes the patch's site.
 //!
 //! Per layout, [`Sectors`] holds every sample's (i, s) once (it depends on the domain only); per
 //! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal_with`] (the normal of

@@ -170,7 +170,7 @@ pub struct TessellationFolds {
     /// Domain point of the worst folded sample (the dense pass's when it found one).
     pub worst: Option<glam::DVec2>,
     /// The tessellation's samples did not clear the patch ([`super::fold::ClearTest`]), so the
-    /// dense pass ([`super::fold::dense_folds`]) decided it.
+    /// dense pass ([`super::fold::dense_folds_of`]) decided it.
     pub dense: bool,
 }
 
