@@ -231,7 +231,8 @@ fn surface_point_with(d: &SurfaceDerivs, normal: Option<DVec3>) -> SurfacePoint 
         return SurfacePoint { position: d.p, ..Default::default() };
     };
     let (h, k) = d.mean_and_gaussian(n).unwrap_or((0.0, 0.0));
-    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k, jacobian: d.su.cross(d.sv).length() }
+    let jacobian = d.su.cross(d.sv).length();
+    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k, jacobian }
 }
 
 thread_local! {

@@ -306,7 +306,8 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
     }
     if cleared {
         let normal = |i: u32| points.get(i as usize).map_or(DVec3::ZERO, |p| p.normal);
-        cleared = layout.triangles.iter().all(|t| (0..3).all(|e| normal(t[e]).dot(normal(t[(e + 1) % 3])) >= ClearTest::NEIGHBOUR));
+        let close = |a: u32, b: u32| normal(a).dot(normal(b)) >= ClearTest::NEIGHBOUR;
+        cleared = layout.triangles.iter().all(|t| close(t[0], t[1]) && close(t[1], t[2]) && close(t[2], t[0]));
     }
     out.cleared = cleared;
     out
@@ -388,10 +389,18 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
 /// ([`Sectors`]) and the rule of [`patch_folds`]): the same rule on the level's own samples, the
 /// boundary included, at a fraction of the direct evaluator's cost. A patch the tables do not
 /// evaluate (or a layout that cannot be built) falls back to [`dense_folds`].
-pub fn dense_folds_of(surface: &Surface, which: &[usize], level: usize, form: WeightForm) -> Vec<(usize, Option<DVec2>)> {
+pub fn dense_folds_of(
+    surface: &Surface,
+    which: &[usize],
+    level: usize,
+    form: WeightForm,
+) -> Vec<(usize, Option<DVec2>)> {
     use rayon::prelude::*;
     let level = level.max(1);
-    let direct = || which.par_iter().map(|&p| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form))).collect();
+    let direct = || {
+        let one = |p: usize| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form));
+        which.par_iter().map(|&p| one(p)).collect()
+    };
     if which.is_empty() {
         return Vec::new();
     }
@@ -399,7 +408,15 @@ pub fn dense_folds_of(surface: &Surface, which: &[usize], level: usize, form: We
     if patches.len() != which.len() {
         return direct();
     }
-    let sub = Surface { patches, neighbors: Vec::new(), sources: Vec::new(), curves: Vec::new(), warnings: Vec::new(), creases: Vec::new(), cage: Vec::new() };
+    let sub = Surface {
+        patches,
+        neighbors: Vec::new(),
+        sources: Vec::new(),
+        curves: Vec::new(),
+        warnings: Vec::new(),
+        creases: Vec::new(),
+        cage: Vec::new(),
+    };
     let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else { return direct() };
     let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
     for p in &sub.patches {
@@ -428,7 +445,8 @@ pub fn dense_folds_of(surface: &Surface, which: &[usize], level: usize, form: We
 /// of the layout triangles that hold it (where [`dense_folds`] found a fold between the samples,
 /// the output vertices that mark it).
 pub fn samples_around(layout: &SampleLayout, at: DVec2) -> Vec<u32> {
-    let Some(near) = (0..layout.uv.len()).min_by(|&a, &b| layout.uv[a].distance_squared(at).total_cmp(&layout.uv[b].distance_squared(at))) else {
+    let d = |k: usize| layout.uv[k].distance_squared(at);
+    let Some(near) = (0..layout.uv.len()).min_by(|&a, &b| d(a).total_cmp(&d(b))) else {
         return Vec::new();
     };
     let near = near as u32;
@@ -501,7 +519,8 @@ mod tests {
                     let expected: Vec<u32> = (0..buf.len() as u32)
                         .filter(|&k| {
                             let (sp, (i, s)) = (&buf[k as usize], sectors.at[k as usize]);
-                            let r = blended_reference(ribbon_normal(&ribbons[i as usize], s), centre, sectors.centre[k as usize]);
+                            let foot = ribbon_normal(&ribbons[i as usize], s);
+                            let r = blended_reference(foot, centre, sectors.centre[k as usize]);
                             sp.normal != DVec3::ZERO && sp.normal.is_finite() && sp.normal.dot(r) < 0.0
                         })
                         .collect();

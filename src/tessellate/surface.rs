@@ -659,7 +659,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         }
         folded
     };
-    // The dense pass on the patches the tessellation's samples did not clear (docs/math.md#fold-clearing):
+    // The dense pass on the patches the samples did not clear (docs/math.md#fold-clearing):
     // its folded samples add to the patch's count, its worst point is the patch's site, and the
     // output vertices around that point are marked (the star of the nearest sample).
     let mut folded = folded;
@@ -672,7 +672,8 @@ pub fn tessellate_checked<E: PatchEvaluator>(
             let Some(at) = worst else { continue };
             mesh.patch_folds[p].worst = Some(at);
             let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
-            folded.extend(samples_around(&with_sectors[&surface.patches[p].sides()].0, at).iter().map(|&s| ids[s as usize]));
+            let layout = &with_sectors[&surface.patches[p].sides()].0;
+            folded.extend(samples_around(layout, at).iter().map(|&s| ids[s as usize]));
         }
     }
     for v in folded {
