@@ -147,15 +147,14 @@ int main() {
         CHECK(code_of([&] { (void)a.cage_loop_values(S, std::vector<float>(5), 3); }) == GBSURF_ERR_COUNT);
     }
 
-    // Validity in the report: the unit cube is valid; with its corner (1, 1, 1) pulled inside to
-    // (-0.5, -0.5, -0.5) the dual surface folds, and the fold sites name folded patches.
+    // Validity in the report: the unit cube is valid; OpenSubdiv's rook has dual patches that turn
+    // over next to a corner, and the fold sites name folded patches. (A cube with a corner pulled
+    // inside served here until the fold rule's blended reference: its dual patches only bend.)
     {
         CHECK(a.report().valid == 1 && a.report().folds == 0 && a.fold_sites().empty());
-        std::vector<double> pulled = P;
-        for (int k = 18; k < 21; ++k) pulled[k] = -0.5;  // vertex 6 = (1, 1, 1)
-        gbsurf::result f = gbsurf::convert(pulled, S, F, gbsurf::options().method(gbsurf::method::dual).resolution(3));
+        gbsurf::result f = gbsurf::convert_file(GBSURF_FOLDED_CAGE, gbsurf::options().method(gbsurf::method::dual).resolution(3));
         const GbsurfReport rep = f.report();
-        CHECK(rep.valid == 0 && rep.folds > 0 && rep.input_closed == 1);
+        CHECK(rep.valid == 0 && rep.folds > 0 && rep.input_closed == 0);
         const auto sites = f.fold_sites();
         CHECK(sites.size() == rep.fold_sites && !sites.empty());
         for (const auto& s : sites) CHECK(s.patch < f.patch_count() && std::isfinite(s.u) && std::isfinite(s.v));
