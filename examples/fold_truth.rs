@@ -9,7 +9,9 @@
 //!   (the normal reverses within 1/60 of the radius), with the first few: patch, cage element,
 //!   sides, the smallest dot, where (sector, radius step, step along it) and min/max |S_u × S_v|;
 //! - `missed`: patches with a flip where the report found no folded sample (a flipped output
-//!   triangle also makes the report count a patch; this leaves those out).
+//!   triangle also makes the report count a patch; this leaves those out), and which;
+//! - `not flipped`: patches with folded samples in the report but no flip;
+//! - `dense`: patches the tessellation's samples did not clear, which the dense pass decided.
 //! A fold rule is right when `rule@L` approaches `flips` as L grows; a report is right when
 //! `missed` is 0. This reads no reference normal, so it judges the rule from outside.
 
@@ -44,14 +46,20 @@ fn main() {
                 s.patches.par_iter().map(|p| fine::neighbour_normals(p, o.weights, 60)).enumerate().filter(|(_, f)| f.0 < 0.0).collect();
             let reported: std::collections::HashSet<usize> =
                 c.mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect();
-            let missed = flips.iter().filter(|(p, _)| !reported.contains(p)).count();
+            let missed: Vec<usize> = flips.iter().map(|(p, _)| *p).filter(|p| !reported.contains(p)).collect();
+            let flipped: std::collections::HashSet<usize> = flips.iter().map(|(p, _)| *p).collect();
+            let mut extra: Vec<usize> = reported.iter().copied().filter(|p| !flipped.contains(p)).collect();
+            extra.sort_unstable();
+            let dense = c.mesh.patch_folds.iter().filter(|f| f.dense).count();
             println!(
-                "{name} {}: report {} rule@4,8,16,40 {:?} flips {} missed {}",
+                "{name} {}: report {} rule@4,8,16,40 {:?} flips {} missed {} {missed:?} not flipped {extra:?} dense {dense}/{} flipped triangles {}",
                 method.name(),
                 c.report.folds,
                 levels,
                 flips.len(),
-                missed
+                missed.len(),
+                s.patches.len(),
+                c.mesh.flipped_triangles.len()
             );
             for (p, (d, at, ratio)) in flips.iter().take(4) {
                 println!("    patch {p} ({:?}, {} sides): dot {d:.3} at {at:?}, min/max |Su x Sv| {ratio:.1e}", s.sources[*p], s.patches[*p].sides());

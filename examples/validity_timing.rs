@@ -60,10 +60,11 @@ fn main() {
     }
     let c = c.expect("at least one run");
     println!(
-        "convert {total:.3} s, without checks {t_bare:.3} s (best of {runs}): checks (in-pass folds, self-intersections, cage) {:.3} s = {:.1} % [folds {}, flipped {}, self-intersections {}]",
+        "convert {total:.3} s, without checks {t_bare:.3} s (best of {runs}): checks (in-pass folds, self-intersections, cage) {:.3} s = {:.1} % [folds {}, dense fold passes {}, flipped {}, self-intersections {}]",
         total - t_bare,
         100.0 * (total - t_bare) / t_bare,
         c.report.folds,
+        c.mesh.patch_folds.iter().filter(|f| f.dense).count(),
         c.report.flipped_triangles,
         c.report.self_intersections
     );

@@ -349,6 +349,8 @@ fn the_tessellation_pass_finds_the_folds_of_the_dense_check() {
     let (in_pass, dense, m) = in_pass_and_dense(&plain);
     assert!(in_pass.is_empty() && dense.is_empty());
     assert!(m.fold.iter().all(|&f| f == 0));
+    // Its samples clear every patch (docs/math.md#fold-clearing): no dense pass ran.
+    assert!(m.patch_folds.iter().all(|f| !f.dense));
     assert!(m.flipped_triangles.is_empty());
 }
 
@@ -384,8 +386,16 @@ fn a_quad_torus_ignores_its_central_points_but_folds_with_its_ribbons() {
     });
     let (in_pass, dense, m) = in_pass_and_dense(&ribbon_pulled);
     assert_eq!(in_pass, dense);
-    assert_eq!(in_pass.len(), 48);
-    assert!(m.fold.iter().filter(|&&f| f == 1).count() > 48);
+    // 34 of the 48 with the blended reference (docs/math.md#folds; the side's own reference
+    // flagged all 48). The reference sampler (neighbouring normals on 60 steps) sees the Jacobian
+    // change sign in patch 1 only: the others turn more than 90° against the frame their ribbons
+    // give them without turning over (the rule's second clause). No patch that turns over is missed.
+    let flips: Vec<usize> =
+        (0..ribbon_pulled.patches.len()).filter(|&p| fine::neighbour_normals(&ribbon_pulled.patches[p], form, 60).0 < 0.0).collect();
+    assert_eq!(flips, vec![1]);
+    assert!(flips.iter().all(|p| in_pass.contains(p)), "{flips:?} {in_pass:?}");
+    assert_eq!(in_pass.len(), 34);
+    assert!(m.fold.iter().filter(|&&f| f == 1).count() > 34);
 }
 
 #[test]
@@ -791,4 +801,61 @@ fn high_valence_stars_get_certified_cores() {
         assert_eq!(with, self_intersections(&m.positions, &m.triangles), "{method}");
         assert_eq!(with, mesh_self_intersections(&m));
     }
+}
+
+#[path = "../examples/common/fine.rs"]
+mod fine;
+
+const OPENSUBDIV: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/opensubdiv");
+
+/// The patches the conversion's report finds folded (folded samples of the tessellation pass or
+/// of its dense pass).
+fn reported(c: &gbsurf::api::Conversion) -> Vec<usize> {
+    c.mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect()
+}
+
+/// Regression (issue 10, docs/math.md#fold-clearing): the rook's dual patches at its flat base
+/// turn over next to a corner, inside one output face (|S_u × S_v| down to 10⁻⁷ of its maximum).
+/// With the side's own reference and only the tessellation's samples the report named 18 patches,
+/// 17 of them bent but not turned over, and missed 24 of these 25. Now it names exactly the
+/// patches the reference sampler (neighbouring normals on 60 steps per sector radius,
+/// `examples/fold_truth.rs`) sees turn over: the list is that sampler's, measured on all 1088
+/// patches, and each listed patch is checked again here.
+#[test]
+fn the_rook_dual_report_names_the_patches_that_turn_over() {
+    let path = format!("{OPENSUBDIV}/catmark_rook.obj");
+    let opts = ConvertOptions { method: Method::Dual, ..Default::default() };
+    let c = convert_file(&path, &opts, None).unwrap();
+    let got = reported(&c);
+    let flipped: Vec<usize> = ROOK_DUAL_FLIPS.to_vec();
+    assert_eq!(got, flipped, "reported folded patches");
+    assert_eq!(c.report.folds, flipped.len());
+    let surface = c.surface.as_ref().unwrap();
+    for &p in &flipped {
+        let (dot, at, _) = fine::neighbour_normals(&surface.patches[p], opts.weights, 60);
+        assert!(dot < 0.0, "patch {p}: neighbouring normals {dot} at {at:?}");
+        // The fold flags mark output vertices of the patch.
+        let hit = c.mesh.triangles.iter().zip(&c.mesh.triangle_patch).any(|(t, &q)| q as usize == p && t.iter().any(|&v| c.mesh.fold[v as usize] == 1));
+        assert!(hit, "patch {p}: no flagged vertex");
+    }
+}
+
+/// The rook dual's patches that turn over (`examples/fold_truth.rs`, default options).
+const ROOK_DUAL_FLIPS: [usize; 25] = [0, 22, 45, 68, 90, 113, 136, 158, 181, 204, 226, 249, 272, 294, 317, 340, 362, 385, 408, 430, 453, 476, 498, 521, 950];
+
+/// The rook's topology structure has no patch that turns over (reference sampler, all 777
+/// patches). The report used to count 23 folded patches, all bent regularly against the one
+/// side's normal; with the blended reference it names one, patch 736, whose normal turns more than
+/// 90° away from the blended reference over a region (10 of the 16-level grid's samples) without
+/// a Jacobian sign change (neighbouring normals within 25° on 120 steps): a fold by the rule's
+/// second clause (docs/math.md#folds), not a flip.
+#[test]
+fn the_rook_topology_report_has_no_bent_patches() {
+    let path = format!("{OPENSUBDIV}/catmark_rook.obj");
+    let opts = ConvertOptions { method: Method::Topology, ..Default::default() };
+    let c = convert_file(&path, &opts, None).unwrap();
+    assert_eq!(reported(&c), vec![736]);
+    let surface = c.surface.as_ref().unwrap();
+    let (dot, at, _) = fine::neighbour_normals(&surface.patches[736], opts.weights, 60);
+    assert!(dot > 0.0, "patch 736 does not turn over: {dot} at {at:?}");
 }

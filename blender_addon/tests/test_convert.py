@@ -267,22 +267,21 @@ def test_semi_sharp_crease_sweep_moves_the_surface_a_little_per_step(method, sta
 
 
 def test_a_folded_result_says_so_and_marks_the_fold():
-    """A unit cube with its corner (1, 1, 1) pulled inside to (-0.5, -0.5, -0.5): the dual
-    surface folds. The result's info says NOT VALID with the report's figures, and `gb_fold`
-    marks vertices; the plain cube has no mark."""
+    """OpenSubdiv's rook (without its crease tags): 24 of its dual patches turn over next to a
+    corner. The result's info says NOT VALID with the report's figures, and `gb_fold` marks
+    vertices; the plain cube has no mark. (A cube with a corner pulled inside served here until
+    the fold rule's blended reference: its dual patches bend strongly but none turns over.)"""
     verts = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
     faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    for pulled in (False, True):
-        v = list(verts)
-        if pulled:
-            v[6] = (-0.5, -0.5, -0.5)
-        src = helpers.add_mesh_object("pulled" if pulled else "plain", v, faces)
+    rook_pos, rook_faces = helpers.parse_obj(helpers.ROOT / "tests/data/opensubdiv/catmark_rook.obj")
+    for name, v, f, folded in (("plain", verts, faces, False), ("rook", rook_pos, rook_faces, True)):
+        src = helpers.add_mesh_object(name, v, f)
         helpers.select_only(src)
         assert bpy.ops.object.gbsurf_convert(method='DUAL', resolution=3) == {'FINISHED'}
         out = bpy.context.active_object
         fold = np.empty(len(out.data.vertices), np.float32)
         out.data.attributes["gb_fold"].data.foreach_get("value", fold)
-        if pulled:
+        if folded:
             assert "NOT VALID" in out.gbsurf.info and "folded patches" in out.gbsurf.info, out.gbsurf.info
             assert fold.max() == 1.0 and fold.sum() < len(fold)
             # The cage is checked only when the output self-intersects; else the info says so.

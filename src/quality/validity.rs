@@ -4,15 +4,20 @@
 //!
 //! - Folds: a sample of domain triangle i (centre, v_{i−1}, v_i) with barycentric weights
 //!   (a, b, c) on (centre, v_{i−1}, v_i) is folded where its unit normal (S_u × S_v)/|S_u × S_v|
-//!   turns against the reference normal, the boundary frame normal T × X of ribbon i
-//!   ([`ribbon_frame`]) at s = c/(b + c), the foot of the sample on side i: the
-//!   parameterisation turned over, or the surface normal turned against its ribbon's normal. Both
-//!   are oriented alike (side i runs counter-clockwise, X points into the domain). Every
-//!   conversion applies this rule inside the tessellation pass to the samples it evaluates anyway
-//!   ([`crate::tessellate::fold`], collected by [`Folds::of_tessellation`]), and also counts
-//!   flipped output triangles (geometric normal against all three vertex normals). The per-vertex
-//!   flag `SurfaceMesh::fold` marks both. [`find_folds`] applies the same rule on a denser
-//!   sampling (level [`fold_level`]) as a reference for tests and studies.
+//!   turns against the reference normal R = unit((1 − a)·N_i(s) + a·N̄): N_i(s) the boundary
+//!   frame normal T × X of ribbon i ([`ribbon_frame`](crate::construct::check::ribbon_frame)) at
+//!   s = c/(b + c), the foot of the sample on side i, and N̄ the unit mean of the ribbons' normals
+//!   at their midpoints ([`crate::tessellate::fold::blended_reference`], docs/math.md#folds): the
+//!   parameterisation turned over, or the surface normal turned against the frame its ribbons
+//!   give it. Both are oriented alike (side i runs counter-clockwise, X points into the domain).
+//!   Every conversion applies this rule inside the tessellation pass to the samples it evaluates
+//!   anyway and, on every patch those samples do not clear
+//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose verdict replaces theirs
+//!   ([`crate::tessellate::fold::dense_folds`], docs/math.md#fold-clearing; collected by
+//!   [`Folds::of_tessellation`]), and also counts flipped output triangles (geometric normal
+//!   against all three vertex normals). The per-vertex flag `SurfaceMesh::fold` marks both.
+//!   [`find_folds`] applies the same rule on every patch at one level ([`fold_level`]) as a
+//!   reference for tests and studies.
 //! - Self-intersections ([`self_intersections`]): pairs of triangles sharing no vertex, in the
 //!   same connected shell, that have a point in common. Candidate pairs come from a bounding
 //!   volume hierarchy of the boxes of chunks of nearby triangles ([`overlapping_boxes`]); each
@@ -26,15 +31,11 @@
 //!   ([`super::certify::star_shaped_shells`], with the proof) leave the search altogether.
 
 use super::certify::{star_shaped_about_centroid, star_shaped_shells, star_shaped_shells_ticked, Certified, ChunkRegions};
-use crate::construct::check::{fold_sample_points, ribbon_frame};
-use crate::construct::{Patch, Surface};
-use crate::gb::{Domain, SampleLayout, WeightForm};
-use crate::tessellate::evaluator::{GbSurfaceEvaluator, PatchEvaluator};
-use crate::tessellate::fold::Sectors;
+use crate::construct::Surface;
+use crate::gb::WeightForm;
 use crate::tessellate::SurfaceMesh;
-use std::collections::HashMap;
 use crate::mesh::PolyMesh;
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use rayon::prelude::*;
 use crate::progress::{Cancelled, Ticker};
@@ -163,85 +164,21 @@ pub fn fold_level(resolution: usize) -> usize {
     (2 * resolution).max(8)
 }
 
-/// (S_u × S_v) at `uv` of any patch with a prepared evaluator.
-enum PatchEval<'a> {
-    Gb(&'a crate::gb::GbPatch, crate::gb::GbBasisEvaluator),
-    Cgb(&'a crate::gb::CgbPatch, crate::gb::CgbBasisEvaluator),
-}
-
-impl PatchEval<'_> {
-    fn new(patch: &Patch) -> Option<PatchEval<'_>> {
-        match patch {
-            Patch::Gb(g) => g.evaluator().ok().map(|e| PatchEval::Gb(g, e)),
-            Patch::Cgb(c) => c.evaluator().ok().map(|e| PatchEval::Cgb(c, e)),
-        }
-    }
-    fn jacobian_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
-        let d = match self {
-            PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
-            PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
-        };
-        d.su.cross(d.sv)
-    }
-}
-
-/// Folds of one patch: (folded samples, worst domain point).
-fn patch_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
-    let n = patch.sides();
-    let (Ok(domain), Some(mut ev)) = (Domain::regular(n), PatchEval::new(patch)) else {
-        return (0, None);
-    };
-    let ribbons = patch.ribbons();
-    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
-    for (i, ribbon) in ribbons.iter().enumerate().take(n) {
-        let pts = fold_sample_points(&domain, i, level);
-        let mut k = 0;
-        for a in 0..=level {
-            for b in 0..=(level - a) {
-                let c = level - a - b;
-                let uv = pts[k];
-                k += 1;
-                let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
-                let (_, t, x) = ribbon_frame(ribbon, s);
-                let reference = crate::tessellate::fold::reference_normal(t, x);
-                if reference == DVec3::ZERO {
-                    continue;
-                }
-                let jn = ev.jacobian_normal(uv, form);
-                let scale = jn.length();
-                if !(scale > 0.0) {
-                    continue;
-                }
-                let rel = jn.dot(reference) / scale;
-                if rel < 0.0 {
-                    count += 1;
-                    if rel < worst {
-                        worst = rel;
-                        at = Some(uv);
-                    }
-                }
-            }
-        }
-    }
-    (count, at)
-}
-
 /// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
 /// whose Jacobian turns negative against their ribbons' normals (see the module doc).
 ///
-/// The samples are those of a tessellation at resolution `level` (the [`SampleLayout`] of the
+/// The samples are those of a tessellation at resolution `level` (the [`crate::gb::SampleLayout`] of the
 /// patch's domain, 1 + n·level(level+1)/2 points, boundary included), evaluated with the same
-/// weight-table kernel as the tessellation ([`GbSurfaceEvaluator`]); the sign of the unit normal
+/// weight-table kernel as the tessellation ([`crate::tessellate::GbSurfaceEvaluator`]); the sign of the unit normal
 /// (S_u × S_v)/|S_u × S_v| is that of the Jacobian. Samples whose normal is undefined (a
 /// degenerate Jacobian, e.g. at a collapsed corner) are skipped, as the sign is meaningless there.
 /// A surface the table evaluator refuses falls back to the direct evaluator on the grids of
-/// [`fold_sample_points`].
+/// [`fold_sample_points`](crate::construct::check::fold_sample_points)
+/// ([`crate::tessellate::fold::dense_folds_of`], the dense pass of every conversion).
 pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
     let level = level.max(1);
-    let per: Vec<(usize, Option<DVec2>)> = match table_folds(surface, level, form) {
-        Some(per) => per,
-        None => surface.patches.par_iter().map(|p| patch_folds(p, level, form)).collect(),
-    };
+    let all: Vec<usize> = (0..surface.patches.len()).collect();
+    let per = crate::tessellate::fold::dense_folds_of(surface, &all, level, form);
     let mut f = Folds::default();
     for (p, (count, at)) in per.into_iter().enumerate() {
         if count == 0 {
@@ -254,37 +191,6 @@ pub fn find_folds(surface: &Surface, level: usize, form: WeightForm) -> Folds {
         }
     }
     f
-}
-
-/// Per patch (folded samples, worst point) through the table evaluator; `None` where it or a
-/// layout cannot be built.
-fn table_folds(surface: &Surface, level: usize, form: WeightForm) -> Option<Vec<(usize, Option<DVec2>)>> {
-    let eval = GbSurfaceEvaluator::new(surface, level, form).ok()?;
-    let mut layouts: HashMap<usize, (Sectors, SampleLayout)> = HashMap::new();
-    for p in &surface.patches {
-        let n = p.sides();
-        if let std::collections::hash_map::Entry::Vacant(e) = layouts.entry(n) {
-            let domain = eval.domain(n);
-            let layout = SampleLayout::new(&domain, level).ok()?;
-            e.insert((Sectors::new(&domain, &layout.uv), layout));
-        }
-    }
-    Some(
-        surface
-            .patches
-            .par_iter()
-            .enumerate()
-            .map_init(Vec::new, |buf, (i, p)| {
-                let (sectors, layout) = &layouts[&p.sides()];
-                eval.evaluate(surface, i, layout, buf);
-                if buf.len() != layout.uv.len() {
-                    return patch_folds(p, level, form);
-                }
-                let f = crate::tessellate::fold::patch_folds(p, sectors, &layout.uv, buf);
-                (f.samples.len(), f.worst)
-            })
-            .collect(),
-    )
 }
 
 fn c3(p: DVec3) -> Coord3D<f64> {

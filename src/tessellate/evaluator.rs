@@ -18,13 +18,16 @@ use std::sync::{Arc, Mutex};
 
 /// One evaluated sample: position, unit normal (zero when undefined, e.g. at a degenerate corner;
 /// the welded mesh then falls back to the average of the other patches' normals or, failing that,
-/// the area-weighted triangle normal), mean and Gaussian curvature (0 where undefined).
+/// the area-weighted triangle normal), mean and Gaussian curvature (0 where undefined), and the
+/// Jacobian |S_u × S_v| (0 where the normal is undefined; the fold pass's clear test reads it,
+/// [`super::fold::ClearTest`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SurfacePoint {
     pub position: DVec3,
     pub normal: DVec3,
     pub mean_curvature: f64,
     pub gaussian_curvature: f64,
+    pub jacobian: f64,
 }
 
 /// Evaluates all samples of one patch. Implementations must be pure (they run in parallel over
@@ -35,6 +38,8 @@ pub trait PatchEvaluator: Sync {
     fn domain(&self, n: usize) -> Vec<DVec2> {
         SampleLayout::regular_polygon(n)
     }
+    /// The weight form the patches are evaluated with (the fold pass's dense grids use it too).
+    fn weight_form(&self) -> WeightForm;
     /// Evaluates patch `index` of `surface` at every sample of `layout` into `out` (cleared first).
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>);
 }
@@ -226,7 +231,8 @@ fn surface_point_with(d: &SurfaceDerivs, normal: Option<DVec3>) -> SurfacePoint 
         return SurfacePoint { position: d.p, ..Default::default() };
     };
     let (h, k) = d.mean_and_gaussian(n).unwrap_or((0.0, 0.0));
-    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k }
+    let jacobian = d.su.cross(d.sv).length();
+    SurfacePoint { position: d.p, normal: n, mean_curvature: h, gaussian_curvature: k, jacobian }
 }
 
 thread_local! {
@@ -304,6 +310,10 @@ impl GbSurfaceEvaluator {
 impl PatchEvaluator for GbSurfaceEvaluator {
     fn domain(&self, n: usize) -> Vec<DVec2> {
         gb_domain(n)
+    }
+
+    fn weight_form(&self) -> WeightForm {
+        self.form
     }
 
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {

@@ -1,23 +1,40 @@
 //! The fold rule on the samples of a tessellation (the rule is documented in
-//! [`crate::quality::validity`]): a sample of domain triangle i (centre, v_{i−1}, v_i) with
-//! barycentric weights (a, b, c) is folded where its unit normal turns against the reference
-//! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i.
+//! [`crate::quality::validity`] and docs/math.md#folds): a sample of domain triangle i (centre,
+//! v_{i−1}, v_i) with barycentric weights (a, b, c) is folded where its unit normal turns against
+//! the reference normal unit((1 − a)·N_i(s) + a·N̄) ([`blended_reference`]): N_i(s) the unit
+//! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i, N̄ the patch's
+//! centre reference ([`centre_reference`], the unit mean of its ribbons' normals at their
+//! midpoints).
+//!
+//! The tessellation's samples are too sparse to see a small fold (a Jacobian that turns over near
+//! a corner, inside one output face), so the pass runs in two steps (docs/math.md#fold-clearing):
+//! [`patch_folds`] applies the rule to the samples just evaluated and, from the same samples,
+//! decides whether the patch is *cleared* ([`ClearTest`]); the patches that are not go, after the
+//! tessellation's evaluation, to [`dense_folds_of`]: the rule on the samples of a dense triangle
+//! layout through weight tables (or [`dense_folds`], the direct evaluator), whose folded samples
+//! are added and whose worst point becomes the patch's site.
 //!
 //! Per layout, [`Sectors`] holds every sample's (i, s) once (it depends on the domain only); per
 //! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal_with`] (the normal of
 //! [`crate::construct::check::ribbon_frame`], with the binomial coefficients made once per degree) and compares. The tessellation
 //! runs it on the samples it has just evaluated, so the check costs no second evaluation.
 
-use super::evaluator::SurfacePoint;
-use crate::construct::Patch;
-use crate::gb::Ribbon;
+use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
+use crate::construct::check::fold_sample_points;
+use crate::construct::{Patch, Surface};
+use std::collections::HashMap;
+use crate::gb::{Domain, Ribbon, SampleLayout, WeightForm};
 use glam::{DVec2, DVec3};
 
-/// Per sample of a layout: its domain triangle i and its foot s ∈ [0, 1] on side i.
+/// Per sample of a layout: its domain triangle i, its foot s ∈ [0, 1] on side i and its centre
+/// weight a.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sectors {
     /// Per sample: (i, s). Private with `feet` and `foot`, which are derived from it.
     at: Vec<(u32, f64)>,
+    /// Per sample: its barycentric weight a ∈ [0, 1] on the domain centre (1 at the centre, 0 on
+    /// the boundary).
+    centre: Vec<f64>,
     /// The distinct values of `at` (samples on one ray from the centre share their foot), so a
     /// patch evaluates each reference normal once ([`patch_folds`]).
     feet: Vec<(u32, f64)>,
@@ -31,17 +48,25 @@ impl Sectors {
         &self.at
     }
 
+    /// Per sample: its centre weight a.
+    pub fn centre_weights(&self) -> &[f64] {
+        &self.centre
+    }
+
     /// The sectors of the samples `uv` in the domain polygon `domain` (counter-clockwise,
     /// vertex i ends side i): each sample goes to the domain triangle whose smaller weight on
-    /// (v_{i−1}, v_i) is largest (the one containing it), s = c/(b + c) (½ at the centre).
+    /// (v_{i−1}, v_i) is largest (the one containing it), s = c/(b + c) (½ at the centre), and
+    /// its centre weight is a = 1 − b − c in that triangle (clamped to [0, 1]).
     pub fn new(domain: &[DVec2], uv: &[DVec2]) -> Sectors {
         let n = domain.len();
         let centre = domain.iter().copied().sum::<DVec2>() / n.max(1) as f64;
+        let mut weights = Vec::with_capacity(uv.len());
         let at = uv
             .iter()
             .map(|&x| {
                 let q = x - centre;
                 let mut best = (0u32, 0.5, f64::NEG_INFINITY);
+                let mut a = 1.0;
                 for i in 0..n {
                     let (e0, e1) = (domain[(i + n - 1) % n] - centre, domain[i] - centre);
                     let det = e0.perp_dot(e1);
@@ -52,16 +77,18 @@ impl Sectors {
                     if b.min(c) > best.2 {
                         let s = if b + c > 1e-12 { (c / (b + c)).clamp(0.0, 1.0) } else { 0.5 };
                         best = (i as u32, s, b.min(c));
+                        a = (1.0 - b - c).clamp(0.0, 1.0);
                     }
                 }
+                weights.push(a);
                 (best.0, best.1)
             })
             .collect();
-        Sectors::of_feet(at)
+        Sectors::of_feet(at, weights)
     }
 
     /// The sectors with their distinct feet (equal where the bits of s are).
-    fn of_feet(at: Vec<(u32, f64)>) -> Sectors {
+    fn of_feet(at: Vec<(u32, f64)>, centre: Vec<f64>) -> Sectors {
         let mut index: std::collections::HashMap<(u32, u64), u32> = std::collections::HashMap::new();
         let mut feet = Vec::new();
         let foot = at
@@ -73,7 +100,33 @@ impl Sectors {
                 })
             })
             .collect();
-        Sectors { at, feet, foot }
+        Sectors { at, centre, feet, foot }
+    }
+}
+
+/// The centre reference N̄ of a patch: the unit mean of its ribbons' normals at their midpoints
+/// (s = ½; undefined ones left out), or zero when that mean vanishes. It does not depend on which
+/// side is numbered first, unlike any one ribbon's normal.
+pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials) -> DVec3 {
+    ribbons.iter().map(|r| ribbon_normal_with(r, 0.5, binomials)).sum::<DVec3>().normalize_or_zero()
+}
+
+/// The reference normal of a sample with centre weight a whose foot has the ribbon normal `foot`:
+/// unit((1 − a)·foot + a·centre), the ribbon's normal on the boundary (a = 0) turning linearly to
+/// the patch's centre reference at the centre (a = 1). A patch bends continuously from its
+/// boundary normals to its centre, so a surface that turns by up to 180° between a side and the
+/// centre without turning over is not flagged, while a sample turned against this interpolated
+/// frame is (docs/math.md#folds). Falls back to `foot` where `centre` is zero or the blend
+/// vanishes.
+pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
+    if centre == DVec3::ZERO || foot == DVec3::ZERO || a <= 0.0 {
+        return foot;
+    }
+    let r = (1.0 - a) * foot + a * centre;
+    if r.length() > MIN_FRAME_SIN {
+        r.normalize()
+    } else {
+        foot
     }
 }
 
@@ -166,35 +219,79 @@ pub fn reference_normal(t: DVec3, x: DVec3) -> DVec3 {
     n.normalize_or_zero()
 }
 
-/// Folds of one patch: folded samples (indices into the layout), and the worst one.
+/// Folds of one patch on the tessellation's samples: folded samples (indices into the layout),
+/// the worst one, and whether the samples clear the patch ([`ClearTest`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PatchFolds {
     /// Layout indices of the folded samples.
     pub samples: Vec<u32>,
     /// Domain point of the sample whose normal turns furthest against its reference.
     pub worst: Option<DVec2>,
+    /// The samples pass [`ClearTest`]: the patch has no fold the dense pass would find, so the
+    /// verdict of these samples (no folded sample, as the test demands it) stands.
+    pub cleared: bool,
 }
 
-/// Applies the fold rule to the evaluated `points` of `patch` at the layout samples `uv` with
-/// their `sectors`. Samples with an undefined normal (zero or non-finite, e.g. at a collapsed
-/// corner) and samples whose reference normal is undefined are skipped: the sign means nothing
-/// there.
+/// The test that clears a patch from its tessellation samples alone (docs/math.md#fold-clearing):
+/// every sample has a defined normal within 45° of its reference R (dot ≥ [`Self::REFERENCE`]),
+/// the normals of every two samples joined by a layout edge are within 45° of each other (dot ≥
+/// [`Self::NEIGHBOUR`]), and the smallest Jacobian |S_u × S_v| of a sample is at least
+/// [`Self::JACOBIAN`] of the samples' mean. A Jacobian that turns over between the samples (a
+/// small fold near a corner, which the samples miss) shows in the data they do have as a normal
+/// that turns fast between neighbours, a small Jacobian, or a reference that turns with it.
+pub struct ClearTest;
+
+impl ClearTest {
+    /// Smallest dot of a sample's normal with its reference (cos 45°, rounded).
+    pub const REFERENCE: f64 = 0.7;
+    /// Smallest dot of the normals of two samples joined by a layout edge (cos 45°, rounded).
+    pub const NEIGHBOUR: f64 = 0.7;
+    /// Smallest ratio of a sample's Jacobian to the samples' mean.
+    pub const JACOBIAN: f64 = 0.05;
+}
+
+/// Dense fold level for a patch the tessellation's samples do not clear: [`DENSE_STEPS`] steps per
+/// domain triangle, or the tessellation's own 2r when that is denser.
+pub fn dense_level(resolution: usize) -> usize {
+    (2 * resolution).max(DENSE_STEPS)
+}
+
+/// Steps per domain triangle of the dense pass (docs/math.md#fold-clearing: the blended rule finds
+/// every patch the reference sampler sees flip from 16 steps on).
+pub const DENSE_STEPS: usize = 16;
+
+/// Applies the fold rule to the evaluated `points` of `patch` at the samples of `layout` with
+/// their `sectors`, and the [`ClearTest`]. Samples with an undefined normal (zero or non-finite,
+/// e.g. at a collapsed corner) and samples whose reference normal is undefined are skipped: the
+/// sign means nothing there (and the patch is not cleared).
 ///
 /// Each distinct foot's reference normal is evaluated once per patch (the same values as per
 /// sample: [`ribbon_normal`] is a function of the ribbon and s).
-pub fn patch_folds(patch: &Patch, sectors: &Sectors, uv: &[DVec2], points: &[SurfacePoint]) -> PatchFolds {
+pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, points: &[SurfacePoint]) -> PatchFolds {
     let ribbons = patch.ribbons();
     let mut out = PatchFolds::default();
     let mut worst = 0.0f64;
+    let mut cleared = points.len() == layout.uv.len();
     // None: the sector names a missing ribbon.
     let mut binomials = Binomials::default();
     let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal_with(r, s, &mut binomials))).collect();
-    for (k, ((&x, sp), &f)) in uv.iter().zip(points).zip(&sectors.foot).enumerate() {
+    let centre = centre_reference(ribbons, &mut binomials);
+    for (k, (((&x, sp), &f), &a)) in layout.uv.iter().zip(points).zip(&sectors.foot).zip(&sectors.centre).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
+            cleared = false;
             continue;
         }
-        let Some(Some(normal)) = reference.get(f as usize) else { continue };
-        let rel = sp.normal.dot(*normal);
+        let Some(Some(normal)) = reference.get(f as usize) else {
+            cleared = false;
+            continue;
+        };
+        let normal = blended_reference(*normal, centre, a);
+        if normal == DVec3::ZERO {
+            cleared = false;
+            continue;
+        }
+        let rel = sp.normal.dot(normal);
+        cleared &= rel >= ClearTest::REFERENCE;
         if rel < 0.0 {
             out.samples.push(k as u32);
             if rel < worst {
@@ -203,6 +300,162 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, uv: &[DVec2], points: &[Sur
             }
         }
     }
+    if cleared {
+        let mean = points.iter().map(|p| p.jacobian).sum::<f64>() / points.len().max(1) as f64;
+        cleared = points.iter().all(|p| p.jacobian >= ClearTest::JACOBIAN * mean) && mean > 0.0;
+    }
+    if cleared {
+        let normal = |i: u32| points.get(i as usize).map_or(DVec3::ZERO, |p| p.normal);
+        let close = |a: u32, b: u32| normal(a).dot(normal(b)) >= ClearTest::NEIGHBOUR;
+        cleared = layout.triangles.iter().all(|t| close(t[0], t[1]) && close(t[1], t[2]) && close(t[2], t[0]));
+    }
+    out.cleared = cleared;
+    out
+}
+
+/// (S_u × S_v) at a domain point of a GB or CGB patch with a prepared evaluator.
+enum PatchEval<'a> {
+    Gb(&'a crate::gb::GbPatch, crate::gb::GbBasisEvaluator),
+    Cgb(&'a crate::gb::CgbPatch, crate::gb::CgbBasisEvaluator),
+}
+
+impl PatchEval<'_> {
+    fn new(patch: &Patch) -> Option<PatchEval<'_>> {
+        match patch {
+            Patch::Gb(g) => g.evaluator().ok().map(|e| PatchEval::Gb(g, e)),
+            Patch::Cgb(c) => c.evaluator().ok().map(|e| PatchEval::Cgb(c, e)),
+        }
+    }
+    fn jacobian_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
+        let d = match self {
+            PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
+            PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
+        };
+        d.su.cross(d.sv)
+    }
+}
+
+/// The fold rule on a dense grid of `patch`, evaluated directly with weight form `form`: in each
+/// domain triangle i of the regular n-gon the barycentric grid (a, b, c)/`level`
+/// ([`fold_sample_points`], the boundary row pulled 10⁻³ inside), a sample folded where
+/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Returns (folded samples, domain
+/// point of the worst). Samples whose Jacobian or reference is undefined are skipped.
+pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
+    let n = patch.sides();
+    let level = level.max(1);
+    let (Ok(domain), Some(mut ev)) = (Domain::regular(n), PatchEval::new(patch)) else {
+        return (0, None);
+    };
+    let ribbons = patch.ribbons();
+    let mut binomials = Binomials::default();
+    let centre = centre_reference(ribbons, &mut binomials);
+    let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
+    for (i, ribbon) in ribbons.iter().enumerate().take(n) {
+        let pts = fold_sample_points(&domain, i, level);
+        let mut k = 0;
+        for a in 0..=level {
+            for b in 0..=(level - a) {
+                let c = level - a - b;
+                let uv = pts[k];
+                k += 1;
+                let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
+                let foot = ribbon_normal_with(ribbon, s, &mut binomials);
+                let reference = blended_reference(foot, centre, a as f64 / level as f64);
+                if reference == DVec3::ZERO {
+                    continue;
+                }
+                let jn = ev.jacobian_normal(uv, form);
+                let scale = jn.length();
+                if !(scale > 0.0) {
+                    continue;
+                }
+                let rel = jn.dot(reference) / scale;
+                if rel < 0.0 {
+                    count += 1;
+                    if rel < worst {
+                        worst = rel;
+                        at = Some(uv);
+                    }
+                }
+            }
+        }
+    }
+    (count, at)
+}
+
+/// [`dense_folds`] of the patches `which` of `surface` (per listed patch: folded samples, worst
+/// domain point), through weight tables of the triangle layout of resolution `level`
+/// ([`GbSurfaceEvaluator`] on a surface of those patches alone, each sample with its sector
+/// ([`Sectors`]) and the rule of [`patch_folds`]): the same rule on the level's own samples, the
+/// boundary included, at a fraction of the direct evaluator's cost. A patch the tables do not
+/// evaluate (or a layout that cannot be built) falls back to [`dense_folds`].
+pub fn dense_folds_of(
+    surface: &Surface,
+    which: &[usize],
+    level: usize,
+    form: WeightForm,
+) -> Vec<(usize, Option<DVec2>)> {
+    use rayon::prelude::*;
+    let level = level.max(1);
+    let direct = || {
+        let one = |p: usize| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form));
+        which.par_iter().map(|&p| one(p)).collect()
+    };
+    if which.is_empty() {
+        return Vec::new();
+    }
+    let patches: Vec<Patch> = which.iter().filter_map(|&p| surface.patches.get(p).cloned()).collect();
+    if patches.len() != which.len() {
+        return direct();
+    }
+    let sub = Surface {
+        patches,
+        neighbors: Vec::new(),
+        sources: Vec::new(),
+        curves: Vec::new(),
+        warnings: Vec::new(),
+        creases: Vec::new(),
+        cage: Vec::new(),
+    };
+    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else { return direct() };
+    let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
+    for p in &sub.patches {
+        layouts.entry(p.sides()).or_insert_with(|| {
+            let domain = eval.domain(p.sides());
+            let layout = SampleLayout::new(&domain, level).ok()?;
+            Some((Sectors::new(&domain, &layout.uv), layout))
+        });
+    }
+    sub.patches
+        .par_iter()
+        .enumerate()
+        .map_init(Vec::new, |buf, (i, p)| {
+            let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
+            eval.evaluate(&sub, i, layout, buf);
+            if buf.len() != layout.uv.len() {
+                return dense_folds(p, level, form);
+            }
+            let f = patch_folds(p, sectors, layout, buf);
+            (f.samples.len(), f.worst)
+        })
+        .collect()
+}
+
+/// The samples of `layout` around the domain point `at`: the nearest sample and the other corners
+/// of the layout triangles that hold it (where [`dense_folds`] found a fold between the samples,
+/// the output vertices that mark it).
+pub fn samples_around(layout: &SampleLayout, at: DVec2) -> Vec<u32> {
+    let d = |k: usize| layout.uv[k].distance_squared(at);
+    let Some(near) = (0..layout.uv.len()).min_by(|&a, &b| d(a).total_cmp(&d(b))) else {
+        return Vec::new();
+    };
+    let near = near as u32;
+    let mut out = vec![near];
+    for t in layout.triangles.iter().filter(|t| t.contains(&near)) {
+        out.extend(t.iter().copied().filter(|&x| x != near));
+    }
+    out.sort_unstable();
+    out.dedup();
     out
 }
 
@@ -260,12 +513,15 @@ mod tests {
                     assert!(sectors.feet.len() < sectors.at.len());
                     let mut buf = Vec::new();
                     eval.evaluate(&surface, p, &layout, &mut buf);
-                    let got = patch_folds(patch, &sectors, &layout.uv, &buf);
+                    let got = patch_folds(patch, &sectors, &layout, &buf);
                     let ribbons = patch.ribbons();
+                    let centre = centre_reference(ribbons, &mut Binomials::default());
                     let expected: Vec<u32> = (0..buf.len() as u32)
                         .filter(|&k| {
                             let (sp, (i, s)) = (&buf[k as usize], sectors.at[k as usize]);
-                            sp.normal != DVec3::ZERO && sp.normal.is_finite() && sp.normal.dot(ribbon_normal(&ribbons[i as usize], s)) < 0.0
+                            let foot = ribbon_normal(&ribbons[i as usize], s);
+                            let r = blended_reference(foot, centre, sectors.centre[k as usize]);
+                            sp.normal != DVec3::ZERO && sp.normal.is_finite() && sp.normal.dot(r) < 0.0
                         })
                         .collect();
                     assert_eq!(got.samples, expected, "{method:?} r = {r}, patch {p}");

@@ -26,7 +26,7 @@
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
-use super::fold::{flipped_triangles, patch_folds, Sectors};
+use super::fold::{dense_folds_of, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
@@ -90,7 +90,9 @@ pub struct SurfaceMesh {
     /// 0 inside patches and on open boundaries.
     pub g1_deviation_deg: Vec<f64>,
     /// Per vertex: 1 where the vertex is folded (a folded sample of some patch, see
-    /// [`super::fold`], or a vertex of a flipped triangle), else 0 (all 0 for subdivision methods).
+    /// [`super::fold`]; for a fold the dense pass found between the samples, the vertices around
+    /// its worst point, [`super::fold::samples_around`]; or a vertex of a flipped triangle), else
+    /// 0 (all 0 for subdivision methods).
     pub fold: Vec<u8>,
     /// Per patch: the fold test's result on the tessellation samples (empty for subdivision).
     pub patch_folds: Vec<TessellationFolds>,
@@ -162,10 +164,14 @@ impl PatchLoops {
 /// The fold test's result for one patch on the samples of the tessellation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TessellationFolds {
-    /// Folded samples of the patch (those shared with a neighbour counted here too).
+    /// Folded samples of the patch: of the tessellation (those shared with a neighbour counted
+    /// here too) and, when `dense`, of the dense pass.
     pub samples: usize,
-    /// Domain point of the worst folded sample.
+    /// Domain point of the worst folded sample (the dense pass's when it found one).
     pub worst: Option<glam::DVec2>,
+    /// The tessellation's samples did not clear the patch ([`super::fold::ClearTest`]), so the
+    /// dense pass ([`super::fold::dense_folds_of`]) decided it.
+    pub dense: bool,
 }
 
 /// Measurements taken while welding.
@@ -542,9 +548,12 @@ fn evaluate_patch<E: PatchEvaluator>(
     if !folds {
         return Ok(());
     }
-    let folds = patch_folds(&surface.patches[p], sectors, &layout.uv, buf);
+    let folds = patch_folds(&surface.patches[p], sectors, layout, buf);
     out.fold.samples = folds.samples.len();
     out.fold.worst = folds.worst;
+    // A patch its samples do not clear goes to the dense pass after this one
+    // (`tessellate_checked`, [`dense_folds_of`]).
+    out.fold.dense = !folds.cleared;
     out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
 }
@@ -650,6 +659,23 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         }
         folded
     };
+    // The dense pass on the patches the samples did not clear (docs/math.md#fold-clearing):
+    // its folded samples add to the patch's count, its worst point is the patch's site, and the
+    // output vertices around that point are marked (the star of the nearest sample).
+    let mut folded = folded;
+    let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
+    if let Some(&first) = uncleared.first() {
+        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.resolution);
+        let found = dense_folds_of(surface, &uncleared, level, evaluator.weight_form());
+        for (&p, (count, worst)) in uncleared.iter().zip(found) {
+            mesh.patch_folds[p].samples += count;
+            let Some(at) = worst else { continue };
+            mesh.patch_folds[p].worst = Some(at);
+            let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
+            let layout = &with_sectors[&surface.patches[p].sides()].0;
+            folded.extend(samples_around(layout, at).iter().map(|&s| ids[s as usize]));
+        }
+    }
     for v in folded {
         if let Some(f) = mesh.fold.get_mut(v as usize) {
             *f = 1;

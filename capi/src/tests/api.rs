@@ -797,24 +797,20 @@ fn dual_report(mesh: &gbsurf::mesh::PolyMesh) -> (*mut GbsurfResult, gbsurf::qua
 #[test]
 fn report_carries_validity_and_accepts_the_first_version() {
     // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
-    // themselves (valid: no intersections beyond the cage's own). A cube with a corner pulled
-    // inside to (-0.5, -0.5, -0.5): the dual surface folds (not valid). The plain torus: no
-    // self-intersections, so the cage is not checked (GBSURF_NOT_CHECKED).
+    // themselves (valid: no intersections beyond the cage's own). OpenSubdiv's rook without its
+    // creases: its dual report counts 24 folded patches, turned over next to a corner (not valid;
+    // docs/math.md#fold-clearing). (A cube with a corner pulled inside to (-0.5, -0.5, -0.5)
+    // served here until the fold rule's blended reference: its dual patches bend strongly but
+    // none turns over.) The plain torus: no self-intersections, so the cage is not checked
+    // (GBSURF_NOT_CHECKED).
     let plain = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let c = torus.positions[0];
     torus.positions[0] = c - 10.0 * glam::DVec3::new(c.x, c.y, 0.0).normalize();
-    let (p, s, f) = cube();
-    let mut cube = gbsurf::mesh::PolyMesh::new(
-        p.chunks(3).map(|c| glam::DVec3::new(c[0], c[1], c[2])).collect(),
-        s.iter().scan(0usize, |at, &n| {
-            *at += n as usize;
-            Some(f[*at - n as usize..*at].to_vec())
-        }).collect(),
-    );
-    let corner = cube.positions.iter().position(|p| *p == glam::DVec3::ONE).expect("a corner at (1, 1, 1)");
-    cube.positions[corner] = glam::DVec3::splat(-0.5);
-    for (mesh, kind) in [(torus, "crossing"), (cube, "folded"), (plain, "plain")] {
+    // Without its crease tags (the C call below passes positions and faces only).
+    let tagged = gbsurf::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/opensubdiv/catmark_rook.obj")).unwrap();
+    let rook = gbsurf::mesh::PolyMesh::new(tagged.positions, tagged.faces);
+    for (mesh, kind) in [(torus, "crossing"), (rook, "folded"), (plain, "plain")] {
         let (r, rust) = dual_report(&mesh);
         match kind {
             "folded" => assert!(rust.folds > 0 && !rust.fold_sites.is_empty() && !rust.valid, "{rust:?}"),
@@ -833,7 +829,7 @@ fn report_carries_validity_and_accepts_the_first_version() {
             assert_eq!(gbsurf_result_report(r, &mut rep), GBSURF_OK);
             assert_eq!(rep.struct_size, REPORT_SIZE);
             assert_eq!(rep.valid, rust.valid as u32);
-            assert_eq!(rep.input_closed, 1);
+            assert_eq!(rep.input_closed, rust.input_closed as u32);
             assert_eq!(rep.self_intersections as usize, rust.self_intersections);
             let cage = rust.input_self_intersections.map_or(GBSURF_NOT_CHECKED, |n| n as u64);
             assert_eq!(rep.input_self_intersections, cage);
