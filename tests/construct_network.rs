@@ -152,3 +152,36 @@ fn orientation_and_option_errors() {
     net.patches[1].corner_twists.truncate(2);
     assert!(matches!(assemble(&net, &opts(TwistMode::Interp)), Err(ConstructError::TooFewSides { patch: 1, sides: 2 })));
 }
+
+/// The end scales λ enter D = (λ_A X_A − λ_B X_B)/2 only (docs/math.md#direction-blends): with
+/// λ = 2 at every end next to the shared curve and D_{0.5} doubled (`mid_scale` 2), D doubles,
+/// α halves and the twists are those of λ = 1 (up to rounding), while D_{0.5} doubled alone
+/// moves them. A single λ_A ≠ λ_B still gives G1 twists, other than λ = 1's.
+#[test]
+fn end_scales_scale_the_blends_direction() {
+    let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
+    let twists = |net: &CurveNetwork, o: &ConvertOptions| {
+        let s = assemble(net, o).unwrap();
+        let r = |p: usize| s.patches[p].ribbons()[0].row(1).to_vec();
+        (r(0), r(1), ribbon_g1_angle(&s, 33).value)
+    };
+    let dist = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(x, y)| x.distance(*y)).fold(0.0f64, f64::max);
+    for mode in [TwistMode::Approx, TwistMode::Interp] {
+        let one = twists(&net, &opts(mode));
+        let mut doubled = net.clone();
+        doubled.end_scale = vec![[1.0, 1.0], [2.0, 2.0], [2.0, 2.0], [2.0, 2.0], [2.0, 2.0]];
+        let o2 = ConvertOptions { mid_scale: 2.0, ..opts(mode) };
+        let two = twists(&doubled, &o2);
+        let mid_only = twists(&net, &o2);
+        let d = dist(&one.0, &two.0).max(dist(&one.1, &two.1));
+        let m = dist(&one.0, &mid_only.0).max(dist(&one.1, &mid_only.1));
+        assert!(d <= 1e-12, "{mode:?}: λ = 2 with D_0.5 doubled moved the twists by {d}");
+        assert!(m >= 1e-3, "{mode:?}: D_0.5 doubled alone moved the twists by {m} only");
+        // λ_A = 2 at C0 only (curve 2 is A's side before the shared curve, ending at C0).
+        let mut one_end = net.clone();
+        one_end.end_scale = vec![[1.0, 1.0], [1.0, 1.0], [1.0, 2.0]];
+        let skew = twists(&one_end, &opts(mode));
+        assert!(skew.2 < 1e-8, "{mode:?}: G1 {}° with λ_A = 2", skew.2);
+        assert!(dist(&one.0, &skew.0) >= 1e-3, "{mode:?}: λ_A = 2 at C0 left the twists");
+    }
+}
