@@ -518,8 +518,17 @@ pub fn split_creases(
                 // at sharpness 1): its midpoint maps to V, the one point of every frame it meets.
                 mids.push(Mid::At(Pt::Vertex));
             } else {
-                mids.push(Mid::Avg(Pt::Edge(j1 % n), Pt::Vertex));
-                mids.push(Mid::Avg(Pt::Vertex, Pt::Edge(j0 % n)));
+                // A spoke's midpoint is (V + M_e)/2, or V where the sector it closes at F_e (the
+                // one whose last face it follows) spans two faces or more: that sector's X corner
+                // is in the frame of its first face, where M_e is no frame point and would count
+                // as V in one quad and not in the next (docs/math.md#cage-corners). The same rule
+                // in both sectors at the spoke.
+                let span = |t: usize| (js[(t + 1) % kc] + n - js[t] - 1) % n + 1;
+                let spoke_mid = |e: usize, closes: usize| {
+                    if span(closes) >= 2 { Mid::At(Pt::Vertex) } else { Mid::Avg(Pt::Edge(e % n), Pt::Vertex) }
+                };
+                mids.push(spoke_mid(j1, s));
+                mids.push(spoke_mid(j0, (s + kc - 1) % kc));
                 corners.push((Pt::Vertex, j0 % n));
             }
             corners.push((Pt::Edge(j0 % n), j0 % n));
