@@ -185,3 +185,55 @@ fn end_scales_scale_the_blends_direction() {
         assert!(dist(&one.0, &skew.0) >= 1e-3, "{mode:?}: λ_A = 2 at C0 left the twists");
     }
 }
+
+/// The fan split of a patch of more than 64 sides gives spoke i the D_{0.5} (D(0) + D(1))/2 with
+/// D(1) the blend's own end direction at N_i, end scales included (docs/math.md#high-valence-split):
+/// sides whose inner control points are halved towards their ends, with end scale 2 at both
+/// ends, give every spoke the D_{0.5} of the unhalved sides with scale 1 (their λX agree).
+#[test]
+fn fan_split_spokes_use_the_end_scales() {
+    use gbsurf::construct::network::split_large_patches;
+    let n = 70;
+    let node = |i: usize| {
+        let t = std::f64::consts::TAU * (i % n) as f64 / n as f64;
+        DVec3::new(t.cos(), t.sin(), 0.1 * (3.0 * t).sin())
+    };
+    // Side i runs from N_{i−1} to N_i, bulging upwards; `half` moves its inner points halfway
+    // towards its ends.
+    let network = |half: bool, scale: f64| {
+        let f = if half { 0.5 } else { 1.0 };
+        let curves: Vec<[DVec3; 4]> = (0..n)
+            .map(|i| {
+                let (a, b) = (node(i + n - 1), node(i));
+                let (c1, c2) = (a + (b - a) / 3.0 + 0.05 * DVec3::Z, b + (a - b) / 3.0 + 0.05 * DVec3::Z);
+                [a, a + f * (c1 - a), b + f * (c2 - b), b]
+            })
+            .collect();
+        CurveNetwork {
+            nodes: (0..n).map(node).collect(),
+            node_normals: vec![DVec3::Z; n],
+            curves,
+            curve_nodes: (0..n).map(|i| [(i + n - 1) % n, i]).collect(),
+            mid: vec![DVec3::ZERO; n],
+            crease: Vec::new(),
+            end_scale: vec![[scale, scale]; n],
+            patches: vec![PatchLayout {
+                sides: (0..n).map(|i| SideUse { curve: i, reversed: false }).collect(),
+                corner_twists: vec![DVec3::ZERO; n],
+                center: Some(DVec3::new(0.0, 0.0, 0.3)),
+                source: PatchSource::Vertex(0),
+            }],
+        }
+    };
+    let spoke_mids = |net: &CurveNetwork| {
+        let (split, parts) = split_large_patches(net, 64).expect("the patch is split");
+        assert_eq!(parts[0].parts.len(), n);
+        split.mid[n..].to_vec()
+    };
+    let plain = spoke_mids(&network(false, 1.0));
+    let dist = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(x, y)| x.distance(*y)).fold(0.0f64, f64::max);
+    let scaled = dist(&plain, &spoke_mids(&network(true, 2.0)));
+    let unscaled = dist(&plain, &spoke_mids(&network(true, 1.0)));
+    assert!(scaled <= 1e-12, "halved sides with end scale 2 moved the spokes' D_0.5 by {scaled}");
+    assert!(unscaled >= 1e-3, "halved sides with end scale 1 moved the spokes' D_0.5 by {unscaled} only");
+}
