@@ -122,19 +122,28 @@ fn main() {
                                 );
                             }
                             PatchSource::Face(fi) => {
-                                let fid = FaceId(fi as u32);
-                                let vs: Vec<VertexId> = he.face_vertices(fid).collect();
+                                // `fi` is the face as written; the half-edge mesh holds its
+                                // pieces (a face with holes is split there): the line covers them
+                                // all, the dihedral only across edges to other input faces.
+                                let pieces: Vec<FaceId> = he.faces().filter(|&g| he.input_face(g) == fi).collect();
+                                let hs: Vec<_> = pieces.iter().flat_map(|&g| he.face_halfedges(g)).collect();
+                                let mut vs: Vec<VertexId> = hs.iter().map(|&h| he.origin(h)).collect();
+                                vs.sort_by_key(|v| v.idx());
+                                vs.dedup();
                                 let val: Vec<usize> = vs.iter().map(|&v| he.valence(v)).collect();
-                                let lens: Vec<f64> = he.face_halfedges(fid).map(|h| (he.position(he.target(h)) - he.position(he.origin(h))).length()).collect();
+                                let outer = |h: &&_| he.face(he.twin(**h)).is_none_or(|g| he.input_face(g) != fi);
+                                let lens: Vec<f64> = hs.iter().filter(outer).map(|&h| (he.position(he.target(h)) - he.position(he.origin(h))).length()).collect();
                                 let aspect = lens.iter().cloned().fold(0.0, f64::max) / lens.iter().cloned().fold(f64::MAX, f64::min);
-                                let dih = he
-                                    .face_halfedges(fid)
-                                    .filter_map(|h| he.face(he.twin(h)))
-                                    .map(|g| fnorm[fi].dot(fnorm[g.idx()]).clamp(-1.0, 1.0).acos().to_degrees())
+                                let dih = hs
+                                    .iter()
+                                    .filter(outer)
+                                    .filter_map(|&h| Some((he.face(h)?, he.face(he.twin(h))?)))
+                                    .map(|(a, b)| fnorm[a.idx()].dot(fnorm[b.idx()]).clamp(-1.0, 1.0).acos().to_degrees())
                                     .fold(0.0, f64::max);
                                 let cf: Vec<bool> = vs.iter().map(|v| cage_fold[v.idx()]).collect();
                                 println!(
-                                    "  patch {p:4} face {fi:4} sides {} valences {:?} aspect {:.1} cage-fold {:?} max dihedral {:5.1} samples {:3} worst ({:.2},{:.2}) |uv| {:.2}",
+                                    "  patch {p:4} face {fi:4} ({} pieces) sides {} valences {:?} aspect {:.1} cage-fold {:?} max dihedral {:5.1} samples {:3} worst ({:.2},{:.2}) |uv| {:.2}",
+                                    pieces.len(),
                                     vs.len(),
                                     val,
                                     aspect,

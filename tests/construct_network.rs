@@ -152,3 +152,88 @@ fn orientation_and_option_errors() {
     net.patches[1].corner_twists.truncate(2);
     assert!(matches!(assemble(&net, &opts(TwistMode::Interp)), Err(ConstructError::TooFewSides { patch: 1, sides: 2 })));
 }
+
+/// The end scales λ enter D = (λ_A X_A − λ_B X_B)/2 only (docs/math.md#direction-blends): with
+/// λ = 2 at every end next to the shared curve and D_{0.5} doubled (`mid_scale` 2), D doubles,
+/// α halves and the twists are those of λ = 1 (up to rounding), while D_{0.5} doubled alone
+/// moves them. A single λ_A ≠ λ_B still gives G1 twists, other than λ = 1's.
+#[test]
+fn end_scales_scale_the_blends_direction() {
+    let net = two_triangles(DVec3::new(0.1, 0.2, 1.0), DVec3::new(-0.2, 0.1, 1.0), [1.0; 6], [1.2; 4], DVec3::Y);
+    let twists = |net: &CurveNetwork, o: &ConvertOptions| {
+        let s = assemble(net, o).unwrap();
+        let r = |p: usize| s.patches[p].ribbons()[0].row(1).to_vec();
+        (r(0), r(1), ribbon_g1_angle(&s, 33).value)
+    };
+    let dist = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(x, y)| x.distance(*y)).fold(0.0f64, f64::max);
+    for mode in [TwistMode::Approx, TwistMode::Interp] {
+        let one = twists(&net, &opts(mode));
+        let mut doubled = net.clone();
+        doubled.end_scale = vec![[1.0, 1.0], [2.0, 2.0], [2.0, 2.0], [2.0, 2.0], [2.0, 2.0]];
+        let o2 = ConvertOptions { mid_scale: 2.0, ..opts(mode) };
+        let two = twists(&doubled, &o2);
+        let mid_only = twists(&net, &o2);
+        let d = dist(&one.0, &two.0).max(dist(&one.1, &two.1));
+        let m = dist(&one.0, &mid_only.0).max(dist(&one.1, &mid_only.1));
+        assert!(d <= 1e-12, "{mode:?}: λ = 2 with D_0.5 doubled moved the twists by {d}");
+        assert!(m >= 1e-3, "{mode:?}: D_0.5 doubled alone moved the twists by {m} only");
+        // λ_A = 2 at C0 only (curve 2 is A's side before the shared curve, ending at C0).
+        let mut one_end = net.clone();
+        one_end.end_scale = vec![[1.0, 1.0], [1.0, 1.0], [1.0, 2.0]];
+        let skew = twists(&one_end, &opts(mode));
+        assert!(skew.2 < 1e-8, "{mode:?}: G1 {}° with λ_A = 2", skew.2);
+        assert!(dist(&one.0, &skew.0) >= 1e-3, "{mode:?}: λ_A = 2 at C0 left the twists");
+    }
+}
+
+/// The fan split of a patch of more than 64 sides gives spoke i the D_{0.5} (D(0) + D(1))/2 with
+/// D(1) the blend's own end direction at N_i, end scales included (docs/math.md#high-valence-split):
+/// sides whose inner control points are halved towards their ends, with end scale 2 at both
+/// ends, give every spoke the D_{0.5} of the unhalved sides with scale 1 (their λX agree).
+#[test]
+fn fan_split_spokes_use_the_end_scales() {
+    use gbsurf::construct::network::split_large_patches;
+    let n = 70;
+    let node = |i: usize| {
+        let t = std::f64::consts::TAU * (i % n) as f64 / n as f64;
+        DVec3::new(t.cos(), t.sin(), 0.1 * (3.0 * t).sin())
+    };
+    // Side i runs from N_{i−1} to N_i, bulging upwards; `half` moves its inner points halfway
+    // towards its ends.
+    let network = |half: bool, scale: f64| {
+        let f = if half { 0.5 } else { 1.0 };
+        let curves: Vec<[DVec3; 4]> = (0..n)
+            .map(|i| {
+                let (a, b) = (node(i + n - 1), node(i));
+                let (c1, c2) = (a + (b - a) / 3.0 + 0.05 * DVec3::Z, b + (a - b) / 3.0 + 0.05 * DVec3::Z);
+                [a, a + f * (c1 - a), b + f * (c2 - b), b]
+            })
+            .collect();
+        CurveNetwork {
+            nodes: (0..n).map(node).collect(),
+            node_normals: vec![DVec3::Z; n],
+            curves,
+            curve_nodes: (0..n).map(|i| [(i + n - 1) % n, i]).collect(),
+            mid: vec![DVec3::ZERO; n],
+            crease: Vec::new(),
+            end_scale: vec![[scale, scale]; n],
+            patches: vec![PatchLayout {
+                sides: (0..n).map(|i| SideUse { curve: i, reversed: false }).collect(),
+                corner_twists: vec![DVec3::ZERO; n],
+                center: Some(DVec3::new(0.0, 0.0, 0.3)),
+                source: PatchSource::Vertex(0),
+            }],
+        }
+    };
+    let spoke_mids = |net: &CurveNetwork| {
+        let (split, parts) = split_large_patches(net, 64).expect("the patch is split");
+        assert_eq!(parts[0].parts.len(), n);
+        split.mid[n..].to_vec()
+    };
+    let plain = spoke_mids(&network(false, 1.0));
+    let dist = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(x, y)| x.distance(*y)).fold(0.0f64, f64::max);
+    let scaled = dist(&plain, &spoke_mids(&network(true, 2.0)));
+    let unscaled = dist(&plain, &spoke_mids(&network(true, 1.0)));
+    assert!(scaled <= 1e-12, "halved sides with end scale 2 moved the spokes' D_0.5 by {scaled}");
+    assert!(unscaled >= 1e-3, "halved sides with end scale 1 moved the spokes' D_0.5 by {unscaled} only");
+}

@@ -447,6 +447,70 @@ fn dual_crease_sweep_is_continuous() {
     assert!(jump <= 0.08 && jump < full / 5.0, "sharpness 0 -> 1e-9 moved the surface {jump}");
 }
 
+/// The halves' face-centroid ends count twice in the blends' D (`CurveNetwork::end_scale`,
+/// docs/math.md#direction-blends), so as the sharpness tends to 0 the patches next to a sector
+/// without a cut edge of their own keep S₀'s ribbons: on the cube with its top loop sharp at
+/// 1e-9 the bottom vertices' patches equal those without crease data up to rounding (measured
+/// 0 with them; without, the largest control point moved 0.296, the surface 0.037).
+#[test]
+fn dual_crease_leaves_the_unsplit_patches_alone_as_sharpness_tends_to_0() {
+    use gbsurf::construct::PatchSource;
+    let base = cube();
+    let plain = dual_surface(&base);
+    let split = dual_surface(&with_creases(base.clone(), top_loop(&base), 1e-9));
+    fn patch(s: &Surface, v: usize) -> &gbsurf::construct::Patch {
+        let mut of = s.sources.iter().enumerate().filter(|(_, &x)| x == PatchSource::Vertex(v)).map(|(p, _)| p);
+        let p = of.next().expect("every vertex has a patch");
+        assert!(of.next().is_none(), "vertex {v} is split");
+        &s.patches[p]
+    }
+    let mut worst = 0.0f64;
+    for v in (0..base.positions.len()).filter(|&v| base.positions[v].z < 0.0) {
+        let (a, b) = (patch(&plain, v), patch(&split, v));
+        assert_eq!(a.sides(), b.sides());
+        for (ra, rb) in a.ribbons().iter().zip(b.ribbons()) {
+            for k in 0..ra.layers() {
+                for (pa, pb) in ra.row(k).iter().zip(rb.row(k)) {
+                    worst = worst.max(pa.distance(*pb));
+                }
+            }
+        }
+    }
+    println!("dual crease at 1e-9: the bottom vertices' ribbons move by {worst:.2e}");
+    assert!(worst <= 1e-12, "the unsplit patches' ribbons moved by {worst}");
+}
+
+/// A vertex of valence 4 with three sharp edges (a T-junction: a torus with two longitude
+/// loops sharp and the meridian segment joining them) has a sector spanning two faces; the
+/// spoke into it has no point in the frame of the sector's V corner, so its midpoint maps to V
+/// in both sectors at that spoke (docs/math.md#cage-corners). A per-vertex attribute (the cage
+/// positions over the extent) is then continuous at every output vertex; bound as above, 1e-5.
+#[test]
+fn dual_t_junction_keeps_per_vertex_attributes_continuous() {
+    let (nu, nv) = (8usize, 6usize);
+    let mut m = gbsurf::mesh::generate::torus(nu, nv, 2.0, 0.7).unwrap();
+    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let mut sharp: Vec<[u32; 2]> = Vec::new();
+    for i in 0..nu {
+        sharp.push([id(i, 0), id(i + 1, 0)]);
+        sharp.push([id(i, 3), id(i + 1, 3)]);
+    }
+    sharp.extend((0..3).map(|j| [id(0, j), id(0, j + 1)]));
+    let extent = 2.0 * (2.0 + 0.7);
+    let (sizes, hole_faces, hole_sizes) = cage_faces(&m);
+    let faces = gbsurf::tessellate::CageFaces { sizes: &sizes, hole_faces: &hole_faces, hole_sizes: &hole_sizes };
+    let values = per_corner(&m, |_, v| (m.positions[v as usize] / extent).to_array().map(|x| x as f32));
+    for c in [1.0, 0.5] {
+        m.creases.edges = sharp.iter().map(|&[a, b]| ([a.min(b), a.max(b)], c)).collect();
+        let opts = ConvertOptions { method: Method::Dual, resolution: 4, ..Default::default() };
+        let conv = convert(&m, &opts, None).unwrap();
+        assert!(conv.report.sharp_edges >= sharp.len(), "sharpness {c}: {:?}", conv.warnings);
+        let jump = loop_jump(&conv.mesh, &conv.mesh.cage_loop_values(faces, &values, 3).unwrap(), 3, false);
+        println!("dual T-junction at {c}: cage positions / extent jump by {jump:.2e} at an output vertex");
+        assert!(jump <= 1e-5, "sharpness {c}: the cage positions jump by {jump} of the extent");
+    }
+}
+
 #[test]
 fn dual_open_chains_and_lone_corners_are_left_smooth_with_a_warning() {
     let base = cube();

@@ -245,6 +245,7 @@ fn sharp_cap_loops(m: &PolyMesh, c: f64) -> Vec<(&'static str, PolyMesh)> {
 #[test]
 fn dual_crease_sectors_stay_continuous_across_split_diagonals() {
     let mut bad = Vec::new();
+    let mut worst_step = 0.0f64;
     for (name, base) in holed_slabs() {
         let (sizes, hole_faces, hole_sizes) = cage_faces(&base);
         let faces = CageFaces { sizes: &sizes, hole_faces: &hole_faces, hole_sizes: &hole_sizes };
@@ -261,13 +262,17 @@ fn dual_crease_sectors_stay_continuous_across_split_diagonals() {
                 let jump = loop_jump(&conv.mesh, &out, 3, false);
                 let step = neighbour_difference(&conv.mesh, &out, 3, false);
                 eprintln!("{name}, {what} sharp at {c}: positions/extent jump {jump:.2e}, neighbour diff. {step:.3}");
+                worst_step = worst_step.max(step);
                 if jump > 1e-5 {
                     bad.push(format!("{name}, {what} sharp at {c}: the positions jump by {jump} (of the extent)"));
                 }
             }
         }
     }
+    eprintln!("largest neighbour difference {worst_step:.4}");
     assert!(bad.is_empty(), "{bad:#?}");
+    // Measured 0.1556 (the concave outer slab; 0.125 on the others, resolution 4).
+    assert!(worst_step <= 0.16, "neighbouring output vertices differ by {worst_step} of the extent");
 }
 
 /// `Surface::sources` names the faces as the user wrote them (the pieces of a holed cap, and of

@@ -49,8 +49,8 @@
 //!   T-junction or a reflex corner one sector would span π or more at V, which a single patch
 //!   cannot do without folding; there w₃ = c_V;
 //! - D_{0.5}: the halves keep D_e's; a cut curve or spoke gets the mean of its end directions
-//!   (X_L − X_R)·3/2 from its two sectors' neighbouring sides, as the high-valence split does
-//!   (docs/math.md#high-valence-split);
+//!   (λ_L X_L − λ_R X_R)/2 (`end_d`; λ = 1 at F_e and X) from its two sectors' neighbouring
+//!   sides, as the high-valence split does (docs/math.md#high-valence-split);
 //! - first-approximation twists: eq. 2.11 at the face-centroid corners, the parallelogram point
 //!   at F_e and X.
 //!
@@ -62,7 +62,7 @@
 //! measured in tests/creases.rs). Sharpness exactly 0 takes none of these steps.
 
 use crate::gb::Evaluate;
-use super::network::{side_points, CurveNetwork, PatchLayout, SideUse};
+use super::network::{end_d, side_end_scale, side_points, CurveNetwork, PatchLayout, SideUse};
 use super::surface::{CageSector, Diagonals, Patch, SectorMap, Surface};
 use crate::gb::Domain;
 use crate::mesh::{EdgeId, HalfEdgeMesh, HalfedgeId, VertexId};
@@ -407,6 +407,16 @@ pub fn split_creases(
             (t.dot(s.u) / 3.0).max(0.05 * t.length() / 3.0)
         };
         let ell = |s: &Side, l0: f64, l1: f64| l0 + s.c * (l1 - l0);
+        // D at F_e of a curve leaving F_e (eq. 4.7 with the end scales, `end_d`), from the two
+        // halves of side s: X of the second half (at its start) on the curve's left when
+        // `second_left`, else X of the first half (at its end). The halves' scales are 1 at F_e
+        // (2 only at their face-centroid ends), so this is (X_L − X_R)/2.
+        let d_at_f = |out: &CurveNetwork, s: &Side, second_left: bool| {
+            let xs = (side_end_scale(out, s.second_use, false), 3.0 * (s.second[1] - s.f));
+            let xf = (side_end_scale(out, s.first_use, true), 3.0 * (s.first[2] - s.f));
+            let ((la, xa), (lb, xb)) = if second_left { (xs, xf) } else { (xf, xs) };
+            end_d([la, lb], xa, xb)
+        };
         let first_spoke = out.curves.len();
         let mut closing: Vec<Vec<SideUse>> = Vec::with_capacity(kc);
         if kc == 2 {
@@ -417,8 +427,7 @@ pub fn split_creases(
             let kcurve = [sa.f, sa.f + la * sa.u, sb.f + lb * sb.u, sb.f];
             // Left = sector 1 (runs F_a → F_b forward): at F_a it holds the first half of side a,
             // at F_b the second half of side b.
-            let d0 = 1.5 * (sa.first[2] - sa.second[1]);
-            let d1 = 1.5 * (sb.second[1] - sb.first[2]);
+            let (d0, d1) = (d_at_f(&out, sa, false), d_at_f(&out, sb, true));
             out.curves.push(kcurve);
             out.curve_nodes.push([sa.node, sb.node]);
             out.mid.push(mid_constraint(&kcurve, eval((sa.mid_uv + sb.mid_uv) / 2.0), d0, d1, sa.c.min(sb.c)));
@@ -468,8 +477,8 @@ pub fn split_creases(
             for (i, s) in sides.iter().enumerate() {
                 let (next, prev) = (&spokes[(i + 1) % kc], &spokes[(i + kc - 1) % kc]);
                 // Left = sector i: at X its other spoke is i+1; at F it holds the second half.
-                let d0 = 1.5 * (next[1] - prev[1]);
-                let d1 = 1.5 * (s.second[1] - s.first[2]);
+                let d0 = end_d([1.0, 1.0], 3.0 * (next[1] - x), 3.0 * (prev[1] - x)); // spokes: new curves
+                let d1 = d_at_f(&out, s, true);
                 out.curves.push(spokes[i]);
                 out.curve_nodes.push([node, s.node]);
                 out.mid.push(mid_constraint(&spokes[i], eval(s.mid_uv / 2.0), d0, d1, s.c));
@@ -509,8 +518,17 @@ pub fn split_creases(
                 // at sharpness 1): its midpoint maps to V, the one point of every frame it meets.
                 mids.push(Mid::At(Pt::Vertex));
             } else {
-                mids.push(Mid::Avg(Pt::Edge(j1 % n), Pt::Vertex));
-                mids.push(Mid::Avg(Pt::Vertex, Pt::Edge(j0 % n)));
+                // A spoke's midpoint is (V + M_e)/2, or V where the sector it closes at F_e (the
+                // one whose last face it follows) spans two faces or more: that sector's X corner
+                // is in the frame of its first face, where M_e is no frame point and would count
+                // as V in one quad and not in the next (docs/math.md#cage-corners). The same rule
+                // in both sectors at the spoke.
+                let span = |t: usize| (js[(t + 1) % kc] + n - js[t] - 1) % n + 1;
+                let spoke_mid = |e: usize, closes: usize| {
+                    if span(closes) >= 2 { Mid::At(Pt::Vertex) } else { Mid::Avg(Pt::Edge(e % n), Pt::Vertex) }
+                };
+                mids.push(spoke_mid(j1, s));
+                mids.push(spoke_mid(j0, (s + kc - 1) % kc));
                 corners.push((Pt::Vertex, j0 % n));
             }
             corners.push((Pt::Edge(j0 % n), j0 % n));

@@ -57,9 +57,9 @@ pub struct CurveNetwork {
     pub crease: Vec<f64>,
     /// `end_scale[c][k]`: the factor by which the end vector X = 3(P − C) that curve c gives a
     /// blend at its end k (as the side next to the blended one at that corner) enters
-    /// D = (X_A − X_B)/2 (docs/math.md#direction-blends): 2 at the face-centroid ends of the halves
-    /// of a cut dual curve, whose parameter runs twice as fast as the curve's
-    /// (docs/math.md#dual-creases). Empty or shorter than `curves`: 1.
+    /// D = (λ_A X_A − λ_B X_B)/2 as λ ([`end_d`], docs/math.md#direction-blends): 2 at the
+    /// face-centroid ends of the halves of a cut dual curve, whose parameter runs twice as fast
+    /// as the curve's (docs/math.md#dual-creases). Empty or shorter than `curves`: 1.
     pub end_scale: Vec<[f64; 2]>,
 }
 
@@ -340,12 +340,8 @@ fn shared_twists(
 ) -> Result<[DVec3; 4], ConstructError> {
     let cc = net.curves[c];
     let (na, nb) = (ra.len(), rb.len());
-    // The end scale (CurveNetwork::end_scale) of the side next to the corner: side i of patch p,
-    // at its end (`at_end`) or its start.
-    let scale = |p: usize, i: usize, at_end: bool| {
-        let u = net.patches[p].sides[i];
-        net.end_scale.get(u.curve).map_or(1.0, |s| s[usize::from(at_end != u.reversed)])
-    };
+    // The end scale of the side next to the corner: side i of patch p, at its end or its start.
+    let scale = |p: usize, i: usize, at_end: bool| side_end_scale(net, net.patches[p].sides[i], at_end);
     let (la0, la1) = (scale(pa, (sa + na - 1) % na, true), scale(pa, (sa + 1) % na, false));
     let (lb0, lb1) = (scale(pb, (sb + 1) % nb, false), scale(pb, (sb + nb - 1) % nb, true));
     // Cross-derivatives fixed by the network, all in A's parameter s.
@@ -355,8 +351,8 @@ fn shared_twists(
     let xb1 = 3.0 * (rb[(sb + nb - 1) % nb][0][2] - cc[3]);
     let t0 = 3.0 * (cc[1] - cc[0]);
     let t1 = 3.0 * (cc[3] - cc[2]);
-    let d0 = end_direction(la0 * xa0, lb0 * xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
-    let d1 = end_direction(la1 * xa1, lb1 * xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
+    let d0 = end_direction([la0, lb0], xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
+    let d1 = end_direction([la1, lb1], xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
     let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
     let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
         decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
@@ -365,7 +361,7 @@ fn shared_twists(
     let (aa1, ba1) = dec(xa1, d1, t1, 1)?;
     let (ab0, bb0) = dec(xb0, d0, t0, 0)?;
     let (ab1, bb1) = dec(xb1, d1, t1, 1)?;
-    // With D = (X_A − X_B)/2, α_A > 0 > α_B iff X_A and X_B lie on opposite sides of T. Equal
+    // With D = (λ_A X_A − λ_B X_B)/2, λ > 0, α_A > 0 > α_B iff X_A and X_B lie on opposite sides of T. Equal
     // signs mean the network folds at that node: the blend would still make the tangent planes
     // agree, but with opposite normals (a 180° flip), so report it instead.
     for (end, aa, ab) in [(0, aa0, ab0), (1, aa1, ab1)] {
@@ -379,11 +375,24 @@ fn shared_twists(
     Ok([cc[1] + qa[1] / 3.0, cc[2] + qa[2] / 3.0, cc[2] + qb[2] / 3.0, cc[1] + qb[1] / 3.0])
 }
 
-/// D at a curve end (seed 000 eq. 4.7): (X_A − X_B)/2; `None` when it is parallel to the tangent
-/// (both cross-derivatives on the same side of the curve by the same amount: a folded or
-/// degenerate corner).
-fn end_direction(xa: DVec3, xb: DVec3, t: DVec3) -> Option<DVec3> {
-    let d = 0.5 * (xa - xb);
+/// The end scale λ ([`CurveNetwork::end_scale`]) of side `u` at its end (`at_end`) or its start,
+/// as the patch traverses it: 1 unless the network sets it.
+pub(super) fn side_end_scale(net: &CurveNetwork, u: SideUse, at_end: bool) -> f64 {
+    net.end_scale.get(u.curve).map_or(1.0, |s| s[usize::from(at_end != u.reversed)])
+}
+
+/// D at a curve end (seed 000 eq. 4.7 with the end scales, docs/math.md#direction-blends):
+/// (λ_A X_A − λ_B X_B)/2, X_A, X_B the end vectors 3(P − C) of the sides next to the corner in
+/// the two patches and λ_A, λ_B those sides' end scales there ([`side_end_scale`]). The one
+/// place D is written: the blends, the fan split's and the dual creases' D_{0.5} use it.
+pub(super) fn end_d([la, lb]: [f64; 2], xa: DVec3, xb: DVec3) -> DVec3 {
+    0.5 * (la * xa - lb * xb)
+}
+
+/// [`end_d`], `None` when D is parallel to the tangent (both cross-derivatives on the same side
+/// of the curve by the same amount: a folded or degenerate corner).
+fn end_direction(scales: [f64; 2], xa: DVec3, xb: DVec3, t: DVec3) -> Option<DVec3> {
+    let d = end_d(scales, xa, xb);
     decompose(xa, d, t).map(|_| d)
 }
 
@@ -425,8 +434,8 @@ pub struct SplitPatch {
 /// - part j: sides (side j, spoke j reversed, spoke j−1), CGB (no central point), corner twists
 ///   the parallelogram points C_a[2] + C_b[1] − C_a[3] of the two sides meeting there;
 /// - D_{0.5} of spoke i: (D(0) + D(1))/2, D(0), D(1) the blend's end directions from the two
-///   parts' neighbouring sides (eq. 4.7), so the direction blend is linear along the spoke in
-///   both blend kinds.
+///   parts' neighbouring sides ([`end_d`], with their end scales), so the direction blend is
+///   linear along the spoke in both blend kinds.
 ///
 /// A patch whose spokes would leave a tangent plane degenerate (a corner straight above or below
 /// c, or no Newell normal) is left unsplit. `None` when nothing is split.
@@ -477,9 +486,11 @@ pub fn split_large_patches(net: &CurveNetwork, max_sides: usize) -> Option<(Curv
         for (i, s) in spokes.iter().enumerate() {
             // Parts i+1 (forward, A) and i (reversed, B): D(0) from the neighbouring spokes,
             // D(1) from the sides i+1 and i at N_i (docs/math.md#high-valence-split).
+            // The spokes are new curves (end scale 1); sides i+1 and i keep theirs.
             let (next, prev) = (&spokes[(i + 1) % n], &spokes[(i + n - 1) % n]);
-            let d0 = 1.5 * (next[1] - prev[1]);
-            let d1 = 1.5 * (pts[(i + 1) % n][1] - pts[i][2]);
+            let d0 = end_d([1.0, 1.0], 3.0 * (next[1] - c), 3.0 * (prev[1] - c));
+            let scales = [side_end_scale(net, lay.sides[(i + 1) % n], false), side_end_scale(net, lay.sides[i], true)];
+            let d1 = end_d(scales, 3.0 * (pts[(i + 1) % n][1] - corners[i]), 3.0 * (pts[i][2] - corners[i]));
             out.curves.push(*s);
             out.curve_nodes.push([centre_node, corner_node(i)]);
             out.mid.push(0.5 * (d0 + d1));
