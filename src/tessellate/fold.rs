@@ -395,18 +395,47 @@ pub fn dense_folds_of(
     level: usize,
     form: WeightForm,
 ) -> Vec<(usize, Option<DVec2>)> {
+    let done = dense_folds_of_ticked(surface, which, level, form, which.len(), &mut |_| Ok::<(), std::convert::Infallible>(()));
+    match done {
+        Ok(v) => v,
+        Err(never) => match never {},
+    }
+}
+
+/// [`dense_folds_of`] in chunks of `chunk` patches (the tables made once), calling `on_chunk`
+/// with the number of patches done after each chunk on the calling thread; its error stops the
+/// pass (a cancel takes effect after the running chunk).
+pub fn dense_folds_of_ticked<E>(
+    surface: &Surface,
+    which: &[usize],
+    level: usize,
+    form: WeightForm,
+    chunk: usize,
+    on_chunk: &mut dyn FnMut(usize) -> Result<(), E>,
+) -> Result<Vec<(usize, Option<DVec2>)>, E> {
     use rayon::prelude::*;
     let level = level.max(1);
-    let direct = || {
-        let one = |p: usize| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form));
-        which.par_iter().map(|&p| one(p)).collect()
+    let chunk = chunk.max(1);
+    let mut out = Vec::with_capacity(which.len());
+    // Runs `one` on the patches in chunks (indices into `which`), ticking after each.
+    let mut chunked = |one: &(dyn Fn(&mut Vec<SurfacePoint>, usize) -> (usize, Option<DVec2>) + Sync)| -> Result<(), E> {
+        let mut done = 0;
+        while done < which.len() {
+            let end = (done + chunk).min(which.len());
+            out.par_extend((done..end).into_par_iter().map_init(Vec::new, |buf, k| one(buf, k)));
+            done = end;
+            on_chunk(done)?;
+        }
+        Ok(())
     };
+    let direct = |_: &mut Vec<SurfacePoint>, k: usize| surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form));
     if which.is_empty() {
-        return Vec::new();
+        return Ok(out);
     }
     let patches: Vec<Patch> = which.iter().filter_map(|&p| surface.patches.get(p).cloned()).collect();
     if patches.len() != which.len() {
-        return direct();
+        chunked(&direct)?;
+        return Ok(out);
     }
     let sub = Surface {
         patches,
@@ -417,7 +446,10 @@ pub fn dense_folds_of(
         creases: Vec::new(),
         cage: Vec::new(),
     };
-    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else { return direct() };
+    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else {
+        chunked(&direct)?;
+        return Ok(out);
+    };
     let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
     for p in &sub.patches {
         layouts.entry(p.sides()).or_insert_with(|| {
@@ -426,19 +458,18 @@ pub fn dense_folds_of(
             Some((Sectors::new(&domain, &layout.uv), layout))
         });
     }
-    sub.patches
-        .par_iter()
-        .enumerate()
-        .map_init(Vec::new, |buf, (i, p)| {
-            let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
-            eval.evaluate(&sub, i, layout, buf);
-            if buf.len() != layout.uv.len() {
-                return dense_folds(p, level, form);
-            }
-            let f = patch_folds(p, sectors, layout, buf);
-            (f.samples.len(), f.worst)
-        })
-        .collect()
+    let tabled = |buf: &mut Vec<SurfacePoint>, i: usize| {
+        let p = &sub.patches[i];
+        let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
+        eval.evaluate(&sub, i, layout, buf);
+        if buf.len() != layout.uv.len() {
+            return dense_folds(p, level, form);
+        }
+        let f = patch_folds(p, sectors, layout, buf);
+        (f.samples.len(), f.worst)
+    };
+    chunked(&tabled)?;
+    Ok(out)
 }
 
 /// The samples of `layout` around the domain point `at`: the nearest sample and the other corners
