@@ -8,10 +8,11 @@ use gbsurf::api::{convert, convert_file, ConvertOptions, Method};
 use gbsurf::construct::{build_dual, Patch};
 use gbsurf::gb::{Domain, Evaluate, WeightForm};
 use gbsurf::mesh::{HalfEdgeMesh, PolyMesh};
-use gbsurf::quality::validity::{fold_level, max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
+use gbsurf::quality::validity::{max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
 use gbsurf::quality::certify::certify_region;
 use gbsurf::quality::{cage_self_intersections, find_folds, mesh_self_intersections, self_intersections, self_intersections_certified, Certified};
 use gbsurf::DVec3;
+use gbsurf::tessellate::fold::dense_level;
 use proptest::prelude::*;
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
@@ -38,7 +39,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let he = HalfEdgeMesh::from_polymesh(&cube(None)).unwrap();
     let mut surface = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let form = WeightForm::Squared;
-    assert_eq!(find_folds(&surface, fold_level(8), form).patches, 0);
+    assert_eq!(find_folds(&surface, dense_level(8.into()), form).patches, 0);
     let k = 3;
     let Patch::Gb(g) = &mut surface.patches[k] else { panic!("dual cube patches are GB") };
     // Moving the central point along the normal cannot fold (the normal component of S_u × S_v
@@ -47,7 +48,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let n = g.normal(d.center(), form).unwrap();
     let t = g.eval_derivs(d.center(), form).su.normalize();
     g.center += 40.0 * t;
-    let folds = find_folds(&surface, fold_level(8), form);
+    let folds = find_folds(&surface, dense_level(8.into()), form);
     assert_eq!(folds.patches, 1, "{folds:?}");
     assert!(folds.samples > 0);
     assert_eq!(folds.sites.len(), 1);
@@ -61,7 +62,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let mut dimple = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let Patch::Gb(g) = &mut dimple.patches[k] else { panic!("GB") };
     g.center -= 40.0 * n;
-    assert_eq!(find_folds(&dimple, fold_level(8), form).patches, 0);
+    assert_eq!(find_folds(&dimple, dense_level(8.into()), form).patches, 0);
 }
 
 #[test]
@@ -76,7 +77,7 @@ fn fold_sites_are_listed_in_patch_order() {
         let t = g.eval_derivs(d.center(), form).su.normalize();
         g.center += 40.0 * t;
     }
-    let folds = find_folds(&surface, fold_level(8), form);
+    let folds = find_folds(&surface, dense_level(8.into()), form);
     assert_eq!(folds.patches, surface.patches.len());
     assert_eq!(folds.sites.len(), surface.patches.len().min(MAX_FOLD_SITES));
     assert!(folds.sites.iter().enumerate().all(|(i, s)| s.patch == i));
@@ -312,13 +313,13 @@ fn in_pass_and_dense(surface: &gbsurf::construct::Surface) -> (Vec<usize>, Vec<u
     let form = WeightForm::Squared;
     let (m, _) = gbsurf::tessellate::tessellate_surface(surface, 8, form, None).unwrap();
     let in_pass: Vec<usize> = m.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect();
-    let dense = find_folds(surface, fold_level(8), form);
+    let dense = find_folds(surface, dense_level(8.into()), form);
     let dense_patches: Vec<usize> = (0..surface.patches.len())
         .filter(|&p| {
             let mut one = surface.clone();
             one.patches = vec![surface.patches[p].clone()];
             one.neighbors = vec![vec![None; surface.patches[p].sides()]];
-            find_folds(&one, fold_level(8), form).patches > 0
+            find_folds(&one, dense_level(8.into()), form).patches > 0
         })
         .collect();
     assert_eq!(dense.patches, dense_patches.len());

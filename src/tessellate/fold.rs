@@ -23,7 +23,7 @@ use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use crate::construct::check::fold_sample_points;
 use crate::construct::{Patch, Surface};
 use std::collections::HashMap;
-use crate::gb::{Domain, Ribbon, SampleLayout, WeightForm};
+use crate::gb::{Domain, Ribbon, SampleLayout, Sampling, WeightForm};
 use glam::{DVec2, DVec3};
 
 /// Per sample of a layout: its domain triangle i, its foot s ∈ [0, 1] on side i and its centre
@@ -250,10 +250,14 @@ impl ClearTest {
     pub const JACOBIAN: f64 = 0.05;
 }
 
-/// Dense fold level for a patch the tessellation's samples do not clear: [`DENSE_STEPS`] steps per
-/// domain triangle, or the tessellation's own 2r when that is denser.
-pub fn dense_level(resolution: usize) -> usize {
-    (2 * resolution).max(DENSE_STEPS)
+/// Dense fold level (steps per side of the triangle layout) for a patch the tessellation's
+/// samples do not clear, and of [`crate::quality::find_folds`]: twice the tessellation's own
+/// steps per side (`per_side`: r for triangles, 2r for quads), at least [`DENSE_STEPS`]
+/// (docs/math.md#fold-clearing). Twice `per_side` rather than 2r, so the dense pass is denser
+/// than the tessellation in both layouts (2r would only equal the quad layout's density at r ≥ 8).
+/// At the defaults (quads, r = 2) it is 16.
+pub fn dense_level(sampling: Sampling) -> usize {
+    (2 * sampling.per_side()).max(DENSE_STEPS)
 }
 
 /// Steps per domain triangle of the dense pass (docs/math.md#fold-clearing: the blended rule finds

@@ -674,7 +674,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
     // It ticks from DENSE to EVALUATION in chunks of at most DENSE_CHUNK patches.
     if let Some(&first) = uncleared.first() {
-        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.resolution);
+        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.sampling());
         let nu = uncleared.len();
         let mut on_chunk = |done: usize| tick(&mut progress, DENSE + (EVALUATION - DENSE) * done as f32 / nu as f32);
         let chunk = crate::progress::chunk_size(nu, DENSE_CHUNK);
