@@ -12,8 +12,9 @@
 //!   give it. Both are oriented alike (side i runs counter-clockwise, X points into the domain).
 //!   Every conversion applies this rule inside the tessellation pass to the samples it evaluates
 //!   anyway and, on every patch those samples do not clear
-//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose verdict replaces theirs
-//!   ([`crate::tessellate::fold::dense_folds`], docs/math.md#fold-clearing; collected by
+//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose folded samples are added to
+//!   theirs and whose worst point becomes the patch's site
+//!   ([`crate::tessellate::fold::dense_folds_of`], docs/math.md#fold-clearing; collected by
 //!   [`Folds::of_tessellation`]), and also counts flipped output triangles (geometric normal
 //!   against all three vertex normals). The per-vertex flag `SurfaceMesh::fold` marks both.
 //!   [`find_folds`] applies the same rule on every patch at one level (a conversion's:

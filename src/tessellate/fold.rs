@@ -260,8 +260,10 @@ pub fn dense_level(sampling: Sampling) -> usize {
     (2 * sampling.per_side()).max(DENSE_STEPS)
 }
 
-/// Steps per domain triangle of the dense pass (docs/math.md#fold-clearing: the blended rule finds
-/// every patch the reference sampler sees flip from 16 steps on).
+/// Least steps per side of the dense pass's layout (docs/math.md#fold-clearing: from 16 steps on
+/// the report names every patch the reference sampler of `examples/fold_truth.rs` sees turn over on
+/// the public cages except bishop dual patch 1115, where the sampler's own verdict changes between
+/// 60 and 120 steps).
 pub const DENSE_STEPS: usize = 16;
 
 /// Applies the fold rule to the evaluated `points` of `patch` at the samples of `layout` with
