@@ -344,8 +344,11 @@ impl PatchEval<'_> {
 /// The fold rule on a dense grid of `patch`, evaluated directly with weight form `form`: in each
 /// domain triangle i of the regular n-gon the barycentric grid (a, b, c)/`level`
 /// ([`fold_sample_points`], the boundary row pulled 10⁻³ inside), a sample folded where
-/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Returns (folded samples, domain
-/// point of the worst). Samples whose Jacobian or reference is undefined are skipped.
+/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Each sample is taken once: the
+/// spoke c → v_i shared by triangles i and i + 1 in triangle i + 1 (its c = 0 row), the centre in
+/// triangle 0, so the samples are those of the table path's layout of the same level,
+/// 1 + n·level(level + 1)/2. Returns (folded samples, domain point of the worst). Samples whose
+/// Jacobian or reference is undefined are skipped.
 pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
     let n = patch.sides();
     let level = level.max(1);
@@ -364,6 +367,12 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
                 let c = level - a - b;
                 let uv = pts[k];
                 k += 1;
+                // The b = 0 row (the spoke to v_i) is the next triangle's c = 0 row, and the
+                // centre is in every triangle: each is counted once (in triangle i + 1, and in
+                // triangle 0), as the table path's layout holds it once.
+                if b == 0 && !(a == level && i == 0) {
+                    continue;
+                }
                 let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
                 let foot = ribbon_normal_with(ribbon, s, &mut binomials);
                 let reference = blended_reference(foot, centre, a as f64 / level as f64);
@@ -565,6 +574,31 @@ mod tests {
                     folded += expected.len();
                 }
             }
+        }
+        assert!(folded > 0, "the pulled central points fold");
+    }
+
+    #[test]
+    fn the_direct_dense_pass_counts_each_sample_once_as_the_tables_do() {
+        // The dual cube with every central point moved 40 along x: its patches fold over a large
+        // region, the spokes and the centre included, so a sample counted twice (or n times, the
+        // centre) by the direct grids would show in the count.
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube.obj");
+        let mesh = crate::mesh::read_polymesh(path).unwrap().0;
+        let opts = ConvertOptions { method: Method::Dual, ..Default::default() };
+        let mut surface = convert_unchecked(&mesh, &opts).unwrap().surface.unwrap();
+        for p in surface.patches.iter_mut() {
+            let crate::construct::Patch::Gb(g) = p else { panic!("dual cube patches are GB") };
+            g.center += DVec3::new(40.0, 0.0, 0.0);
+        }
+        let level = DENSE_STEPS;
+        let all: Vec<usize> = (0..surface.patches.len()).collect();
+        let tables = dense_folds_of(&surface, &all, level, opts.weights);
+        let mut folded = 0;
+        for (p, patch) in surface.patches.iter().enumerate() {
+            let direct = dense_folds(patch, level, opts.weights);
+            assert_eq!(direct.0, tables[p].0, "patch {p}");
+            folded += direct.0;
         }
         assert!(folded > 0, "the pulled central points fold");
     }
