@@ -116,11 +116,15 @@ pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials) -> DVec3 
 /// the patch's centre reference at the centre (a = 1). A patch bends continuously from its
 /// boundary normals to its centre, so a surface that turns by up to 180° between a side and the
 /// centre without turning over is not flagged, while a sample turned against this interpolated
-/// frame is (docs/math.md#folds). Falls back to `foot` where `centre` is zero or the blend
-/// vanishes.
+/// frame is (docs/math.md#folds). Falls back to `foot` where `centre` is zero, a = 0 or the blend
+/// vanishes, and to `centre` where `foot` is zero (undefined, as on the ray to a degenerate
+/// corner) and a > 0, so the samples on that ray are still judged.
 pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
-    if centre == DVec3::ZERO || foot == DVec3::ZERO || a <= 0.0 {
+    if centre == DVec3::ZERO || a <= 0.0 {
         return foot;
+    }
+    if foot == DVec3::ZERO {
+        return centre;
     }
     let r = (1.0 - a) * foot + a * centre;
     if r.length() > MIN_FRAME_SIN {
