@@ -851,7 +851,7 @@ const ROOK_DUAL_FLIPS: [usize; 25] = [0, 22, 45, 68, 90, 113, 136, 158, 181, 204
 /// a Jacobian sign change (neighbouring normals within 25° on 120 steps): a fold by the rule's
 /// second clause (docs/math.md#folds), not a flip.
 #[test]
-fn the_rook_topology_report_has_no_bent_patches() {
+fn the_rook_topology_report_names_only_patch_736_which_does_not_turn_over() {
     let path = format!("{OPENSUBDIV}/catmark_rook.obj");
     let opts = ConvertOptions { method: Method::Topology, ..Default::default() };
     let c = convert_file(&path, &opts, None).unwrap();
@@ -859,4 +859,19 @@ fn the_rook_topology_report_has_no_bent_patches() {
     let surface = c.surface.as_ref().unwrap();
     let (dot, at, _) = fine::neighbour_normals(&surface.patches[736], opts.weights, 60);
     assert!(dot > 0.0, "patch 736 does not turn over: {dot} at {at:?}");
+}
+
+/// At the default options (quad layout, r = 2) the samples of a smooth surface clear every patch,
+/// so the dense fold pass takes none (docs/math.md#fold-clearing: it costs nothing there).
+#[test]
+fn a_smooth_torus_takes_no_dense_pass_at_the_defaults() {
+    let torus = gbsurf::mesh::generate::torus(24, 16, 10.0, 3.0).unwrap();
+    for method in [Method::Dual, Method::Topology] {
+        let c = convert(&torus, &ConvertOptions { method, ..Default::default() }, None).unwrap();
+        let patches = c.surface.as_ref().unwrap().patches.len();
+        assert_eq!(c.mesh.patch_folds.len(), patches, "{method}: one fold result per patch");
+        let dense = c.mesh.patch_folds.iter().filter(|f| f.dense).count();
+        assert_eq!(dense, 0, "{method}: {dense} of {patches} patches uncleared");
+        assert_eq!(c.report.folds, 0, "{method}");
+    }
 }
