@@ -414,8 +414,8 @@ pub fn dense_folds_of(
     level: usize,
     form: WeightForm,
 ) -> Vec<(usize, Option<DVec2>)> {
-    let done = dense_folds_of_ticked(surface, which, level, form, which.len(), &mut |_| Ok::<(), std::convert::Infallible>(()));
-    match done {
+    let mut never = |_: usize| Ok::<(), std::convert::Infallible>(());
+    match dense_folds_of_ticked(surface, which, level, form, which.len(), &mut never) {
         Ok(v) => v,
         Err(never) => match never {},
     }
@@ -437,7 +437,8 @@ pub fn dense_folds_of_ticked<E>(
     let chunk = chunk.max(1);
     let mut out = Vec::with_capacity(which.len());
     // Runs `one` on the patches in chunks (indices into `which`), ticking after each.
-    let mut chunked = |one: &(dyn Fn(&mut Vec<SurfacePoint>, usize) -> (usize, Option<DVec2>) + Sync)| -> Result<(), E> {
+    type One<'a> = dyn Fn(&mut Vec<SurfacePoint>, usize) -> (usize, Option<DVec2>) + Sync + 'a;
+    let mut chunked = |one: &One<'_>| -> Result<(), E> {
         let mut done = 0;
         while done < which.len() {
             let end = (done + chunk).min(which.len());
@@ -447,7 +448,8 @@ pub fn dense_folds_of_ticked<E>(
         }
         Ok(())
     };
-    let direct = |_: &mut Vec<SurfacePoint>, k: usize| surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form));
+    let direct =
+        |_: &mut Vec<SurfacePoint>, k: usize| surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form));
     if which.is_empty() {
         return Ok(out);
     }
