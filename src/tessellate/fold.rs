@@ -448,8 +448,9 @@ pub fn dense_folds_of_ticked<E>(
         }
         Ok(())
     };
-    let direct =
-        |_: &mut Vec<SurfacePoint>, k: usize| surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form));
+    let direct = |_: &mut Vec<SurfacePoint>, k: usize| {
+        surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form))
+    };
     if which.is_empty() {
         return Ok(out);
     }
