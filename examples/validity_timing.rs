@@ -38,7 +38,10 @@ fn main() {
         Ok("none") => return,
         _ => {}
     }
-    let level = std::env::var("FOLD_LEVEL").ok().and_then(|s| s.parse().ok()).unwrap_or(gbsurf::quality::validity::fold_level(opts.resolution));
+    let level = std::env::var("FOLD_LEVEL")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(gbsurf::tessellate::fold::dense_level(opts.sampling()));
     // A warm-up conversion first (the thread pool's start and the first touch of fresh memory
     // otherwise fall on whichever conversion runs first), then `RUNS` (default 3) alternating
     // pairs, the best of each: the machine may be shared.

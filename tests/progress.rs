@@ -256,3 +256,36 @@ fn check_mesh_ticks_through_the_per_vertex_pass_and_cancels() {
     let mut stop = |f: f32| f < 0.6;
     assert_eq!(check_mesh_ticked(&quads.positions, &tris, &mut Ticker::new(Some(&mut stop))), Err(Cancelled));
 }
+
+#[test]
+fn a_cancel_in_the_dense_fold_pass_returns_cancelled() {
+    // The rook's dual leaves 172 of its 1088 patches uncleared (docs/math.md#fold-clearing), so
+    // the dense pass runs in many chunks and ticks between them: in the tessellation stage
+    // (0.08..0.45 of the whole, `GB_STAGES` of the api) it owns 0.8..0.9, so 0.376..0.413 overall.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/opensubdiv/catmark_rook.obj");
+    let mesh = gbsurf::mesh::read_polymesh(path).unwrap().0;
+    let opts = ConvertOptions { method: Method::Dual, ..Default::default() };
+    let (lo, hi) = (0.08 + 0.37 * 0.8, 0.08 + 0.37 * 0.9);
+    let inside = |f: f32| f > lo + 1e-4 && f < hi - 1e-4;
+    let mut seen = Vec::new();
+    let mut cb = |f: f32| {
+        seen.push(f);
+        true
+    };
+    convert(&mesh, &opts, Some(&mut cb)).unwrap();
+    assert!(seen.iter().any(|&f| inside(f)), "no report inside the dense pass: {seen:?}");
+    let (mut stopped, mut after) = (false, 0);
+    let mut cb = |f: f32| {
+        if stopped {
+            after += 1;
+        }
+        if inside(f) {
+            stopped = true;
+            return false;
+        }
+        true
+    };
+    let r = convert(&mesh, &opts, Some(&mut cb));
+    assert!(matches!(r, Err(ConvertError::Cancelled)), "{r:?}");
+    assert!(stopped && after == 0, "stopped {stopped}, {after} calls after the cancel");
+}

@@ -8,10 +8,11 @@ use gbsurf::api::{convert, convert_file, ConvertOptions, Method};
 use gbsurf::construct::{build_dual, Patch};
 use gbsurf::gb::{Domain, Evaluate, WeightForm};
 use gbsurf::mesh::{HalfEdgeMesh, PolyMesh};
-use gbsurf::quality::validity::{fold_level, max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
+use gbsurf::quality::validity::{max_abs_mean_curvature_times_diagonal, triangles_intersect, MAX_FOLD_SITES};
 use gbsurf::quality::certify::certify_region;
 use gbsurf::quality::{cage_self_intersections, find_folds, mesh_self_intersections, self_intersections, self_intersections_certified, Certified};
 use gbsurf::DVec3;
+use gbsurf::tessellate::fold::dense_level;
 use proptest::prelude::*;
 
 const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models");
@@ -38,7 +39,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let he = HalfEdgeMesh::from_polymesh(&cube(None)).unwrap();
     let mut surface = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let form = WeightForm::Squared;
-    assert_eq!(find_folds(&surface, fold_level(8), form).patches, 0);
+    assert_eq!(find_folds(&surface, dense_level(8.into()), form).patches, 0);
     let k = 3;
     let Patch::Gb(g) = &mut surface.patches[k] else { panic!("dual cube patches are GB") };
     // Moving the central point along the normal cannot fold (the normal component of S_u × S_v
@@ -47,7 +48,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let n = g.normal(d.center(), form).unwrap();
     let t = g.eval_derivs(d.center(), form).su.normalize();
     g.center += 40.0 * t;
-    let folds = find_folds(&surface, fold_level(8), form);
+    let folds = find_folds(&surface, dense_level(8.into()), form);
     assert_eq!(folds.patches, 1, "{folds:?}");
     assert!(folds.samples > 0);
     assert_eq!(folds.sites.len(), 1);
@@ -61,7 +62,7 @@ fn a_pulled_central_point_folds_its_patch() {
     let mut dimple = build_dual(&he, &ConvertOptions::triangles_r8()).unwrap();
     let Patch::Gb(g) = &mut dimple.patches[k] else { panic!("GB") };
     g.center -= 40.0 * n;
-    assert_eq!(find_folds(&dimple, fold_level(8), form).patches, 0);
+    assert_eq!(find_folds(&dimple, dense_level(8.into()), form).patches, 0);
 }
 
 #[test]
@@ -76,7 +77,7 @@ fn fold_sites_are_listed_in_patch_order() {
         let t = g.eval_derivs(d.center(), form).su.normalize();
         g.center += 40.0 * t;
     }
-    let folds = find_folds(&surface, fold_level(8), form);
+    let folds = find_folds(&surface, dense_level(8.into()), form);
     assert_eq!(folds.patches, surface.patches.len());
     assert_eq!(folds.sites.len(), surface.patches.len().min(MAX_FOLD_SITES));
     assert!(folds.sites.iter().enumerate().all(|(i, s)| s.patch == i));
@@ -312,13 +313,13 @@ fn in_pass_and_dense(surface: &gbsurf::construct::Surface) -> (Vec<usize>, Vec<u
     let form = WeightForm::Squared;
     let (m, _) = gbsurf::tessellate::tessellate_surface(surface, 8, form, None).unwrap();
     let in_pass: Vec<usize> = m.patch_folds.iter().enumerate().filter(|(_, f)| f.samples > 0).map(|(p, _)| p).collect();
-    let dense = find_folds(surface, fold_level(8), form);
+    let dense = find_folds(surface, dense_level(8.into()), form);
     let dense_patches: Vec<usize> = (0..surface.patches.len())
         .filter(|&p| {
             let mut one = surface.clone();
             one.patches = vec![surface.patches[p].clone()];
             one.neighbors = vec![vec![None; surface.patches[p].sides()]];
-            find_folds(&one, fold_level(8), form).patches > 0
+            find_folds(&one, dense_level(8.into()), form).patches > 0
         })
         .collect();
     assert_eq!(dense.patches, dense_patches.len());
@@ -850,7 +851,7 @@ const ROOK_DUAL_FLIPS: [usize; 25] = [0, 22, 45, 68, 90, 113, 136, 158, 181, 204
 /// a Jacobian sign change (neighbouring normals within 25° on 120 steps): a fold by the rule's
 /// second clause (docs/math.md#folds), not a flip.
 #[test]
-fn the_rook_topology_report_has_no_bent_patches() {
+fn the_rook_topology_report_names_only_patch_736_which_does_not_turn_over() {
     let path = format!("{OPENSUBDIV}/catmark_rook.obj");
     let opts = ConvertOptions { method: Method::Topology, ..Default::default() };
     let c = convert_file(&path, &opts, None).unwrap();
@@ -858,4 +859,19 @@ fn the_rook_topology_report_has_no_bent_patches() {
     let surface = c.surface.as_ref().unwrap();
     let (dot, at, _) = fine::neighbour_normals(&surface.patches[736], opts.weights, 60);
     assert!(dot > 0.0, "patch 736 does not turn over: {dot} at {at:?}");
+}
+
+/// At the default options (quad layout, r = 2) the samples of a smooth surface clear every patch,
+/// so the dense fold pass takes none (docs/math.md#fold-clearing: it costs nothing there).
+#[test]
+fn a_smooth_torus_takes_no_dense_pass_at_the_defaults() {
+    let torus = gbsurf::mesh::generate::torus(24, 16, 10.0, 3.0).unwrap();
+    for method in [Method::Dual, Method::Topology] {
+        let c = convert(&torus, &ConvertOptions { method, ..Default::default() }, None).unwrap();
+        let patches = c.surface.as_ref().unwrap().patches.len();
+        assert_eq!(c.mesh.patch_folds.len(), patches, "{method}: one fold result per patch");
+        let dense = c.mesh.patch_folds.iter().filter(|f| f.dense).count();
+        assert_eq!(dense, 0, "{method}: {dense} of {patches} patches uncleared");
+        assert_eq!(c.report.folds, 0, "{method}");
+    }
 }

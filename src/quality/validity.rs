@@ -12,12 +12,13 @@
 //!   give it. Both are oriented alike (side i runs counter-clockwise, X points into the domain).
 //!   Every conversion applies this rule inside the tessellation pass to the samples it evaluates
 //!   anyway and, on every patch those samples do not clear
-//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose verdict replaces theirs
-//!   ([`crate::tessellate::fold::dense_folds`], docs/math.md#fold-clearing; collected by
+//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose folded samples are added to
+//!   theirs and whose worst point becomes the patch's site
+//!   ([`crate::tessellate::fold::dense_folds_of`], docs/math.md#fold-clearing; collected by
 //!   [`Folds::of_tessellation`]), and also counts flipped output triangles (geometric normal
 //!   against all three vertex normals). The per-vertex flag `SurfaceMesh::fold` marks both.
-//!   [`find_folds`] applies the same rule on every patch at one level ([`fold_level`]) as a
-//!   reference for tests and studies.
+//!   [`find_folds`] applies the same rule on every patch at one level (a conversion's:
+//!   [`crate::tessellate::fold::dense_level`]) as a reference for tests and studies.
 //! - Self-intersections ([`self_intersections`]): pairs of triangles sharing no vertex, in the
 //!   same connected shell, that have a point in common. Candidate pairs come from a bounding
 //!   volume hierarchy of the boxes of chunks of nearby triangles ([`overlapping_boxes`]); each
@@ -158,13 +159,8 @@ pub fn folds_at_cage_folds(mesh: &SurfaceMesh, sources: &[crate::construct::Patc
     (count, first)
 }
 
-/// Fold sampling level for tessellation resolution `r`: twice as dense as the tessellation, at
-/// least 8 steps per domain triangle.
-pub fn fold_level(resolution: usize) -> usize {
-    (2 * resolution).max(8)
-}
-
-/// Samples every patch of `surface` at `level` (see [`fold_level`]) and reports the patches
+/// Samples every patch of `surface` at `level` (that of a conversion:
+/// [`crate::tessellate::fold::dense_level`]) and reports the patches
 /// whose Jacobian turns negative against their ribbons' normals (see the module doc).
 ///
 /// The samples are those of a tessellation at resolution `level` (the [`crate::gb::SampleLayout`] of the

@@ -23,7 +23,7 @@ use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use crate::construct::check::fold_sample_points;
 use crate::construct::{Patch, Surface};
 use std::collections::HashMap;
-use crate::gb::{Domain, Ribbon, SampleLayout, WeightForm};
+use crate::gb::{Domain, Ribbon, SampleLayout, Sampling, WeightForm};
 use glam::{DVec2, DVec3};
 
 /// Per sample of a layout: its domain triangle i, its foot s ∈ [0, 1] on side i and its centre
@@ -116,11 +116,15 @@ pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials) -> DVec3 
 /// the patch's centre reference at the centre (a = 1). A patch bends continuously from its
 /// boundary normals to its centre, so a surface that turns by up to 180° between a side and the
 /// centre without turning over is not flagged, while a sample turned against this interpolated
-/// frame is (docs/math.md#folds). Falls back to `foot` where `centre` is zero or the blend
-/// vanishes.
+/// frame is (docs/math.md#folds). Falls back to `foot` where `centre` is zero, a = 0 or the blend
+/// vanishes, and to `centre` where `foot` is zero (undefined, as on the ray to a degenerate
+/// corner) and a > 0, so the samples on that ray are still judged.
 pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
-    if centre == DVec3::ZERO || foot == DVec3::ZERO || a <= 0.0 {
+    if centre == DVec3::ZERO || a <= 0.0 {
         return foot;
+    }
+    if foot == DVec3::ZERO {
+        return centre;
     }
     let r = (1.0 - a) * foot + a * centre;
     if r.length() > MIN_FRAME_SIN {
@@ -250,14 +254,20 @@ impl ClearTest {
     pub const JACOBIAN: f64 = 0.05;
 }
 
-/// Dense fold level for a patch the tessellation's samples do not clear: [`DENSE_STEPS`] steps per
-/// domain triangle, or the tessellation's own 2r when that is denser.
-pub fn dense_level(resolution: usize) -> usize {
-    (2 * resolution).max(DENSE_STEPS)
+/// Dense fold level (steps per side of the triangle layout) for a patch the tessellation's
+/// samples do not clear, and of [`crate::quality::find_folds`]: twice the tessellation's own
+/// steps per side (`per_side`: r for triangles, 2r for quads), at least [`DENSE_STEPS`]
+/// (docs/math.md#fold-clearing). Twice `per_side` rather than 2r, so the dense pass is denser
+/// than the tessellation in both layouts (2r would only equal the quad layout's density at r ≥ 8).
+/// At the defaults (quads, r = 2) it is 16.
+pub fn dense_level(sampling: Sampling) -> usize {
+    (2 * sampling.per_side()).max(DENSE_STEPS)
 }
 
-/// Steps per domain triangle of the dense pass (docs/math.md#fold-clearing: the blended rule finds
-/// every patch the reference sampler sees flip from 16 steps on).
+/// Least steps per side of the dense pass's layout (docs/math.md#fold-clearing: from 16 steps on
+/// the report names every patch the reference sampler of `examples/fold_truth.rs` sees turn over on
+/// the public cages except bishop dual patch 1115, where the sampler's own verdict changes between
+/// 60 and 120 steps).
 pub const DENSE_STEPS: usize = 16;
 
 /// Applies the fold rule to the evaluated `points` of `patch` at the samples of `layout` with
@@ -338,8 +348,11 @@ impl PatchEval<'_> {
 /// The fold rule on a dense grid of `patch`, evaluated directly with weight form `form`: in each
 /// domain triangle i of the regular n-gon the barycentric grid (a, b, c)/`level`
 /// ([`fold_sample_points`], the boundary row pulled 10⁻³ inside), a sample folded where
-/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Returns (folded samples, domain
-/// point of the worst). Samples whose Jacobian or reference is undefined are skipped.
+/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Each sample is taken once: the
+/// spoke c → v_i shared by triangles i and i + 1 in triangle i + 1 (its c = 0 row), the centre in
+/// triangle 0, so the samples are those of the table path's layout of the same level,
+/// 1 + n·level(level + 1)/2. Returns (folded samples, domain point of the worst). Samples whose
+/// Jacobian or reference is undefined are skipped.
 pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Option<DVec2>) {
     let n = patch.sides();
     let level = level.max(1);
@@ -358,6 +371,12 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
                 let c = level - a - b;
                 let uv = pts[k];
                 k += 1;
+                // The b = 0 row (the spoke to v_i) is the next triangle's c = 0 row, and the
+                // centre is in every triangle: each is counted once (in triangle i + 1, and in
+                // triangle 0), as the table path's layout holds it once.
+                if b == 0 && !(a == level && i == 0) {
+                    continue;
+                }
                 let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
                 let foot = ribbon_normal_with(ribbon, s, &mut binomials);
                 let reference = blended_reference(foot, centre, a as f64 / level as f64);
@@ -395,18 +414,50 @@ pub fn dense_folds_of(
     level: usize,
     form: WeightForm,
 ) -> Vec<(usize, Option<DVec2>)> {
+    let mut never = |_: usize| Ok::<(), std::convert::Infallible>(());
+    match dense_folds_of_ticked(surface, which, level, form, which.len(), &mut never) {
+        Ok(v) => v,
+        Err(never) => match never {},
+    }
+}
+
+/// [`dense_folds_of`] in chunks of `chunk` patches (the tables made once), calling `on_chunk`
+/// with the number of patches done after each chunk on the calling thread; its error stops the
+/// pass (a cancel takes effect after the running chunk).
+pub fn dense_folds_of_ticked<E>(
+    surface: &Surface,
+    which: &[usize],
+    level: usize,
+    form: WeightForm,
+    chunk: usize,
+    on_chunk: &mut dyn FnMut(usize) -> Result<(), E>,
+) -> Result<Vec<(usize, Option<DVec2>)>, E> {
     use rayon::prelude::*;
     let level = level.max(1);
-    let direct = || {
-        let one = |p: usize| surface.patches.get(p).map_or((0, None), |x| dense_folds(x, level, form));
-        which.par_iter().map(|&p| one(p)).collect()
+    let chunk = chunk.max(1);
+    let mut out = Vec::with_capacity(which.len());
+    // Runs `one` on the patches in chunks (indices into `which`), ticking after each.
+    type One<'a> = dyn Fn(&mut Vec<SurfacePoint>, usize) -> (usize, Option<DVec2>) + Sync + 'a;
+    let mut chunked = |one: &One<'_>| -> Result<(), E> {
+        let mut done = 0;
+        while done < which.len() {
+            let end = (done + chunk).min(which.len());
+            out.par_extend((done..end).into_par_iter().map_init(Vec::new, |buf, k| one(buf, k)));
+            done = end;
+            on_chunk(done)?;
+        }
+        Ok(())
+    };
+    let direct = |_: &mut Vec<SurfacePoint>, k: usize| {
+        surface.patches.get(which[k]).map_or((0, None), |x| dense_folds(x, level, form))
     };
     if which.is_empty() {
-        return Vec::new();
+        return Ok(out);
     }
     let patches: Vec<Patch> = which.iter().filter_map(|&p| surface.patches.get(p).cloned()).collect();
     if patches.len() != which.len() {
-        return direct();
+        chunked(&direct)?;
+        return Ok(out);
     }
     let sub = Surface {
         patches,
@@ -417,7 +468,10 @@ pub fn dense_folds_of(
         creases: Vec::new(),
         cage: Vec::new(),
     };
-    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else { return direct() };
+    let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else {
+        chunked(&direct)?;
+        return Ok(out);
+    };
     let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
     for p in &sub.patches {
         layouts.entry(p.sides()).or_insert_with(|| {
@@ -426,19 +480,18 @@ pub fn dense_folds_of(
             Some((Sectors::new(&domain, &layout.uv), layout))
         });
     }
-    sub.patches
-        .par_iter()
-        .enumerate()
-        .map_init(Vec::new, |buf, (i, p)| {
-            let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
-            eval.evaluate(&sub, i, layout, buf);
-            if buf.len() != layout.uv.len() {
-                return dense_folds(p, level, form);
-            }
-            let f = patch_folds(p, sectors, layout, buf);
-            (f.samples.len(), f.worst)
-        })
-        .collect()
+    let tabled = |buf: &mut Vec<SurfacePoint>, i: usize| {
+        let p = &sub.patches[i];
+        let Some((sectors, layout)) = &layouts[&p.sides()] else { return dense_folds(p, level, form) };
+        eval.evaluate(&sub, i, layout, buf);
+        if buf.len() != layout.uv.len() {
+            return dense_folds(p, level, form);
+        }
+        let f = patch_folds(p, sectors, layout, buf);
+        (f.samples.len(), f.worst)
+    };
+    chunked(&tabled)?;
+    Ok(out)
 }
 
 /// The samples of `layout` around the domain point `at`: the nearest sample and the other corners
@@ -528,6 +581,31 @@ mod tests {
                     folded += expected.len();
                 }
             }
+        }
+        assert!(folded > 0, "the pulled central points fold");
+    }
+
+    #[test]
+    fn the_direct_dense_pass_counts_each_sample_once_as_the_tables_do() {
+        // The dual cube with every central point moved 40 along x: its patches fold over a large
+        // region, the spokes and the centre included, so a sample counted twice (or n times, the
+        // centre) by the direct grids would show in the count.
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube.obj");
+        let mesh = crate::mesh::read_polymesh(path).unwrap().0;
+        let opts = ConvertOptions { method: Method::Dual, ..Default::default() };
+        let mut surface = convert_unchecked(&mesh, &opts).unwrap().surface.unwrap();
+        for p in surface.patches.iter_mut() {
+            let crate::construct::Patch::Gb(g) = p else { panic!("dual cube patches are GB") };
+            g.center += DVec3::new(40.0, 0.0, 0.0);
+        }
+        let level = DENSE_STEPS;
+        let all: Vec<usize> = (0..surface.patches.len()).collect();
+        let tables = dense_folds_of(&surface, &all, level, opts.weights);
+        let mut folded = 0;
+        for (p, patch) in surface.patches.iter().enumerate() {
+            let direct = dense_folds(patch, level, opts.weights);
+            assert_eq!(direct.0, tables[p].0, "patch {p}");
+            folded += direct.0;
         }
         assert!(folded > 0, "the pulled central points fold");
     }

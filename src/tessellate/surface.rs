@@ -26,7 +26,7 @@
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
 use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
-use super::fold::{dense_folds_of, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
+use super::fold::{dense_folds_of_ticked, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
 use crate::construct::Surface;
@@ -217,8 +217,16 @@ const CHUNK: usize = 512;
 const SETUP: f32 = 0.1;
 
 /// The end of the patch evaluation's share of the progress of [`tessellate_checked`] (then
+/// the dense fold pass up to [`EVALUATION`]).
+const DENSE: f32 = 0.8;
+
+/// The end of the dense fold pass's share of the progress of [`tessellate_checked`] (then
 /// welding and normals).
 const EVALUATION: f32 = 0.9;
+
+/// Patches per progress step of the dense fold pass (its level has about (16/r)² times the
+/// tessellation's samples per patch at r < 8, so its chunks are [`CHUNK`]/32).
+const DENSE_CHUNK: usize = CHUNK / 32;
 
 /// Calls `progress` (if any) with `f`; [`TessellateError::Cancelled`] when it returns false.
 fn tick(progress: &mut Option<&mut dyn FnMut(f32) -> bool>, f: f32) -> Result<(), TessellateError> {
@@ -655,7 +663,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
             folded.extend(outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)));
             done = end;
-            tick(&mut progress, SETUP + (EVALUATION - SETUP) * done as f32 / np.max(1) as f32)?;
+            tick(&mut progress, SETUP + (DENSE - SETUP) * done as f32 / np.max(1) as f32)?;
         }
         folded
     };
@@ -664,9 +672,13 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     // output vertices around that point are marked (the star of the nearest sample).
     let mut folded = folded;
     let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
+    // It ticks from DENSE to EVALUATION in chunks of at most DENSE_CHUNK patches.
     if let Some(&first) = uncleared.first() {
-        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.resolution);
-        let found = dense_folds_of(surface, &uncleared, level, evaluator.weight_form());
+        let level = dense_level(with_sectors[&surface.patches[first].sides()].0.sampling());
+        let nu = uncleared.len();
+        let mut on_chunk = |done: usize| tick(&mut progress, DENSE + (EVALUATION - DENSE) * done as f32 / nu as f32);
+        let chunk = crate::progress::chunk_size(nu, DENSE_CHUNK);
+        let found = dense_folds_of_ticked(surface, &uncleared, level, evaluator.weight_form(), chunk, &mut on_chunk)?;
         for (&p, (count, worst)) in uncleared.iter().zip(found) {
             mesh.patch_folds[p].samples += count;
             let Some(at) = worst else { continue };
