@@ -1,4 +1,5 @@
-//! Dense normal sampling shared by the fold studies (`fold_study`, `fold_truth`).
+//! Dense normal sampling shared by the fold studies (`fold_study`, `fold_truth`, `fold_clear_study`,
+//! `fold_disagree`) and the fold tests, and the studies' loop over the cages of the command line.
 
 use gbsurf::gb::{Evaluate, WeightForm};
 use gbsurf::DVec3;
@@ -40,4 +41,22 @@ pub fn neighbour_normals(patch: &gbsurf::construct::Patch, form: WeightForm, l: 
         }
     }
     (min_dot, at, if hi > 0.0 { lo / hi } else { 0.0 })
+}
+
+/// Every cage named on the command line, converted with default options by both structures:
+/// `study(cage file name, method, options, surface)`. Unreadable cages and refused conversions
+/// are skipped (the studies look at surfaces; `fold_truth` reports the refusals itself).
+#[allow(dead_code)] // not every includer studies cages
+pub fn for_each_surface(mut study: impl FnMut(&str, gbsurf::Method, &gbsurf::ConvertOptions, &gbsurf::construct::Surface)) {
+    for file in std::env::args().skip(1) {
+        let name = file.rsplit('/').next().unwrap_or(&file).to_string();
+        let Ok(poly) = gbsurf::read_mesh(&file) else { continue };
+        for method in [gbsurf::Method::Dual, gbsurf::Method::Topology] {
+            let o = gbsurf::ConvertOptions { method, ..Default::default() };
+            let Ok(c) = gbsurf::api::convert(&poly, &o, None) else { continue };
+            if let Some(s) = c.surface.as_ref() {
+                study(&name, method, &o, s);
+            }
+        }
+    }
 }
