@@ -331,7 +331,9 @@ pub struct GbsurfReport {
     pub self_intersections: u64,
     /// Pairs of faces of the input cage, sharing no vertex, that meet; `GBSURF_NOT_CHECKED`
     /// (`UINT64_MAX`) when not counted: the cage is checked only when the output self-intersects
-    /// (`self_intersections` > 0), the only case in which `valid` depends on it.
+    /// (`self_intersections` > 0), the only case in which `valid` depends on it. Always
+    /// `GBSURF_NOT_CHECKED` in the report of an offset result (`gbsurf_offset`), which counts
+    /// no self-intersections.
     pub input_self_intersections: u64,
     /// Sharp (crease) patch sides built G0.
     pub sharp_edges: u64,

@@ -280,7 +280,9 @@ typedef struct {
   uint64_t self_intersections;
   // Pairs of faces of the input cage, sharing no vertex, that meet; `GBSURF_NOT_CHECKED`
   // (`UINT64_MAX`) when not counted: the cage is checked only when the output self-intersects
-  // (`self_intersections` > 0), the only case in which `valid` depends on it.
+  // (`self_intersections` > 0), the only case in which `valid` depends on it. Always
+  // `GBSURF_NOT_CHECKED` in the report of an offset result (`gbsurf_offset`), which counts
+  // no self-intersections.
   uint64_t input_self_intersections;
   // Sharp (crease) patch sides built G0.
   uint64_t sharp_edges;
