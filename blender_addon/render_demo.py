@@ -160,8 +160,9 @@ def main(argv):
     scene.render.resolution_x, scene.render.resolution_y = w, h
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = 'PNG'
-    stamp_note(scene, f"left: GB surface ({a.method.lower()}, r={a.resolution}), mean curvature "
-               f"convex red, concave blue    right: Subdivision Surface level {a.levels}")
+    # One line at the default 1200 px width: the stamp wraps longer notes.
+    stamp_note(scene, f"left: GB surface ({a.method.lower()}, r={a.resolution}), H: convex red, "
+               f"concave blue   right: Subsurf level {a.levels}")
     out = os.path.abspath(a.output)
     os.makedirs(os.path.dirname(out), exist_ok=True)
     scene.render.filepath = out
