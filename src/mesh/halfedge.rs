@@ -164,7 +164,8 @@ impl HalfEdgeMesh {
         let corners = Corners::new(&clean.faces).ok_or_else(|| MeshError::Degenerate(format!("more than {} face corners", u32::MAX)))?;
         let first = first_corners(&corners, nv);
         let n_corners = corners.len();
-        let mut corner_edge = vec![NONE; n_corners];
+        // Per corner its half-edge; a later use of an edge takes the edge of its first use.
+        let mut corner_he = vec![NONE; n_corners];
         let mut he_origin = Vec::with_capacity(n_corners + 8);
         let mut he_face = Vec::with_capacity(n_corners + 8);
         let mut he_next = Vec::with_capacity(n_corners + 8);
@@ -186,24 +187,20 @@ impl HalfEdgeMesh {
                     he_prev.extend([NONE, NONE]);
                     e
                 } else {
-                    corner_edge[first[c] as usize]
+                    corner_he[first[c] as usize] / 2
                 };
-                corner_edge[c] = e;
                 let h = 2 * e + u32::from(a != lo);
+                corner_he[c] = h;
                 // check_polymesh guarantees each directed edge is used once.
                 he_face[h as usize] = f as u32;
             }
-            let h_of = |c: usize| {
-                let (a, b) = corners.edge(f, c);
-                2 * corner_edge[c] + u32::from(a > b)
-            };
             for c in c0..c1 {
                 let next = if c + 1 == c1 { c0 } else { c + 1 };
-                let (h, g) = (h_of(c), h_of(next));
+                let (h, g) = (corner_he[c], corner_he[next]);
                 he_next[h as usize] = g;
                 he_prev[g as usize] = h;
             }
-            face_he.push(h_of(c0));
+            face_he.push(corner_he[c0]);
         }
         // Outgoing half-edge per vertex (boundary preferred); count boundary outgoing.
         let nh = he_origin.len();
@@ -306,10 +303,9 @@ impl HalfEdgeMesh {
         self.vertex_crease = vec![0.0; self.n_vertices()];
         for (entry, &([a, b], c)) in creases.edges.iter().enumerate() {
             let e = match (new_index(a), new_index(b)) {
-                (Some(x), Some(y)) => self
-                    .vertex_outgoing(VertexId(x))
-                    .find(|&h| self.he_origin[h.idx() ^ 1] == y)
-                    .map(|h| h.idx() as u32 / 2),
+                (Some(x), Some(y)) => {
+                    self.vertex_outgoing(VertexId(x)).find(|&h| self.target(h) == VertexId(y)).map(|h| self.edge(h).0)
+                }
                 _ => None,
             };
             let e = e.ok_or(MeshError::CreaseEdgeMissing { entry, edge: (a as usize, b as usize), line: None })?;
