@@ -134,6 +134,27 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
                 return t;
             }
             t[5] += 1;
+            // The common case first, a closed fan: from corner 0, follow each link edge's end to
+            // the first corner whose link edge starts there. If that returns to corner 0 after
+            // visiting all m corners once, the successor map is one m-cycle, so every a is the
+            // first of its value (all distinct), every b is the a of another corner (the b's are
+            // the a's: every edge u → w is used once in each direction). The rest (open fans,
+            // repeated edges, more than one fan) takes the general test below.
+            if m <= 16 {
+                let (mut cur, mut seen, mut steps) = (0usize, 1u32, 1usize);
+                while let Some(next) = list.iter().position(|y| y.0 == list[cur].1) {
+                    if next == 0 || seen & (1 << next) != 0 {
+                        break;
+                    }
+                    seen |= 1 << next;
+                    cur = next;
+                    steps += 1;
+                }
+                if steps == m && list[0].0 == list[cur].1 {
+                    t[1] += list.iter().filter(|&&(a, _)| uu < a).count();
+                    return t;
+                }
+            }
             // The link edges a → b around u must form one path or one cycle. Lookups by an
             // edge's start or end: linear in small fans, binary searches in sorted copies in
             // large ones (a node of valence 16000 would cost m² = 2.6·10⁸ steps otherwise).
@@ -234,19 +255,55 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
     c.boundary_edges = boundary;
     c.non_manifold_edges = nm_edges;
     c.non_manifold_vertices = nm_vertices;
-    // Duplicate positions (bitwise equal coordinates, −0 = +0).
-    // First a sort of 64-bit hashes of the keys: without two equal hashes there is no duplicate;
-    // otherwise the exact count by sorting the full keys.
-    let key = |p: &DVec3| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
-    let mut hashes: Vec<u64> = positions.par_iter().map(|p| hash_key(key(p))).collect();
-    hashes.par_sort_unstable();
-    if hashes.windows(2).any(|w| w[0] == w[1]) {
-        let mut keys: Vec<[u64; 3]> = positions.par_iter().map(key).collect();
-        keys.par_sort_unstable();
-        c.duplicate_vertices = keys.windows(2).filter(|w| w[0] == w[1]).count();
-    }
+    c.duplicate_vertices = duplicate_positions(positions);
     c.euler_characteristic = used as i64 - undirected as i64 + (triangles.len() - c.bad_indices) as i64;
     Ok(c)
+}
+
+/// Positions that repeat an earlier one, bit for bit (−0 = +0): each extra copy counted once.
+/// Linear time: the positions are bucketed by the top bits of a 64-bit hash of their coordinates
+/// (a counting sort, about four per bucket), and only positions in the same bucket are compared.
+fn duplicate_positions(positions: &[DVec3]) -> usize {
+    let n = positions.len();
+    if n < 2 {
+        return 0;
+    }
+    let key = |p: &DVec3| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+    let bits = (usize::BITS - (n / 4).max(1).leading_zeros()).clamp(1, 24);
+    let bucket = |h: u64| (h >> (64 - bits)) as usize;
+    let hashes: Vec<u64> = positions.par_iter().with_min_len(1 << 14).map(|p| hash_key(key(p))).collect();
+    let mut start = vec![0u32; (1 << bits) + 1];
+    for &h in &hashes {
+        start[bucket(h) + 1] += 1;
+    }
+    for b in 0..1 << bits {
+        start[b + 1] += start[b];
+    }
+    let mut order = vec![0u32; n];
+    let mut fill = start.clone();
+    for (i, &h) in hashes.iter().enumerate() {
+        let b = bucket(h);
+        order[fill[b] as usize] = i as u32;
+        fill[b] += 1;
+    }
+    drop(fill);
+    // Per bucket: a member is a repeat when an earlier member has the same hash and key (pairs
+    // within a bucket: about four members each; a bucket of many equal positions costs its size
+    // squared only in the hashes it shares, so a sort takes buckets of more than 32).
+    start
+        .par_windows(2)
+        .with_min_len(1 << 12)
+        .map(|w| {
+            let members = &order[w[0] as usize..w[1] as usize];
+            if members.len() > 32 {
+                let mut keys: Vec<[u64; 3]> = members.iter().map(|&i| key(&positions[i as usize])).collect();
+                keys.sort_unstable();
+                return keys.windows(2).filter(|k| k[0] == k[1]).count();
+            }
+            let same = |i: u32, j: u32| hashes[i as usize] == hashes[j as usize] && key(&positions[i as usize]) == key(&positions[j as usize]);
+            (1..members.len()).filter(|&k| members[..k].iter().any(|&j| same(j, members[k]))).count()
+        })
+        .sum()
 }
 
 /// A 64-bit mix of three words (multiply–xorshift rounds, as in splitmix64).
@@ -303,6 +360,21 @@ mod tests {
         // A duplicated position.
         let c = check_mesh(&[DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X], &[[0, 1, 2]]);
         assert_eq!(c.duplicate_vertices, 1);
+        // −0 and +0 are the same coordinate.
+        let c = check_mesh(&[DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(-0.0, 0.0, -0.0)], &[[0, 1, 2]]);
+        assert_eq!(c.duplicate_vertices, 1);
+    }
+
+    /// Many copies of one position fall into one bucket (the sorted path of
+    /// `duplicate_positions`), next to distinct positions in small buckets.
+    #[test]
+    fn duplicates_in_a_large_bucket_are_each_counted_once() {
+        let mut p: Vec<DVec3> = (0..1000).map(|i| DVec3::new(i as f64, 0.5 * i as f64, 1.0)).collect();
+        p.extend(std::iter::repeat_n(DVec3::new(0.25, 7.0, -3.0), 100));
+        p.extend((0..40).map(|i| DVec3::new(i as f64, 0.5 * i as f64, 1.0)));
+        assert_eq!(duplicate_positions(&p), 99 + 40);
+        assert_eq!(duplicate_positions(&p[..1000]), 0);
+        assert_eq!(duplicate_positions(&p[..1]), 0);
     }
 
     proptest! {
