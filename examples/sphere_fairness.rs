@@ -1,42 +1,105 @@
 //! Where the mean curvature of the GB surfaces of the sphere cages of `scripts/bench_fairness`
-//! departs from a sphere's: `cargo run --release --example sphere_fairness [-- TOP]`.
+//! departs from a sphere's, and what moving the dual patches' central points does to it:
+//! `cargo run --release --example sphere_fairness [-- TOP]`.
 //!
 //! For the UV sphere (32 × 16), the ico sphere (2 splits) and the quad sphere (4 × 4) and both
-//! structures, every patch is sampled densely on its domain (per fan triangle (centre, v_{i−1},
-//! v_i) of the regular n-gon a barycentric grid, boundary excluded) and the analytic mean
-//! curvature H is compared with the sphere's −1/R (R the mean distance of the samples from the
-//! origin; docs/math.md §1.9). Printed per cage and structure:
+//! structures (default options), every patch is sampled on its domain (the centre and, per fan
+//! triangle (0, v_{i−1}, v_i) of the regular n-gon, a barycentric grid of step 1/12, boundary
+//! excluded) and the analytic mean curvature H is compared with the sphere's −1/R (R the mean
+//! distance of the samples from the origin; docs/math.md §1.9). Printed per cage and structure:
 //! - max |r/R − 1| and the p99 / max of |H·R + 1| over the samples;
-//! - per patch kind (n sides, what the patch stands for: the valence of its vertex or the sides of
-//!   its face): the count, the largest |H·R + 1| with its sign (`flat`: H·R + 1 > 0, less curved
-//!   than the sphere; `curved`: more curved) and where in the domain it is (`centre`: |x| < ⅓ of
-//!   the way to the boundary; `corner`: within ¼ of a side length of a domain vertex; `side`:
-//!   beyond ⅔ of the way; `middle` otherwise);
-//! - the TOP (default 5) worst patches with their source element and its position.
+//! - per patch kind (n sides, GB or CGB, what the patch stands for: the valence of its vertex or
+//!   the sides of its face): the count, the largest |H·R + 1| with its sign (`flat`: H·R + 1 > 0,
+//!   less curved than the sphere; `curved`: more curved) and where in the domain it is (`centre`:
+//!   under ⅓ of the way to the boundary; `corner`: within ¼ of a side length of a domain vertex;
+//!   `side`: beyond ⅔ of the way; `middle` otherwise), and where each patch's worst sample is;
+//! - the TOP (default 5) worst patches with their source element and its height z.
+//!
+//! Experiments (environment variables), each printed as an extra table:
+//! - `FAIR=G` (dual): the central point C of every GB patch with n ≥ `MIN_N` (default 3) moved to
+//!   C = V + T·(C* − V) (`T` default 1), C* the minimiser of the thin-plate energy
+//!   Σ_s |S_uu|² + 2|S_uv|² + |S_vv|² over the samples of [`energy_samples`] with grid G and
+//!   `REACH` (default G). S = A + B0·C is affine in C, so C* = −Σ_s (B0_uu A_uu + 2 B0_uv A_uv +
+//!   B0_vv A_vv) / Σ_s (B0_uu² + 2 B0_uv² + B0_vv²), a fixed mask on the ribbon points
+//!   ([`fair_center_mask`]); the ribbons, hence G1, are unchanged. `ENERGY=lapvar`: C* minimises
+//!   the variance over the samples of the Laplacian S_uu + S_vv instead (same closed-form shape).
+//! - `SPLIT=K` (dual): the network's patches of more than K sides split into fans
+//!   (`construct::network::split_large_patches`, the rule used above 64 sides).
 
 use gbsurf::construct::{Patch, PatchSource, Surface};
-use gbsurf::gb::{Domain, Evaluate, WeightForm};
+use gbsurf::gb::{Domain, Evaluate, GbBasisEvaluator, GbError, Ribbon, WeightForm};
 use gbsurf::mesh::generate::{ico_sphere, quad_sphere, uv_sphere};
 use gbsurf::mesh::PolyMesh;
 use gbsurf::{ConvertOptions, DVec3, Method};
 use glam::DVec2;
 use std::collections::BTreeMap;
 
-/// Interior domain points of an n-sided patch: per fan triangle (0, v_{i−1}, v_i) the points
-/// (a·v_{i−1} + b·v_i)/m with a, b ≥ 0, a + b < m, excluding the boundary (a + b = m).
-fn domain_samples(dom: &Domain, m: usize) -> Vec<DVec2> {
+// ---------------------------------------------------------------- the fair central point
+
+/// The domain samples of the energy of an n-sided patch: the centre and, per fan triangle
+/// (0, v_{i−1}, v_i) of the regular domain, the points (a·v_{i−1} + b·v_i)/`grid` with a ≥ 1, b ≥ 0,
+/// a + b < `grid` (the boundary excluded) and a + b ≤ `reach` (`reach` < `grid`: only the inner part).
+fn energy_samples(dom: &Domain, grid: usize, reach: usize) -> Vec<DVec2> {
     let n = dom.n();
     let mut out = vec![DVec2::ZERO];
     for i in 0..n {
         let (p, q) = (dom.vertex(i + n - 1), dom.vertex(i));
-        for a in 1..m {
-            for b in 0..m - a {
-                out.push((a as f64 * p + b as f64 * q) / m as f64);
+        for a in 1..grid {
+            for b in 0..(grid - a).min(reach + 1 - a.min(reach + 1)) {
+                out.push((a as f64 * p + b as f64 * q) / grid as f64);
             }
         }
     }
     out
 }
+
+/// The mask of the fair central point of an n-sided degree-d patch with weight form `form`:
+/// coefficients in the flat ribbon order (side i, row k, column j at (i·l + k)·(d+1) + j), so
+/// that C* = Σ c_q P_q minimises the thin-plate energy on the samples of [`energy_samples`].
+fn fair_center_mask(n: usize, d: usize, form: WeightForm, grid: usize, reach: usize) -> Result<Vec<f64>, GbError> {
+    let mut ev = GbBasisEvaluator::new(n, d)?;
+    let dom = Domain::regular(n)?;
+    let len = ev.len() - 1;
+    let samples = energy_samples(&dom, grid, reach);
+    // Per sample: the central weight's and every ribbon weight's jets.
+    let mut b0s = Vec::with_capacity(samples.len());
+    let mut ws = Vec::with_capacity(samples.len());
+    for &uv in &samples {
+        let mut w = vec![gbsurf::gb::Jet2::ZERO; len];
+        b0s.push(ev.for_each_ribbon_weight(uv, form, |idx, j| w[idx - 1] = j));
+        ws.push(w);
+    }
+    if env::<String>("ENERGY").as_deref() == Some("lapvar") {
+        // Variance of the Laplacian ΔS = S_uu + S_vv over the samples.
+        let m = samples.len() as f64;
+        let bl: Vec<f64> = b0s.iter().map(|b| b.duu + b.dvv).collect();
+        let bbar = bl.iter().sum::<f64>() / m;
+        let den: f64 = bl.iter().map(|b| (b - bbar) * (b - bbar)).sum();
+        return Ok((0..len)
+            .map(|q| {
+                let wl: Vec<f64> = ws.iter().map(|w| w[q].duu + w[q].dvv).collect();
+                let wbar = wl.iter().sum::<f64>() / m;
+                -bl.iter().zip(&wl).map(|(b, w)| (b - bbar) * (w - wbar)).sum::<f64>() / den
+            })
+            .collect());
+    }
+    let mut g = vec![0.0; len];
+    let mut den = 0.0;
+    for (b0, w) in b0s.iter().zip(&ws) {
+        den += b0.duu * b0.duu + 2.0 * b0.duv * b0.duv + b0.dvv * b0.dvv;
+        for (gq, wq) in g.iter_mut().zip(w) {
+            *gq += b0.duu * wq.duu + 2.0 * b0.duv * wq.duv + b0.dvv * wq.dvv;
+        }
+    }
+    Ok(g.into_iter().map(|x| -x / den).collect())
+}
+
+/// C* = Σ c_q P_q for `ribbons` (flat order, see [`fair_center_mask`]).
+fn fair_center(ribbons: &[Ribbon], mask: &[f64]) -> DVec3 {
+    ribbons.iter().flat_map(|r| r.points().iter()).zip(mask).map(|(p, c)| *c * *p).sum()
+}
+
+// ---------------------------------------------------------------- sampling
 
 /// Where `uv` lies in the domain (see the module doc).
 fn place(dom: &Domain, uv: DVec2) -> &'static str {
@@ -46,8 +109,6 @@ fn place(dom: &Domain, uv: DVec2) -> &'static str {
         return "corner";
     }
     // Fraction of the way to the boundary along the ray from the centre.
-    let inradius = 0.5 * (dom.vertex(0) + dom.vertex(1)).length();
-    let circum = dom.vertex(0).length();
     let angle = uv.y.atan2(uv.x);
     let rho = (0..n)
         .map(|i| {
@@ -67,7 +128,6 @@ fn place(dom: &Domain, uv: DVec2) -> &'static str {
             }
         })
         .fold(f64::INFINITY, f64::min);
-    let _ = (inradius, circum);
     let f = uv.length() / rho;
     if f < 1.0 / 3.0 {
         "centre"
@@ -89,7 +149,7 @@ fn sample(s: &Surface, form: WeightForm, m: usize) -> Vec<Sample> {
     let mut out = Vec::new();
     for (k, patch) in s.patches.iter().enumerate() {
         let dom = Domain::regular(patch.sides()).expect("domain");
-        for uv in domain_samples(&dom, m) {
+        for uv in energy_samples(&dom, m, m) {
             let d = patch.eval_derivs(uv, form);
             if let Some(c) = d.curvature() {
                 out.push(Sample { patch: k, uv, p: d.p, h: c.mean });
@@ -107,7 +167,45 @@ fn p99_max(mut v: Vec<f64>) -> (f64, f64) {
 fn study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
     let opts = ConvertOptions { method, ..Default::default() };
     let s = gbsurf::api::build_surface(cage, &opts).expect("surface");
-    let samples = sample(&s, opts.weights, 12);
+    report(name, cage, &s, &opts, top);
+    if method == Method::Dual {
+        if let Some(grid) = env::<usize>("FAIR") {
+            let reach = env("REACH").unwrap_or(grid);
+            let t = env("T").unwrap_or(1.0);
+            let min_n = env("MIN_N").unwrap_or(3);
+            let mut f = s.clone();
+            for p in &mut f.patches {
+                if let Patch::Gb(g) = p {
+                    if g.ribbons.len() >= min_n {
+                        let mask = fair_center_mask(g.ribbons.len(), 3, opts.weights, grid, reach).expect("mask");
+                        g.center += t * (fair_center(&g.ribbons, &mask) - g.center);
+                    }
+                }
+            }
+            let what = format!("{name} [C = V + {t}·(C* − V) for n ≥ {min_n}, grid {grid}, reach {reach}]");
+            report(&what, cage, &f, &opts, top);
+        }
+    }
+}
+
+/// The environment variable `name` parsed, `None` when unset or unparsable.
+fn env<T: std::str::FromStr>(name: &str) -> Option<T> {
+    std::env::var(name).ok()?.parse().ok()
+}
+
+fn split_study(name: &str, cage: &PolyMesh, top: usize) {
+    let Some(k) = env::<usize>("SPLIT") else { return };
+    let opts = ConvertOptions::default();
+    let he = gbsurf::mesh::HalfEdgeMesh::from_polymesh(cage).expect("mesh");
+    let net = gbsurf::construct::dual_network(&he, &opts).expect("network");
+    let Some((split, _)) = gbsurf::construct::network::split_large_patches(&net, k) else { return };
+    let s = gbsurf::construct::assemble(&split, &opts).expect("split assembles");
+    report(&format!("{name} [split above {k}]"), cage, &s, &opts, top);
+}
+
+fn report(name: &str, cage: &PolyMesh, s: &Surface, opts: &ConvertOptions, top: usize) {
+    let method = opts.method;
+    let samples = sample(s, opts.weights, 12);
     let radius = samples.iter().map(|x| x.p.length()).sum::<f64>() / samples.len() as f64;
     let dev = samples.iter().map(|x| (x.p.length() / radius - 1.0).abs()).fold(0.0, f64::max);
     let err = |x: &Sample| x.h * radius + 1.0;
@@ -162,7 +260,10 @@ fn study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
         let dom = Domain::regular(s.patches[x.patch].sides()).expect("domain");
         let at = match s.sources[x.patch] {
             PatchSource::Vertex(v) => cage.positions[v],
-            PatchSource::Face(f) => cage.faces[f].iter().map(|&v| cage.positions[v as usize]).sum::<DVec3>() / cage.faces[f].len() as f64,
+            PatchSource::Face(f) => {
+                let face = &cage.faces[f];
+                face.iter().map(|&v| cage.positions[v as usize]).sum::<DVec3>() / face.len() as f64
+            }
         };
         println!(
             "  patch {} {}: H·R + 1 = {:+.3} at uv ({:.2}, {:.2}) ({}), |uv| {:.2}, element at z = {:.3}",
@@ -189,5 +290,6 @@ fn main() {
         for method in [Method::Dual, Method::Topology] {
             study(name, cage, method, top);
         }
+        split_study(name, cage, top);
     }
 }

@@ -1,5 +1,5 @@
-//! Mesh generators for tests and benchmarks: quad tori, UV, ico and quad spheres, convex polyhedra (convex hulls) and the
-//! large-n cases (a planar n-gon, a cone over an n-gon, a prism with n-gon caps).
+//! Mesh generators for tests and benchmarks: quad tori, UV, ico and quad spheres, convex polyhedra
+//! (convex hulls) and the large-n cases (a planar n-gon, a cone over an n-gon, a prism with n-gon caps).
 
 use super::error::MeshError;
 use super::geometry::newell_normal;
@@ -78,7 +78,8 @@ pub fn uv_sphere(segments: usize, rings: usize) -> Result<PolyMesh, MeshError> {
 
 /// Icosahedron (the convex hull of the 12 points (0, ±1, ±φ) and their cyclic permutations),
 /// each triangle split into 4 at its edge midpoints `splits` times, every vertex projected to the
-/// unit sphere (the ico sphere of `scripts/bench_fairness`). Outward, counter-clockwise (the hull's orientation, kept by the split).
+/// unit sphere (the ico sphere of `scripts/bench_fairness`). Outward, counter-clockwise (the hull's
+/// orientation, kept by the split).
 pub fn ico_sphere(splits: usize) -> PolyMesh {
     let phi = (1.0 + 5f64.sqrt()) / 2.0;
     let mut pts = Vec::new();
