@@ -23,6 +23,8 @@
 //!   B0_vv A_vv) / Σ_s (B0_uu² + 2 B0_uv² + B0_vv²), a fixed mask on the ribbon points
 //!   ([`fair_center_mask`]); the ribbons, hence G1, are unchanged. `ENERGY=lapvar`: C* minimises
 //!   the variance over the samples of the Laplacian S_uu + S_vv instead (same closed-form shape).
+//! - `KAPPA`, `DEPTH`, `MID`, `TWIST`: fullness, tile depth, mid scale (D_{0.5} factor), twist mode
+//!   instead of the defaults, for every table.
 //! - `SPLIT=K` (dual): the network's patches of more than K sides split into fans
 //!   (`construct::network::split_large_patches`, the rule used above 64 sides).
 
@@ -165,7 +167,7 @@ fn p99_max(mut v: Vec<f64>) -> (f64, f64) {
 }
 
 fn study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
-    let opts = ConvertOptions { method, ..Default::default() };
+    let opts = options(method);
     let s = gbsurf::api::build_surface(cage, &opts).expect("surface");
     report(name, cage, &s, &opts, top);
     if method == Method::Dual {
@@ -188,6 +190,20 @@ fn study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
     }
 }
 
+/// The default options with `method`, and `KAPPA` (fullness), `DEPTH` (tile depth), `MID` (mid scale)
+/// and `TWIST` from the environment when set.
+fn options(method: Method) -> ConvertOptions {
+    let d = ConvertOptions::default();
+    ConvertOptions {
+        method,
+        fullness: env("KAPPA").unwrap_or(d.fullness),
+        tile_depth: env("DEPTH").unwrap_or(d.tile_depth),
+        mid_scale: env("MID").unwrap_or(d.mid_scale),
+        twist: env("TWIST").unwrap_or(d.twist),
+        ..d
+    }
+}
+
 /// The environment variable `name` parsed, `None` when unset or unparsable.
 fn env<T: std::str::FromStr>(name: &str) -> Option<T> {
     std::env::var(name).ok()?.parse().ok()
@@ -195,7 +211,7 @@ fn env<T: std::str::FromStr>(name: &str) -> Option<T> {
 
 fn split_study(name: &str, cage: &PolyMesh, top: usize) {
     let Some(k) = env::<usize>("SPLIT") else { return };
-    let opts = ConvertOptions::default();
+    let opts = options(Method::Dual);
     let he = gbsurf::mesh::HalfEdgeMesh::from_polymesh(cage).expect("mesh");
     let net = gbsurf::construct::dual_network(&he, &opts).expect("network");
     let Some((split, _)) = gbsurf::construct::network::split_large_patches(&net, k) else { return };
