@@ -23,6 +23,16 @@
 //!   B0_vv A_vv) / Σ_s (B0_uu² + 2 B0_uv² + B0_vv²), a fixed mask on the ribbon points
 //!   ([`fair_center_mask`]); the ribbons, hence G1, are unchanged. `ENERGY=lapvar`: C* minimises
 //!   the variance over the samples of the Laplacian S_uu + S_vv instead (same closed-form shape).
+//! - `FAIR_MID=G` (both structures): every shared curve's middle constraint D_{0.5} (seed 000
+//!   §4.4.5) chosen to minimise an energy summed over the patches (samples as above with grid G).
+//!   The twists are affine in D_{0.5} with one scalar factor γ per twist (the blend's cross
+//!   derivative is αT + βD; measured: the response to D = x̂ has no y, z part), so this is a
+//!   least-squares problem with one unknown per curve, the same for x, y and z. `ENERGY=lapvar`:
+//!   the variance over each patch's samples of the Laplacian S_uu + S_vv (else thin-plate);
+//!   `PATCH_MEAN=1`: each patch's variance divided by its sample count; `LOCAL=1`: each curve's
+//!   D alone with every other at the seed's (one Jacobi step from the seed: a per-curve rule),
+//!   else the joint solve; `MAX_N=K`: curves on a patch of more than K sides keep the seed's D;
+//!   `FAIR_C=1` (joint solve): the GB central points are unknowns too.
 //! - `KAPPA`, `DEPTH`, `MID`, `TWIST`: fullness, tile depth, mid scale (D_{0.5} factor), twist mode
 //!   instead of the defaults, for every table.
 //! - `SPLIT=K` (dual): the network's patches of more than K sides split into fans
@@ -219,6 +229,206 @@ fn split_study(name: &str, cage: &PolyMesh, top: usize) {
     report(&format!("{name} [split above {k}]"), cage, &s, &opts, top);
 }
 
+/// `FAIR_MID=G`: the curves' middle constraints D_{0.5} chosen by an energy (see the module doc).
+fn fair_mid_study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
+    let Some(grid) = env::<usize>("FAIR_MID") else { return };
+    let opts = options(method);
+    let he = gbsurf::mesh::HalfEdgeMesh::from_polymesh(cage).expect("mesh");
+    let net = if method == Method::Dual {
+        gbsurf::construct::dual_network(&he, &opts).expect("network")
+    } else {
+        gbsurf::construct::topology_network(&he, &opts).expect("network")
+    };
+    let nc = net.curves.len();
+    // With `FAIR_C` the central points are unknowns too (after the curves: unknown nc + p).
+    let joint = env::<u8>("FAIR_C") == Some(1);
+    let nu = if joint { nc + net.patches.len() } else { nc };
+    let lapvar = env::<String>("ENERGY").as_deref() == Some("lapvar");
+    let with_mid = |d: DVec3| {
+        let mut n = net.clone();
+        n.mid = vec![d; nc];
+        gbsurf::construct::assemble(&n, &ConvertOptions { mid_scale: 1.0, ..opts }).expect("assembles")
+    };
+    let (s0, sx) = (with_mid(DVec3::ZERO), with_mid(DVec3::X));
+    // γ[p][i][j−1]: the twist (row 1, column j) of side i of patch p per unit D_{0.5} of its curve.
+    let mut gamma = Vec::new();
+    let mut off_axis: f64 = 0.0;
+    for (a, b) in s0.patches.iter().zip(&sx.patches) {
+        let g: Vec<[f64; 2]> = a
+            .ribbons()
+            .iter()
+            .zip(b.ribbons())
+            .map(|(ra, rb)| {
+                let d = [rb.row(1)[1] - ra.row(1)[1], rb.row(1)[2] - ra.row(1)[2]];
+                off_axis = off_axis.max(d[0].y.abs().max(d[0].z.abs()).max(d[1].y.abs()).max(d[1].z.abs()));
+                [d[0].x, d[1].x]
+            })
+            .collect();
+        gamma.push(g);
+    }
+    // Normal equations N D = r (r: one column per coordinate).
+    let mut nmat = vec![0.0; nu * nu];
+    let mut rhs = vec![DVec3::ZERO; nu];
+    for (p, patch) in s0.patches.iter().enumerate() {
+        let (ribbons, center) = match patch {
+            Patch::Gb(g) => (&g.ribbons, Some(g.center)),
+            Patch::Cgb(c) => (&c.ribbons, None),
+        };
+        let n = ribbons.len();
+        let mut curves: Vec<usize> = net.patches[p].sides.iter().map(|s| s.curve).collect();
+        if joint && center.is_some() {
+            curves.push(nc + p);
+        }
+        let nl = curves.len();
+        let dom = Domain::regular(n).expect("domain");
+        let mut rows: Vec<(Vec<[f64; 3]>, [DVec3; 3])> = Vec::new();
+        for uv in energy_samples(&dom, grid, grid) {
+            // Ribbon weights (normalised for CGB) and the central weight (zero for CGB).
+            let (w, b0) = weights_at(n, center.is_some(), uv, opts.weights);
+            let c = if joint { DVec3::ZERO } else { center.unwrap_or_default() };
+            let mut a = [b0.duu * c, b0.duv * c, b0.dvv * c];
+            for (q, p) in ribbons.iter().flat_map(|r| r.points()).enumerate() {
+                a[0] += w[q].duu * *p;
+                a[1] += w[q].duv * *p;
+                a[2] += w[q].dvv * *p;
+            }
+            // Coefficient of each side's D in S_uu, S_uv, S_vv (row 1 is flat index i·8 + 4 + j).
+            let mut m: Vec<[f64; 3]> = (0..n)
+                .map(|i| {
+                    let (w1, w2) = (w[i * 8 + 5], w[i * 8 + 6]);
+                    let (g1, g2) = (gamma[p][i][0], gamma[p][i][1]);
+                    [w1.duu * g1 + w2.duu * g2, w1.duv * g1 + w2.duv * g2, w1.dvv * g1 + w2.dvv * g2]
+                })
+                .collect();
+            if joint && center.is_some() {
+                m.push([b0.duu, b0.duv, b0.dvv]);
+            }
+            rows.push((m, a));
+        }
+        if lapvar {
+            // Laplacian L = S_uu + S_vv minus its mean over the patch's samples.
+            let k = rows.len() as f64;
+            let lap = |m: &[[f64; 3]], i: usize| m[i][0] + m[i][2];
+            let mbar: Vec<f64> = (0..nl).map(|i| rows.iter().map(|(m, _)| lap(m, i)).sum::<f64>() / k).collect();
+            let abar = rows.iter().map(|(_, a)| a[0] + a[2]).sum::<DVec3>() / k;
+            // `PATCH_MEAN`: each patch's energy divided by its sample count.
+            let pw = if env::<u8>("PATCH_MEAN") == Some(1) { 1.0 / k } else { 1.0 };
+            for (m, a) in &rows {
+                let al = a[0] + a[2] - abar;
+                for i in 0..nl {
+                    let mi = m[i][0] + m[i][2] - mbar[i];
+                    rhs[curves[i]] -= pw * mi * al;
+                    for j in 0..nl {
+                        nmat[curves[i] * nu + curves[j]] += pw * mi * (m[j][0] + m[j][2] - mbar[j]);
+                    }
+                }
+            }
+        } else {
+            for (m, a) in &rows {
+                for (k, om) in [(0, 1.0), (1, 2.0), (2, 1.0)] {
+                    for i in 0..nl {
+                        rhs[curves[i]] -= om * m[i][k] * a[k];
+                        for j in 0..nl {
+                            nmat[curves[i] * nu + curves[j]] += om * m[i][k] * m[j][k];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Curves without a blend (none on a closed cage) keep D = 0 rows: regularise the diagonal.
+    let trace = (0..nu).map(|c| nmat[c * nu + c]).sum::<f64>() / nu as f64;
+    for c in 0..nu {
+        nmat[c * nu + c] += 1e-9 * trace;
+    }
+    // `LOCAL`: each curve's D alone, the others at the seed's (one Jacobi step from the seed).
+    // `MAX_N`: curves on a patch of more sides keep the seed's D.
+    let max_n = env::<usize>("MAX_N").unwrap_or(usize::MAX);
+    let mut big = vec![false; nu];
+    for lay in &net.patches {
+        if lay.sides.len() > max_n {
+            for s in &lay.sides {
+                big[s.curve] = true;
+            }
+        }
+    }
+    let mut d = if env::<u8>("LOCAL") == Some(1) {
+        let seed: Vec<DVec3> =
+            (0..nu).map(|u| if u < nc { net.mid[u] } else { net.patches[u - nc].center.unwrap_or_default() }).collect();
+        (0..nu)
+            .map(|c| {
+                if big[c] {
+                    return seed[c];
+                }
+                let off: DVec3 = (0..nu).filter(|&j| j != c).map(|j| nmat[c * nu + j] * seed[j]).sum();
+                (rhs[c] - off) / nmat[c * nu + c]
+            })
+            .collect()
+    } else {
+        solve(nmat, rhs, nu)
+    };
+    let centres = d.split_off(nc);
+    let seed_ratio = net.mid.iter().zip(&d).map(|(a, b)| b.length() / a.length()).collect::<Vec<f64>>();
+    let (lo, hi) = seed_ratio.iter().fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+    println!("\nfair D_0.5: twist response off-axis {off_axis:.1e}; |D|/|D_seed| in [{lo:.3}, {hi:.3}]");
+    let mut fair = net.clone();
+    fair.mid = d;
+    for (lay, c) in fair.patches.iter_mut().zip(&centres) {
+        lay.center = Some(*c);
+    }
+    let s = gbsurf::construct::assemble(&fair, &ConvertOptions { mid_scale: 1.0, ..opts }).expect("assembles");
+    report(&format!("{name} [fair D_0.5{}, grid {grid}]", if joint { " and C" } else { "" }), cage, &s, &opts, top);
+}
+
+/// The ribbon weights of a cubic n-sided patch at `uv` in flat order (GB, or CGB normalised by their
+/// sum, eq. 3.8) and the central weight (GB; zero for CGB).
+fn weights_at(n: usize, gb: bool, uv: DVec2, form: WeightForm) -> (Vec<gbsurf::gb::Jet2>, gbsurf::gb::Jet2) {
+    let zero = gbsurf::gb::Jet2::ZERO;
+    if gb {
+        let mut ev = GbBasisEvaluator::new(n, 3).expect("evaluator");
+        let mut w = vec![zero; ev.len() - 1];
+        let b0 = ev.for_each_ribbon_weight(uv, form, |idx, j| w[idx - 1] = j);
+        (w, b0)
+    } else {
+        let mut ev = gbsurf::gb::CgbBasisEvaluator::new(&vec![3; n], &vec![2; n]).expect("evaluator");
+        let mut w = vec![zero; ev.len()];
+        ev.eval_into(uv, form, &mut w).expect("weights");
+        (w, zero)
+    }
+}
+
+/// Solves the dense symmetric system `a` x = `b` (n × n, row major) by Gaussian elimination with
+/// partial pivoting, one right-hand side per coordinate.
+fn solve(mut a: Vec<f64>, mut b: Vec<DVec3>, n: usize) -> Vec<DVec3> {
+    for k in 0..n {
+        let piv = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs())).expect("row");
+        if piv != k {
+            for j in 0..n {
+                a.swap(k * n + j, piv * n + j);
+            }
+            b.swap(k, piv);
+        }
+        let d = a[k * n + k];
+        for i in k + 1..n {
+            let f = a[i * n + k] / d;
+            if f == 0.0 {
+                continue;
+            }
+            for j in k..n {
+                a[i * n + j] -= f * a[k * n + j];
+            }
+            let bk = b[k];
+            b[i] -= f * bk;
+        }
+    }
+    let mut x = vec![DVec3::ZERO; n];
+    for k in (0..n).rev() {
+        let s: DVec3 = (k + 1..n).map(|j| a[k * n + j] * x[j]).sum();
+        x[k] = (b[k] - s) / a[k * n + k];
+    }
+    x
+}
+
 fn report(name: &str, cage: &PolyMesh, s: &Surface, opts: &ConvertOptions, top: usize) {
     let method = opts.method;
     let samples = sample(s, opts.weights, 12);
@@ -307,5 +517,7 @@ fn main() {
             study(name, cage, method, top);
         }
         split_study(name, cage, top);
+        fair_mid_study(name, cage, Method::Dual, top);
+        fair_mid_study(name, cage, Method::Topology, top);
     }
 }
