@@ -33,12 +33,15 @@
 //!   D alone with every other at the seed's (one Jacobi step from the seed: a per-curve rule),
 //!   else the joint solve; `MAX_N=K`: curves on a patch of more than K sides keep the seed's D;
 //!   `FAIR_C=1` (joint solve): the GB central points are unknowns too.
+//! - `CAGES=1 … sphere_fairness 0 CAGE.obj…` with the `FAIR_MID` variables: instead of the spheres,
+//!   per cage and structure the patches with folds at level 8 with the seed's and the fair D_{0.5}
+//!   (`cage_folds`).
 //! - `KAPPA`, `DEPTH`, `MID`, `TWIST`: fullness, tile depth, mid scale (D_{0.5} factor), twist mode
 //!   instead of the defaults, for every table.
 //! - `SPLIT=K` (dual): the network's patches of more than K sides split into fans
 //!   (`construct::network::split_large_patches`, the rule used above 64 sides).
 
-use gbsurf::construct::{Patch, PatchSource, Surface};
+use gbsurf::construct::{CurveNetwork, Patch, PatchSource, Surface};
 use gbsurf::gb::{Domain, Evaluate, GbBasisEvaluator, GbError, Ribbon, WeightForm};
 use gbsurf::mesh::generate::{ico_sphere, quad_sphere, uv_sphere};
 use gbsurf::mesh::PolyMesh;
@@ -234,11 +237,52 @@ fn fair_mid_study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
     let Some(grid) = env::<usize>("FAIR_MID") else { return };
     let opts = options(method);
     let he = gbsurf::mesh::HalfEdgeMesh::from_polymesh(cage).expect("mesh");
-    let net = if method == Method::Dual {
-        gbsurf::construct::dual_network(&he, &opts).expect("network")
+    let net = network(&he, &opts).expect("network");
+    let (s, info) = fair_mid(&net, &opts, grid);
+    println!("\n{info}");
+    let joint = env::<u8>("FAIR_C") == Some(1);
+    report(&format!("{name} [fair D_0.5{}, grid {grid}]", if joint { " and C" } else { "" }), cage, &s, &opts, top);
+}
+
+/// The curve network of `opts.method` (no preparation, creases or fan split).
+fn network(he: &gbsurf::mesh::HalfEdgeMesh, opts: &ConvertOptions) -> Result<CurveNetwork, String> {
+    let net = if opts.method == Method::Dual {
+        gbsurf::construct::dual_network(he, opts)
     } else {
-        gbsurf::construct::topology_network(&he, &opts).expect("network")
+        gbsurf::construct::topology_network(he, opts)
     };
+    net.map_err(|e| e.to_string())
+}
+
+/// `CAGES=1 sphere_fairness 0 CAGE.obj…` with `FAIR_MID=G`: per cage and structure, the patches
+/// with folds ([`gbsurf::quality::find_folds`] at level 8) of the network assembled with the seed's
+/// D_{0.5} and with the fair ones (the cage prepared as in a conversion; no creases, no fan split,
+/// no scale normalisation: both columns are built the same way).
+fn cage_folds(files: &[String]) {
+    let grid = env::<usize>("FAIR_MID").unwrap_or(8);
+    println!("| cage | structure | patches | folded (seed D) | folded (fair D) |\n|---|---|---|---|---|");
+    for file in files {
+        let name = file.rsplit('/').next().unwrap_or(file);
+        let Ok(poly) = gbsurf::read_mesh(file) else { continue };
+        let Ok(he) = gbsurf::mesh::HalfEdgeMesh::from_polymesh(&poly) else { continue };
+        let Ok(prep) = gbsurf::construct::prepare(&he) else { continue };
+        for method in [Method::Dual, Method::Topology] {
+            let opts = options(method);
+            let row = network(&prep.mesh, &opts).and_then(|net| {
+                let seed = gbsurf::construct::assemble(&net, &opts).map_err(|e| e.to_string())?;
+                let (fair, _) = fair_mid(&net, &opts, grid);
+                let f = |s: &Surface| gbsurf::quality::find_folds(s, 8, opts.weights).patches;
+                Ok(format!("{} | {} | {}", seed.patches.len(), f(&seed), f(&fair)))
+            });
+            println!("| {name} | {} | {} |", method.name(), row.unwrap_or_else(|e| format!("error: {e} | |")));
+        }
+    }
+}
+
+/// The surface of `net` with every shared curve's D_{0.5} chosen by the energy of the module doc
+/// (`FAIR_MID`), and a line on the solve.
+fn fair_mid(net: &CurveNetwork, opts: &ConvertOptions, grid: usize) -> (Surface, String) {
+    let opts = *opts;
     let nc = net.curves.len();
     // With `FAIR_C` the central points are unknowns too (after the curves: unknown nc + p).
     let joint = env::<u8>("FAIR_C") == Some(1);
@@ -370,14 +414,15 @@ fn fair_mid_study(name: &str, cage: &PolyMesh, method: Method, top: usize) {
     let centres = d.split_off(nc);
     let seed_ratio = net.mid.iter().zip(&d).map(|(a, b)| b.length() / a.length()).collect::<Vec<f64>>();
     let (lo, hi) = seed_ratio.iter().fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
-    println!("\nfair D_0.5: twist response off-axis {off_axis:.1e}; |D|/|D_seed| in [{lo:.3}, {hi:.3}]");
+    let info = format!("fair D_0.5: twist response off-axis {off_axis:.1e}; |D|/|D_seed| in [{lo:.3}, {hi:.3}]");
     let mut fair = net.clone();
     fair.mid = d;
     for (lay, c) in fair.patches.iter_mut().zip(&centres) {
-        lay.center = Some(*c);
+        if lay.center.is_some() {
+            lay.center = Some(*c);
+        }
     }
-    let s = gbsurf::construct::assemble(&fair, &ConvertOptions { mid_scale: 1.0, ..opts }).expect("assembles");
-    report(&format!("{name} [fair D_0.5{}, grid {grid}]", if joint { " and C" } else { "" }), cage, &s, &opts, top);
+    (gbsurf::construct::assemble(&fair, &ConvertOptions { mid_scale: 1.0, ..opts }).expect("assembles"), info)
 }
 
 /// The ribbon weights of a cubic n-sided patch at `uv` in flat order (GB, or CGB normalised by their
@@ -507,6 +552,9 @@ fn report(name: &str, cage: &PolyMesh, s: &Surface, opts: &ConvertOptions, top: 
 
 fn main() {
     let top = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(5);
+    if env::<u8>("CAGES") == Some(1) {
+        return cage_folds(&std::env::args().skip(2).collect::<Vec<String>>());
+    }
     let cages: Vec<(&str, PolyMesh)> = vec![
         ("uv sphere 32×16", uv_sphere(32, 16).expect("uv sphere")),
         ("ico sphere (2 splits)", ico_sphere(2)),
