@@ -22,7 +22,7 @@
 //! `-- --quick` skips the spheres' r = 8 and CC level 4 (uses r = 4, level 3).
 
 use gbsurf::api::{convert, read_mesh, Conversion, ConvertOptions, Method};
-use gbsurf::mesh::generate::{convex_hull, uv_sphere};
+use gbsurf::mesh::generate::{ico_sphere, quad_sphere, uv_sphere};
 use gbsurf::mesh::PolyMesh;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -100,79 +100,6 @@ fn p99_max(mut values: Vec<f64>) -> (f64, f64) {
     }
     values.sort_by(f64::total_cmp);
     (values[((values.len() - 1) as f64 * 0.99).round() as usize], values[values.len() - 1])
-}
-
-/// Icosahedron (the convex hull of the 12 points (0, ±1, ±φ) and their cyclic permutations),
-/// each triangle split into 4 at its edge midpoints `splits` times, every vertex projected to the
-/// unit sphere. Outward, counter-clockwise (the hull's orientation, kept by the split).
-fn ico_sphere(splits: usize) -> PolyMesh {
-    let phi = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut pts = Vec::new();
-    for a in [-1.0, 1.0] {
-        for b in [-phi, phi] {
-            pts.extend([DVec3::new(0.0, a, b), DVec3::new(a, b, 0.0), DVec3::new(b, 0.0, a)]);
-        }
-    }
-    let hull = convex_hull(&pts).expect("icosahedron");
-    let mut positions: Vec<DVec3> = hull.positions.iter().map(|p| p.normalize()).collect();
-    let mut faces: Vec<[u32; 3]> = hull.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
-    assert_eq!(faces.len(), 20);
-    for _ in 0..splits {
-        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<DVec3>| {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push(((positions[a as usize] + positions[b as usize]) * 0.5).normalize());
-                (positions.len() - 1) as u32
-            })
-        };
-        let mut next = Vec::with_capacity(faces.len() * 4);
-        for [a, b, c] in faces {
-            let ab = midpoint(a, b, &mut positions);
-            let bc = midpoint(b, c, &mut positions);
-            let ca = midpoint(c, a, &mut positions);
-            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-        }
-        faces = next;
-    }
-    PolyMesh::new(positions, faces.into_iter().map(|f| f.to_vec()).collect())
-}
-
-/// The cube [−1, 1]³ with `n × n` quads per side (vertices shared along the cube's edges),
-/// every vertex projected to the unit sphere; quads outward, counter-clockwise.
-fn quad_sphere(n: i32) -> PolyMesh {
-    let mut index: HashMap<[i32; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    let mut vertex = |g: [i32; 3], positions: &mut Vec<DVec3>| {
-        *index.entry(g).or_insert_with(|| {
-            positions.push(DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64).normalize());
-            (positions.len() - 1) as u32
-        })
-    };
-    // Grid coordinates in −n..=n step 2 (so the cube is [−n, n]³).
-    for axis in 0..3 {
-        for sign in [-1, 1] {
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            for i in 0..n {
-                for j in 0..n {
-                    let corner = |di: i32, dj: i32| {
-                        let mut g = [0; 3];
-                        g[axis] = sign * n;
-                        g[u] = -n + 2 * (i + di);
-                        g[v] = -n + 2 * (j + dj);
-                        g
-                    };
-                    let mut quad = vec![corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
-                    // (u, v, axis) is right-handed: counter-clockwise seen from +axis.
-                    if sign < 0 {
-                        quad.reverse();
-                    }
-                    faces.push(quad.into_iter().map(|g| vertex(g, &mut positions)).collect::<Vec<u32>>());
-                }
-            }
-        }
-    }
-    PolyMesh::new(positions, faces)
 }
 
 // ---------------------------------------------------------------- cages
