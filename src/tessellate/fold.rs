@@ -181,19 +181,18 @@ pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) ->
     let (r0, r1) = (ribbon.row(0), ribbon.row(1));
     let u = 1.0 - s;
     // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
-    // with these very values); on the stack up to degree [`POWERS`] − 1.
-    let (mut sp, mut up) = ([0.0; POWERS], [0.0; POWERS]);
-    let (sv, uv);
-    let (sp, up): (&[f64], &[f64]) = if d < POWERS {
-        for j in 0..=d {
-            (sp[j], up[j]) = (s.powi(j as i32), u.powi(j as i32));
-        }
-        (&sp, &up)
+    // with these very values), by repeated products; on the stack up to degree [`POWERS`] − 1.
+    let (mut sp, mut up) = ([1.0; POWERS], [1.0; POWERS]);
+    let (mut sv, mut uv);
+    let (sp, up): (&mut [f64], &mut [f64]) = if d < POWERS {
+        (&mut sp[..=d], &mut up[..=d])
     } else {
-        sv = (0..=d).map(|j| s.powi(j as i32)).collect::<Vec<f64>>();
-        uv = (0..=d).map(|j| u.powi(j as i32)).collect::<Vec<f64>>();
-        (&sv, &uv)
+        (sv, uv) = (vec![1.0; d + 1], vec![1.0; d + 1]);
+        (&mut sv, &mut uv)
     };
+    for j in 1..=d {
+        (sp[j], up[j]) = (sp[j - 1] * s, up[j - 1] * u);
+    }
     let (bd, bd1) = binomials.of(d);
     let (mut t, mut x) = (DVec3::ZERO, DVec3::ZERO);
     for j in 0..=d {
