@@ -7,7 +7,8 @@
 //! folded patch densely (80 steps per radius) and prints the smallest dot of neighbouring unit
 //! normals and min/max |S_u × S_v|: a Jacobian sign change shows as a dot near −1 and a ratio
 //! near 0, a patch that only bends more than 90° from a side's reference keeps both away from it.
-//! Options from the environment: FULLNESS, DEPTH, TWIST (none|approx|interp), MID, METHOD.
+//! Options from the environment: FULLNESS, DEPTH, TWIST (none|approx|interp), MID, RES (resolution),
+//! METHOD.
 
 #[path = "common/fine.rs"]
 mod fine;
@@ -32,6 +33,9 @@ fn main() {
     }
     if let Some(m) = env("MID") {
         opts.mid_scale = m;
+    }
+    if let Some(r) = env("RES") {
+        opts.resolution = r as usize;
     }
     match std::env::var("TWIST").as_deref() {
         Ok("none") => opts.twist = Twist::None,

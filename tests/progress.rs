@@ -259,7 +259,7 @@ fn check_mesh_ticks_through_the_per_vertex_pass_and_cancels() {
 
 #[test]
 fn a_cancel_in_the_dense_fold_pass_returns_cancelled() {
-    // The rook's dual leaves 172 of its 1088 patches uncleared (docs/math.md#fold-clearing), so
+    // The rook's dual leaves 153 of its 1088 patches uncleared (docs/math.md#fold-clearing), so
     // the dense pass runs in many chunks and ticks between them: in the tessellation stage
     // (0.08..0.45 of the whole, `GB_STAGES` of the api) it owns 0.8..0.9, so 0.376..0.413 overall.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/opensubdiv/catmark_rook.obj");

@@ -267,14 +267,16 @@ def test_semi_sharp_crease_sweep_moves_the_surface_a_little_per_step(method, sta
 
 
 def test_a_folded_result_says_so_and_marks_the_fold():
-    """OpenSubdiv's rook (without its crease tags): 24 of its dual patches turn over next to a
-    corner. The result's info says NOT VALID with the report's figures, and `gb_fold` marks
-    vertices; the plain cube has no mark. (A cube with a corner pulled inside served here until
-    the fold rule's blended reference: its dual patches bend strongly but none turns over.)"""
+    """OpenSubdiv's bishop (without its crease tags): its dual report at resolution 3 counts 2
+    folded patches and 5 self-intersecting pairs. The result's info says NOT VALID with the
+    report's figures, and `gb_fold` marks vertices; the plain cube has no mark. (The rook without
+    its tags served here until the direction blends were kept on their side of the curve,
+    docs/math.md#blend-side, which removed its 24 folds; before it, a cube with a corner pulled
+    inside, until the fold rule's blended reference.)"""
     verts = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
     faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    rook_pos, rook_faces = helpers.parse_obj(helpers.ROOT / "tests/data/opensubdiv/catmark_rook.obj")
-    for name, v, f, folded in (("plain", verts, faces, False), ("rook", rook_pos, rook_faces, True)):
+    bishop_pos, bishop_faces = helpers.parse_obj(helpers.ROOT / "tests/data/opensubdiv/catmark_bishop.obj")
+    for name, v, f, folded in (("plain", verts, faces, False), ("bishop", bishop_pos, bishop_faces, True)):
         src = helpers.add_mesh_object(name, v, f)
         helpers.select_only(src)
         assert bpy.ops.object.gbsurf_convert(method='DUAL', resolution=3) == {'FINISHED'}

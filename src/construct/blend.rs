@@ -55,6 +55,24 @@ impl DirectionBlend {
         Self { d: [d0, m, d1] }
     }
 
+    /// The blend kept on its side of the curve (docs/math.md#blend-side; not in the seeds, which
+    /// take D0.5 as given, seed 000 eq. 4.16, 4.24): with `t` the curve tangent T(½) and e the unit
+    /// part of (d_0 + d_2)/2 orthogonal to it, the middle Bernstein coefficient d_1 is moved along
+    /// e until d_1·e ≥ 0, where d_0·e > 0 and d_2·e > 0. Then D(u)·e has non-negative Bernstein
+    /// coefficients, so D(u)·e ≥ (d_0·e)(d_2·e)/(d_0·e + d_2·e) > 0: D does not swing across the
+    /// curve and turn the cross-derivatives X = αD + βT of both patches over. Elsewhere the blend
+    /// is unchanged. One blend serves both patches, so G1 holds for any d_1.
+    pub fn kept_on_side(mut self, t: DVec3) -> Self {
+        let Some(t) = t.try_normalize() else { return self };
+        let mean = 0.5 * (self.d[0] + self.d[2]);
+        let Some(e) = (mean - mean.dot(t) * t).try_normalize() else { return self };
+        let (a, c, b) = (self.d[0].dot(e), self.d[1].dot(e), self.d[2].dot(e));
+        if a > 0.0 && b > 0.0 && c < 0.0 {
+            self.d[1] -= c * e;
+        }
+        self
+    }
+
     /// D(u).
     pub fn eval(&self, u: f64) -> DVec3 {
         let v = 1.0 - u;
@@ -129,6 +147,33 @@ mod tests {
         assert_near!(b.eval(0.5), m);
         let a = DirectionBlend::new(BlendKind::Approx, d0, m, d1);
         assert_near!(a.eval(0.5), 0.25 * d0 + 0.5 * m + 0.25 * d1);
+    }
+
+    /// The rook dual's base curves (docs/math.md#blend-side): D(0) and D0.5 across the curve
+    /// 0.00131, D(1) 0.0242. The interpolating quadratic through them dips below zero
+    /// (D0.5 < (√D(0) − √D(1))²/4), so D swings through the tangent; kept on its side it does not,
+    /// and it keeps D(0), D(1) and every component along the tangent and the normal.
+    #[test]
+    fn a_blend_kept_on_its_side_does_not_swing_across_the_curve() {
+        let (t, e, n) = (DVec3::X, DVec3::Y, DVec3::Z);
+        let d0 = 0.00131 * e + 0.0004 * t;
+        let d1 = 0.02415 * e - 0.003 * t + 0.001 * n;
+        let mid = 0.00131 * e;
+        let before = DirectionBlend::new(BlendKind::Interp, d0, mid, d1);
+        let after = before.kept_on_side(2.0 * t);
+        let across = |b: &DirectionBlend| (0..=100).map(|k| b.eval(k as f64 / 100.0).dot(e)).fold(f64::MAX, f64::min);
+        assert!(across(&before) < 0.0, "{}", across(&before));
+        // D·e ≥ ab/(a + b) with a, b the ends' components along e (here e = Y up to the normal part).
+        let (a, b) = (d0.dot(e), d1.dot(e));
+        assert!(across(&after) > 0.9 * a * b / (a + b), "{}", across(&after));
+        assert_near!(after.eval(0.0), d0);
+        assert_near!(after.eval(1.0), d1);
+        assert_near!(after.d[1].dot(t), before.d[1].dot(t));
+        // A blend already on its side, or one whose ends point to different sides, is unchanged.
+        let ok = DirectionBlend::new(BlendKind::Interp, d0, 0.01 * e, d1);
+        assert_eq!(ok.kept_on_side(t), ok);
+        let twisted = DirectionBlend::new(BlendKind::Interp, d0, mid, -d1 + 0.1 * d0);
+        assert_eq!(twisted.kept_on_side(t), twisted);
     }
 
     #[test]

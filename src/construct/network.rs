@@ -2,7 +2,7 @@
 //! (seed 000 §2.4, §3.4, §4). Structure-agnostic: the dual (§2) and the topology-preserving (§3)
 //! builders both produce a [`CurveNetwork`], and [`assemble`] turns it into a [`Surface`].
 
-use super::blend::{cross_derivative_coeffs, decompose, BlendKind, DirectionBlend};
+use super::blend::{cross_derivative_coeffs, decompose, hodograph, BlendKind, DirectionBlend};
 use super::surface::{Patch, PatchSource, SideRef, Surface};
 use super::{check_options, ConstructError, TwistMode};
 use crate::options::ConvertOptions;
@@ -353,7 +353,10 @@ fn shared_twists(
     let t1 = 3.0 * (cc[3] - cc[2]);
     let d0 = end_direction([la0, lb0], xa0, xb0, t0).ok_or_else(|| corner_error(net, c, 0, xa0, xb0, t0))?;
     let d1 = end_direction([la1, lb1], xa1, xb1, t1).ok_or_else(|| corner_error(net, c, 1, xa1, xb1, t1))?;
-    let blend = DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1);
+    // Kept on its side of the curve at T(½) = (t_0 + 2 t_1 + t_2)/4 (docs/math.md#blend-side).
+    let h = hodograph(&cc);
+    let blend =
+        DirectionBlend::new(kind, d0, opts.mid_scale * net.mid[c], d1).kept_on_side(0.25 * (h[0] + 2.0 * h[1] + h[2]));
     let dec = |x: DVec3, d: DVec3, t: DVec3, end: usize| {
         decompose(x, d, t).ok_or(ConstructError::DegenerateCorner { curve: c, end })
     };

@@ -797,20 +797,21 @@ fn dual_report(mesh: &gbsurf::mesh::PolyMesh) -> (*mut GbsurfResult, gbsurf::qua
 #[test]
 fn report_carries_validity_and_accepts_the_first_version() {
     // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
-    // themselves (valid: no intersections beyond the cage's own). OpenSubdiv's rook without its
-    // creases: its dual report counts 24 folded patches, turned over next to a corner (not valid;
-    // docs/math.md#fold-clearing). (A cube with a corner pulled inside to (-0.5, -0.5, -0.5)
-    // served here until the fold rule's blended reference: its dual patches bend strongly but
-    // none turns over.) The plain torus: no self-intersections, so the cage is not checked
+    // themselves (valid: no intersections beyond the cage's own). OpenSubdiv's bishop without its
+    // creases: its dual report at r = 3 counts 2 folded patches and 5 self-intersecting pairs (not
+    // valid; docs/math.md#fold-clearing). (OpenSubdiv's rook without its creases served here until
+    // the direction blends were kept on their side of the curve, docs/math.md#blend-side: its 24
+    // folded patches are gone; before it, a cube with a corner pulled inside, until the fold rule's
+    // blended reference.) The plain torus: no self-intersections, so the cage is not checked
     // (GBSURF_NOT_CHECKED).
     let plain = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let c = torus.positions[0];
     torus.positions[0] = c - 10.0 * glam::DVec3::new(c.x, c.y, 0.0).normalize();
     // Without its crease tags (the C call below passes positions and faces only).
-    let tagged = gbsurf::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/opensubdiv/catmark_rook.obj")).unwrap();
-    let rook = gbsurf::mesh::PolyMesh::new(tagged.positions, tagged.faces);
-    for (mesh, kind) in [(torus, "crossing"), (rook, "folded"), (plain, "plain")] {
+    let tagged = gbsurf::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/opensubdiv/catmark_bishop.obj")).unwrap();
+    let bishop = gbsurf::mesh::PolyMesh::new(tagged.positions, tagged.faces);
+    for (mesh, kind) in [(torus, "crossing"), (bishop, "folded"), (plain, "plain")] {
         let (r, rust) = dual_report(&mesh);
         match kind {
             "folded" => assert!(rust.folds > 0 && !rust.fold_sites.is_empty() && !rust.valid, "{rust:?}"),
