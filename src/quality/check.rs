@@ -64,19 +64,20 @@ pub fn check_mesh_ticked(positions: &[DVec3], triangles: &[[u32; 3]], ticker: &m
     let nv = positions.len();
     let mut c = MeshCheck { vertices: nv, triangles: triangles.len(), ..Default::default() };
     let good = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
-    c.bad_indices = triangles.par_iter().filter(|t| !good(t)).count();
-    c.zero_area_triangles = triangles
+    // One pass: [bad indices, zero-area triangles].
+    [c.bad_indices, c.zero_area_triangles] = triangles
         .par_iter()
-        .filter(|t| {
+        .with_min_len(1 << 12)
+        .map(|t| {
             if !good(t) {
-                return false;
+                return [1, 0];
             }
             let [a, b, cc] = t.map(|i| positions[i as usize]);
             let longest = (b - a).length_squared().max((cc - b).length_squared()).max((a - cc).length_squared());
             let area2 = (b - a).cross(cc - a).length();
-            t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(area2 > 2.0 * ZERO_AREA_REL * longest)
+            [0, usize::from(t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(area2 > 2.0 * ZERO_AREA_REL * longest))]
         })
-        .count();
+        .reduce(|| [0, 0], |x, y| [x[0] + y[0], x[1] + y[1]]);
     ticker.at(1, 6)?;
     // Corners per vertex: corner (v; a, b) for triangle (v, a, b) in CCW order. Its outgoing
     // directed edge is v → a and its link edge a → b. Bucketed in parallel (atomic counters;
