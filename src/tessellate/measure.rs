@@ -236,12 +236,15 @@ pub(crate) fn join_shared_sides(
             *k /= w as f64;
         }
     });
+    // Summed per fixed chunk, then the chunks in order: the same sum on every run (a rayon
+    // `reduce` splits adaptively, and the float sum then varied in its last bits).
     let (count, sum, max) = shared
-        .par_iter()
-        .zip(mesh.g1_deviation_deg.par_iter())
-        .filter(|(&s, _)| s)
-        .map(|(_, &g)| (1usize, g, g))
-        .reduce(|| (0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+        .par_chunks(PATCH_CHUNK)
+        .zip(mesh.g1_deviation_deg.par_chunks(PATCH_CHUNK))
+        .map(|(s, g)| s.iter().zip(g).filter(|(&s, _)| s).fold((0usize, 0.0, 0.0f64), |a, (_, &g)| (a.0 + 1, a.1 + g, a.2.max(g))))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .fold((0, 0.0, 0.0f64), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
     stats.shared_vertices = count;
     stats.max_g1_deg = max;
     if count > 0 {
