@@ -239,7 +239,15 @@ fn convert_valid(
         warnings.extend(surface.warnings.iter().cloned());
         ticker.stage(construct, tessellate)?;
         let mut sub = |f: f32| ticker.report(construct + (tessellate - construct) * f).is_ok();
-        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, options.cage_maps, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(
+            &surface,
+            options.sampling(),
+            options.weights,
+            checks,
+            options.cage_maps,
+            options.quality_arrays,
+            Some(&mut sub),
+        )?;
         report.count_sides(surface.patches.iter().map(|p| p.sides()));
         report.patches = surface.patches.len();
         report.resolution = options.resolution;

@@ -134,6 +134,11 @@ impl PatchLoops {
         &self.ids[self.start[p]..self.start[p + 1]]
     }
 
+    /// The patch whose triangle range holds triangle t (`None` past the last).
+    pub fn patch_of(&self, t: usize) -> Option<usize> {
+        self.triangles.partition_point(|&s| s <= t).checked_sub(1).filter(|&p| p < self.len())
+    }
+
     /// The corner vertices of patch p, in order.
     pub fn corners(&self, p: usize) -> impl Iterator<Item = u32> + '_ {
         self.of(p).iter().step_by(self.per_side.max(1)).copied()
@@ -396,8 +401,16 @@ fn vertex_pieces<'a>(
 /// `cage_maps`, the cage maps) and the per-vertex patch ids, and writes every patch's pieces in
 /// parallel from the welding map (triangles and quads as output vertex ids; docs/math.md#welding;
 /// the patch of a vertex is the one that created it, `WeldMap::vstart`). Runs after the welding,
-/// so these arrays and the kept boundary samples are never allocated at the same time.
-fn write_faces(surface: &Surface, layouts: &HashMap<usize, PatchLayout>, map: &WeldMap, mesh: &mut SurfaceMesh, cage_maps: bool) -> Result<(), TessellateError> {
+/// so these arrays and the kept boundary samples are never allocated at the same time. Without
+/// `patch_ids` the per-vertex and per-triangle patch ids stay empty.
+fn write_faces(
+    surface: &Surface,
+    layouts: &HashMap<usize, PatchLayout>,
+    map: &WeldMap,
+    mesh: &mut SurfaceMesh,
+    cage_maps: bool,
+    patch_ids: bool,
+) -> Result<(), TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
     let mut quad_start = Vec::with_capacity(np + 1);
@@ -416,7 +429,10 @@ fn write_faces(surface: &Surface, layouts: &HashMap<usize, PatchLayout>, map: &W
     quad_start.push(nq);
     face_start.push(nf);
     mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
-    mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
+    if patch_ids {
+        mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
+        mesh.patch = try_filled(map.vertex_count, 0, "output patch indices")?;
+    }
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
     // The cage maps (only with `cage_maps`): per face its cage corner, per loop its cage
@@ -435,7 +451,6 @@ fn write_faces(surface: &Surface, layouts: &HashMap<usize, PatchLayout>, map: &W
     mesh.cage_corner = try_filled(nc, [u32::MAX; 2], "output cage corners")?;
     mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
     mesh.cage_loop_corner = try_filled(nlc, [u32::MAX; 2], "output loop cage corners")?;
-    mesh.patch = try_filled(map.vertex_count, 0, "output patch indices")?;
     let mut pieces = Pieces {
         next: 0,
         np,
@@ -589,19 +604,22 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     evaluator: &E,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
-    tessellate_checked(surface, r, evaluator, true, true, progress)
+    tessellate_checked(surface, r, evaluator, true, true, true, progress)
 }
 
 /// [`tessellate_surface_with`], with the fold test (`folds`) or without it (then `fold` is all
 /// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share), and with
 /// the cage maps ([`SurfaceMesh::cage_corner`], `cage_coords`, `cage_loop_corner`) or without
-/// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]).
+/// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]), and
+/// with the patch ids ([`SurfaceMesh::patch`], `triangle_patch`) or without them (`patch_ids`
+/// false: they stay empty; [`crate::options::ConvertOptions::quality_arrays`]).
 pub fn tessellate_checked<E: PatchEvaluator>(
     surface: &Surface,
     r: impl Into<Sampling>,
     evaluator: &E,
     folds: bool,
     cage_maps: bool,
+    patch_ids: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     // The setup's steps tick at SETUP · k / 8 (k = 1..8, the allocations finer), so a cancel
@@ -710,7 +728,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     // The kept samples are welded: freed before the face arrays take their place.
     drop(boundary);
     tick(&mut progress, 0.5 * (1.0 + EVALUATION))?;
-    write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps)?;
+    write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps, patch_ids)?;
     tick(&mut progress, 0.75 + 0.25 * EVALUATION)?;
     finish_normals(&mut mesh, &weight);
     tick(&mut progress, 1.0)?;
@@ -727,8 +745,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         }
         // A patch folded only through flipped triangles still gets a site: the domain centroid
         // of its first flipped triangle.
-        let Some(&p) = mesh.triangle_patch.get(t as usize) else { continue };
-        let p = p as usize;
+        let Some(p) = mesh.patch_loops.patch_of(t as usize) else { continue };
         if mesh.patch_folds.get(p).is_some_and(|f| f.worst.is_none()) {
             let local = (t as usize).checked_sub(mesh.patch_loops.triangles.get(p).copied().unwrap_or(usize::MAX));
             let layout = layouts.get(&surface.patches[p].sides());
@@ -756,7 +773,7 @@ pub fn tessellate_surface(
     tessellate_surface_with(surface, r, &eval, progress)
 }
 
-/// [`tessellate_surface`] with or without the fold test and the cage maps (see
+/// [`tessellate_surface`] with or without the fold test, the cage maps and the patch ids (see
 /// [`tessellate_checked`]).
 pub fn tessellate_surface_checked(
     surface: &Surface,
@@ -764,11 +781,12 @@ pub fn tessellate_surface_checked(
     form: WeightForm,
     folds: bool,
     cage_maps: bool,
+    patch_ids: bool,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     let r: Sampling = r.into();
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
-    tessellate_checked(surface, r, &eval, folds, cage_maps, progress)
+    tessellate_checked(surface, r, &eval, folds, cage_maps, patch_ids, progress)
 }
 
 impl SurfaceMesh {
