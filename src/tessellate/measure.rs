@@ -41,7 +41,8 @@ pub(crate) struct KeptSample {
 
 impl From<&SurfacePoint> for KeptSample {
     fn from(sp: &SurfacePoint) -> Self {
-        KeptSample { position: sp.position, normal: sp.normal, mean_curvature: sp.mean_curvature, gaussian_curvature: sp.gaussian_curvature }
+        let (mean_curvature, gaussian_curvature) = (sp.mean_curvature, sp.gaussian_curvature);
+        KeptSample { position: sp.position, normal: sp.normal, mean_curvature, gaussian_curvature }
     }
 }
 
@@ -241,7 +242,10 @@ pub(crate) fn join_shared_sides(
     let (count, sum, max) = shared
         .par_chunks(PATCH_CHUNK)
         .zip(mesh.g1_deviation_deg.par_chunks(PATCH_CHUNK))
-        .map(|(s, g)| s.iter().zip(g).filter(|(&s, _)| s).fold((0usize, 0.0, 0.0f64), |a, (_, &g)| (a.0 + 1, a.1 + g, a.2.max(g))))
+        .map(|(s, g)| {
+            let on_shared = s.iter().zip(g).filter(|(&s, _)| s);
+            on_shared.fold((0usize, 0.0, 0.0f64), |a, (_, &g)| (a.0 + 1, a.1 + g, a.2.max(g)))
+        })
         .collect::<Vec<_>>()
         .into_iter()
         .fold((0, 0.0, 0.0f64), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));

@@ -478,7 +478,13 @@ fn write_faces(
 /// Writes patch p's triangles and quads (layout faces through the welding map), their patch and
 /// patch corners, the patch ids of the vertices it created, and the cage maps when `o` has room
 /// for them.
-fn patch_faces(surface: &Surface, layouts: &HashMap<usize, PatchLayout>, map: &WeldMap, p: usize, o: &mut FaceSlices<'_>) {
+fn patch_faces(
+    surface: &Surface,
+    layouts: &HashMap<usize, PatchLayout>,
+    map: &WeldMap,
+    p: usize,
+    o: &mut FaceSlices<'_>,
+) {
     let (layout, _, corners, points) = &layouts[&surface.patches[p].sides()];
     let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
     for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
