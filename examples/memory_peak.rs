@@ -1,7 +1,8 @@
 //! Where the peak heap memory of a conversion goes: a counting global allocator records the
 //! live heap bytes, their peak, and the large blocks (≥ 256 KiB) alive at the peak.
 //! `cargo run --release --example memory_peak -- [a b] [dual|topology] [resolution] [obj|ply|none]`
-//! (defaults: 200 × 200 quad torus, dual, resolution 2, obj). Converts the torus as the command
+//! (defaults: 200 × 200 quad torus, dual, resolution 2, obj; `cage` after the format keeps the
+//! cage maps, the surface and the quality arrays). Converts the torus as the command
 //! line does (`convert`, then the output written to a sink), and prints the peak heap bytes per
 //! output vertex of each phase and the large blocks alive at the overall peak, by size (so
 //! arrays can be told apart: n·24 bytes are `DVec3` per vertex, …).
@@ -118,8 +119,19 @@ fn main() {
     let method: Method = args.get(3).map_or(Method::Dual, |s| s.parse().expect("method"));
     let resolution = num(4, 2);
     let format = args.get(5).map_or("obj", String::as_str);
-    // As the command line: no cage maps (none of its outputs reads them).
-    let options = ConvertOptions { method, resolution, max_memory_mb: 1 << 16, cage_maps: args.get(6).is_some_and(|s| s == "cage"), ..Default::default() };
+    // As the command line: no cage maps (none of its outputs reads them), no exact surface (no
+    // --curves, --nets, --patches), the quality arrays only for PLY; `cage` as the 6th argument
+    // keeps everything (as the C ABI and the Blender add-on).
+    let all = args.get(6).is_some_and(|s| s == "cage");
+    let options = ConvertOptions {
+        method,
+        resolution,
+        max_memory_mb: 1 << 16,
+        cage_maps: all,
+        keep_surface: all,
+        quality_arrays: all || format == "ply",
+        ..Default::default()
+    };
     let mesh = torus(a, b, 10.0, 3.0).expect("torus");
     TRACK.store(true, Ordering::Relaxed);
     let before = reset_peak();

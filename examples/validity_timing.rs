@@ -125,7 +125,7 @@ fn phases(mesh: &gbsurf::mesh::PolyMesh, opts: &ConvertOptions, c: &gbsurf::api:
     let tess = |folds: bool| {
         // Best of 2: the tessellation dominates and the machine is shared.
         (0..2)
-            .map(|_| time(&mut || drop(tessellate_surface_checked(surface, opts.sampling(), opts.weights, folds, opts.cage_maps, None).expect("tessellation"))))
+            .map(|_| time(&mut || drop(tessellate_surface_checked(surface, opts.sampling(), opts.weights, folds, opts.cage_maps, true, None).expect("tessellation"))))
             .fold(f64::INFINITY, f64::min)
     };
     let (t_with, t_without) = (tess(true), tess(false));

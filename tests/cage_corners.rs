@@ -142,6 +142,45 @@ fn without_cage_maps_only_the_cage_arrays_are_empty() {
     }
 }
 
+/// Without `keep_surface` and `quality_arrays` (as the command line converts for OBJ and STL)
+/// the surface is `None`, the per-vertex patch ids, curvatures and G1 deviation and the
+/// per-triangle patch ids are empty, and everything else (the rest of the mesh, the report but
+/// its time) is bit-identical: both layouts, both structures, a subdivision method, a closed and
+/// an open cage.
+#[test]
+fn without_the_surface_and_quality_arrays_only_they_are_empty() {
+    for name in ["torus.obj", "grid_open.obj"] {
+        let cage = model(name);
+        for method in [Method::Dual, Method::Topology, Method::CatmullClark] {
+            for layout in [Layout::Quads, Layout::Triangles] {
+                let with = opts(method, layout, 2);
+                let a = convert(&cage, &with, None).unwrap();
+                let without = ConvertOptions { keep_surface: false, quality_arrays: false, ..with };
+                let mut b = convert(&cage, &without, None).unwrap();
+                let what = format!("{name} {method} {layout}");
+                assert_eq!(a.surface.is_some(), method.is_patch_method(), "{what}");
+                assert!(b.surface.is_none(), "{what}");
+                let m = &mut b.mesh;
+                let kept = [a.mesh.patch.len(), a.mesh.triangle_patch.len(), a.mesh.mean_curvature.len()];
+                assert!(kept.iter().all(|&n| n > 0), "{what}");
+                for v in [&m.mean_curvature, &m.gaussian_curvature, &m.g1_deviation_deg] {
+                    assert!(v.is_empty(), "{what}");
+                }
+                assert!(m.patch.is_empty() && m.triangle_patch.is_empty(), "{what}");
+                m.patch = a.mesh.patch.clone();
+                m.triangle_patch = a.mesh.triangle_patch.clone();
+                m.mean_curvature = a.mesh.mean_curvature.clone();
+                m.gaussian_curvature = a.mesh.gaussian_curvature.clone();
+                m.g1_deviation_deg = a.mesh.g1_deviation_deg.clone();
+                assert!(a.mesh == b.mesh, "{what}: the mesh changed");
+                b.report.seconds = a.report.seconds;
+                assert_eq!(a.report, b.report, "{what}");
+                assert_eq!(a.warnings, b.warnings, "{what}");
+            }
+        }
+    }
+}
+
 /// A cube with one face's vertex list rotated: the corner index follows the list as written.
 #[test]
 fn corner_index_follows_the_face_list() {

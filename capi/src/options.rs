@@ -119,9 +119,25 @@ impl From<&ConvertOptions> for GbsurfOptions {
     /// The C struct of `o` (`gbsurf_options_init` passes `ConvertOptions::default()`).
     fn from(o: &ConvertOptions) -> Self {
         // No `..`: a new option is a compile error here until the struct has it.
-        // `cage_maps` has no field: the C ABI always builds the cage maps (the Blender add-on and
-        // the adapters read them through gbsurf_mesh_cage_*).
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = *o;
+        // `cage_maps`, `keep_surface` and `quality_arrays` have no field: the C ABI always builds
+        // the cage maps (the Blender add-on and the adapters read them through
+        // gbsurf_mesh_cage_*), the surface and the quality arrays (gbsurf_result_*).
+        let ConvertOptions {
+            method,
+            layout,
+            resolution,
+            fullness,
+            tile_depth,
+            twist,
+            mid_scale,
+            best_plane,
+            weights,
+            levels,
+            max_memory_mb,
+            cage_maps: _,
+            keep_surface: _,
+            quality_arrays: _,
+        } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
             method: method.code(),
@@ -196,6 +212,8 @@ impl GbsurfOptions {
             levels: self.levels,
             max_memory_mb: self.max_memory_mb,
             cage_maps: true,
+            keep_surface: true,
+            quality_arrays: true,
         };
         o.validate()
             .map_err(|e| FfiError::new(GBSURF_ERR_INVALID_OPTION, e.to_string()))?;

@@ -174,8 +174,9 @@ impl OptionFlags {
             }
         }
         // No `..`: a new option is a compile error here until it has a flag (or, as `cage_maps`,
-        // is set from the outputs in `convert_input`).
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = &mut options;
+        // `keep_surface` and `quality_arrays`, is set from the outputs in `convert_input`).
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
+            &mut options;
         set(method, self.method);
         set(layout, self.layout);
         set(resolution, self.resolution);
@@ -192,7 +193,8 @@ impl OptionFlags {
 
     /// `(argument id, value)` of every flag for `options`, for the defaults shown in `--help`.
     fn shown(options: &ConvertOptions) -> [(&'static str, String); 11] {
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = *options;
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
+            *options;
         [
             ("method", method.to_string()),
             ("layout", layout.to_string()),
@@ -343,14 +345,22 @@ fn run_convert(args: &ConvertArgs) -> Result<(), RunError> {
 /// Reads and converts the input (with a progress bar unless `--quiet`); also returns the options
 /// and the output format (`None`: through OpenMesh), checked before any work.
 fn convert_input(args: &ConvertArgs) -> Result<(api::Conversion, ConvertOptions, Option<MeshFormat>), ConvertError> {
+    // The output format (its error is reported after the options', as before).
+    let format = if openmesh_io::handles(&args.output) { Ok(None) } else { MeshFormat::of(&args.output).map(Some) };
     // No output of the command line reads the cage maps: not building them saves 72 bytes per
-    // output vertex of peak memory (quad layout).
-    let options = ConvertOptions { cage_maps: false, ..args.options.apply(ConvertOptions::default()) };
+    // output vertex of peak memory (quad layout). The exact surface is kept only for the outputs
+    // written from it, the quality arrays only for PLY (see `drop_unneeded`).
+    let options = ConvertOptions {
+        cage_maps: false,
+        keep_surface: args.curves.is_some() || args.nets.is_some() || args.patches.is_some(),
+        quality_arrays: matches!(format, Ok(Some(MeshFormat::Ply))),
+        ..args.options.apply(ConvertOptions::default())
+    };
     options.validate()?;
     check_stripes(args.stripes)?;
     check_slice_count(args.slice_count)?;
     // Check the output extension and every output path before doing any work.
-    let format = if openmesh_io::handles(&args.output) { None } else { Some(MeshFormat::of(&args.output)?) };
+    let format = format?;
     let inputs = [FlagPath::new("input", &args.input)];
     export::check_output_paths(&inputs, &args.outputs())?;
     let bar = (!args.quiet).then(|| {

@@ -239,7 +239,15 @@ fn convert_valid(
         warnings.extend(surface.warnings.iter().cloned());
         ticker.stage(construct, tessellate)?;
         let mut sub = |f: f32| ticker.report(construct + (tessellate - construct) * f).is_ok();
-        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(&surface, options.sampling(), options.weights, checks, options.cage_maps, Some(&mut sub))?;
+        let (m, stats) = crate::tessellate::surface::tessellate_surface_checked(
+            &surface,
+            options.sampling(),
+            options.weights,
+            checks,
+            options.cage_maps,
+            options.quality_arrays,
+            Some(&mut sub),
+        )?;
         report.count_sides(surface.patches.iter().map(|p| p.sides()));
         report.patches = surface.patches.len();
         report.resolution = options.resolution;
@@ -260,7 +268,8 @@ fn convert_valid(
                 v
             ));
         }
-        (m, Some(surface))
+        // Freed here unless the caller keeps it (the checks below read only the mesh).
+        (m, options.keep_surface.then_some(surface))
     } else {
         ticker.stage(0.0, SUBDIV_STAGES[0])?;
         let input_face = |f: u32| he.input_face(crate::mesh::FaceId(f)) as u32;
@@ -271,7 +280,16 @@ fn convert_valid(
         (m, None)
     };
     let (mut out, mut surface) = (out, surface);
-    let [_, check_start, self_start, cage_start, cage_end] = if surface.is_some() { GB_STAGES } else { SUBDIV_STAGES };
+    report.max_abs_mean_curvature_times_diagonal =
+        crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
+    if !options.quality_arrays {
+        // Their figures are in the report: freed before the checks take their memory.
+        for v in [&mut out.mean_curvature, &mut out.gaussian_curvature, &mut out.g1_deviation_deg] {
+            *v = Vec::new();
+        }
+        (out.patch, out.triangle_patch) = (Vec::new(), Vec::new());
+    }
+    let [_, check_start, self_start, cage_start, cage_end] = if build.is_some() { GB_STAGES } else { SUBDIV_STAGES };
     ticker.stage(check_start, self_start)?;
     let check = crate::quality::check_mesh_ticked(&out.positions, &out.triangles, ticker)?;
     report.vertices = out.positions.len();
@@ -303,8 +321,6 @@ fn convert_valid(
         }
     }
     ticker.stage(cage_end, 1.0)?;
-    report.max_abs_mean_curvature_times_diagonal =
-        crate::quality::validity::max_abs_mean_curvature_times_diagonal(&out.positions, &out.mean_curvature);
     if checks {
         report.set_valid();
     }

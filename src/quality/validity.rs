@@ -87,11 +87,12 @@ impl Folds {
     }
 }
 
-/// Per patch of the tessellation `mesh`: it folds (a folded sample or a flipped triangle).
+/// Per patch of the tessellation `mesh`: it folds (a folded sample or a flipped triangle; the
+/// triangle's patch from its range in `patch_loops`, as `triangle_patch` may be empty).
 fn folded_patches(mesh: &SurfaceMesh) -> Vec<bool> {
     let mut folded: Vec<bool> = mesh.patch_folds.iter().map(|f| f.samples > 0).collect();
     for &t in &mesh.flipped_triangles {
-        if let Some(f) = mesh.triangle_patch.get(t as usize).and_then(|&p| folded.get_mut(p as usize)) {
+        if let Some(f) = mesh.patch_loops.patch_of(t as usize).and_then(|p| folded.get_mut(p)) {
             *f = true;
         }
     }

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 /// a 4-sided patch.
 pub(crate) struct BoundarySamples {
     /// Patch p's kept samples are `samples[start[p]..start[p + 1]]`, in ring order.
-    pub samples: Vec<SurfacePoint>,
+    pub samples: Vec<KeptSample>,
     pub start: Vec<usize>,
     /// Per boundary sample of every patch (n·r per patch, ring order, patch p's from `ring[p]`):
     /// its index in `samples`, or [`OWNED`] when it created its vertex.
@@ -27,6 +27,23 @@ pub(crate) struct BoundarySamples {
     ring: Vec<usize>,
     /// Per side count n: the first boundary sample of its layout.
     first: Vec<usize>,
+}
+
+/// What welding and measuring read of a kept boundary sample: the [`SurfacePoint`] without its
+/// Jacobian (64 bytes instead of 72).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct KeptSample {
+    pub position: DVec3,
+    pub normal: DVec3,
+    pub mean_curvature: f64,
+    pub gaussian_curvature: f64,
+}
+
+impl From<&SurfacePoint> for KeptSample {
+    fn from(sp: &SurfacePoint) -> Self {
+        let (mean_curvature, gaussian_curvature) = (sp.mean_curvature, sp.gaussian_curvature);
+        KeptSample { position: sp.position, normal: sp.normal, mean_curvature, gaussian_curvature }
+    }
 }
 
 /// [`BoundarySamples::slot`] of a sample that created its vertex.
@@ -70,7 +87,7 @@ impl BoundarySamples {
     /// Sample `s` (a boundary sample of its layout) of patch `p` with `n` sides when it is kept,
     /// `None` when it created its vertex.
     #[inline]
-    fn kept(&self, p: usize, n: usize, s: usize) -> Option<&SurfacePoint> {
+    fn kept(&self, p: usize, n: usize, s: usize) -> Option<&KeptSample> {
         let k = self.slot[self.ring[p] + s - self.first[n]];
         (k != OWNED).then(|| &self.samples[k as usize])
     }
@@ -80,12 +97,12 @@ impl BoundarySamples {
 const PATCH_CHUNK: usize = 4096;
 
 /// True for a sample with a usable normal.
-fn valid(sp: &SurfacePoint) -> bool {
+fn valid(sp: &KeptSample) -> bool {
     sp.normal != DVec3::ZERO && sp.normal.is_finite()
 }
 
 /// Adds a sample's normal and curvatures to a welded vertex and counts it.
-fn add(sp: &SurfacePoint, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16) {
+fn add(sp: &KeptSample, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16) {
     *n += sp.normal;
     if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
         *h += sp.mean_curvature;
@@ -220,12 +237,18 @@ pub(crate) fn join_shared_sides(
             *k /= w as f64;
         }
     });
+    // Summed per fixed chunk, then the chunks in order: the same sum on every run (a rayon
+    // `reduce` splits adaptively, and the float sum then varied in its last bits).
     let (count, sum, max) = shared
-        .par_iter()
-        .zip(mesh.g1_deviation_deg.par_iter())
-        .filter(|(&s, _)| s)
-        .map(|(_, &g)| (1usize, g, g))
-        .reduce(|| (0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+        .par_chunks(PATCH_CHUNK)
+        .zip(mesh.g1_deviation_deg.par_chunks(PATCH_CHUNK))
+        .map(|(s, g)| {
+            let on_shared = s.iter().zip(g).filter(|(&s, _)| s);
+            on_shared.fold((0usize, 0.0, 0.0f64), |a, (_, &g)| (a.0 + 1, a.1 + g, a.2.max(g)))
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .fold((0, 0.0, 0.0f64), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
     stats.shared_vertices = count;
     stats.max_g1_deg = max;
     if count > 0 {

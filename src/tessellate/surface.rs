@@ -25,7 +25,7 @@
 //! triangles are oriented like the patches (outward for a closed input, see [`Surface`]).
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
-use super::measure::{finish_normals, join_shared_sides, BoundarySamples};
+use super::measure::{finish_normals, join_shared_sides, BoundarySamples, KeptSample};
 use super::fold::{dense_folds_of_ticked, dense_level, flipped_triangles, patch_folds, samples_around, Sectors};
 use super::weld::{check_adjacency, WeldMap};
 use super::TessellateError;
@@ -132,6 +132,11 @@ impl PatchLoops {
     /// The boundary loop of patch p.
     pub fn of(&self, p: usize) -> &[u32] {
         &self.ids[self.start[p]..self.start[p + 1]]
+    }
+
+    /// The patch whose triangle range holds triangle t (`None` past the last).
+    pub fn patch_of(&self, t: usize) -> Option<usize> {
+        self.triangles.partition_point(|&s| s <= t).checked_sub(1).filter(|&p| p < self.len())
     }
 
     /// The corner vertices of patch p, in order.
@@ -256,15 +261,23 @@ fn layouts_of<E: PatchEvaluator>(surface: &Surface, r: Sampling, evaluator: &E) 
 /// the quad sectors ([`SampleLayout::sector_points`]).
 type PatchLayout = (SampleLayout, Sectors, Vec<u32>, Vec<SectorPoint>);
 
-/// Pieces of the output arrays, one slice per array: in [`PatchOut`] one patch's own disjoint
-/// pieces, in [`Pieces`] the tails not yet handed to a patch.
-struct OutSlices<'a> {
+/// One patch's pieces of the per-vertex arrays, written while its samples are evaluated (or, in
+/// [`Pieces`], the tails not yet handed to a patch).
+struct VertexSlices<'a> {
     pos: &'a mut [DVec3],
     nrm: &'a mut [DVec3],
     h: &'a mut [f64],
     k: &'a mut [f64],
-    patch: &'a mut [u32],
     weight: &'a mut [u16],
+    /// Its boundary samples that did not create their vertex ([`BoundarySamples`]).
+    bnd: &'a mut [KeptSample],
+}
+
+/// One patch's pieces of the per-face arrays and of the per-vertex patch ids, written after the
+/// welding (when the kept boundary samples are freed, so the two never take memory at the same
+/// time), or, in [`Pieces`], the tails not yet handed to a patch.
+struct FaceSlices<'a> {
+    patch: &'a mut [u32],
     tris: &'a mut [[u32; 3]],
     tri_patch: &'a mut [u32],
     quads: &'a mut [[u32; 4]],
@@ -272,57 +285,44 @@ struct OutSlices<'a> {
     cage: &'a mut [[u32; 2]],
     coords: &'a mut [[f64; 2]],
     loop_cage: &'a mut [[u32; 2]],
-    bnd: &'a mut [SurfacePoint],
 }
 
-/// One patch's piece lengths in the output arrays of [`OutSlices`].
-struct PatchLengths {
-    /// Vertices it creates (positions, normals, curvatures, patch ids, weights).
-    vertices: usize,
-    /// Triangles (and their patch ids).
-    triangles: usize,
-    quads: usize,
-    /// Output faces (their patch corners).
-    faces: usize,
-    /// Cage corners of its faces (0 without cage maps).
-    cage: usize,
-    /// Cage coordinates of its face loops (0 without cage maps).
-    loops: usize,
-    /// Loop cage corners (triangle layout with cage maps, else 0).
-    loop_cage: usize,
-    /// Boundary samples.
-    boundary: usize,
+/// Output slices that can be cut into consecutive per-patch pieces: `len[i]` items off the front
+/// of the i-th slice.
+trait CutSlices<'a>: Sized {
+    fn take_patch(&mut self, len: &[usize; 7]) -> Self;
 }
 
-impl<'a> OutSlices<'a> {
-    /// Cuts the pieces of the next patch (`len`) off the front of every slice.
-    fn take_patch(&mut self, len: &PatchLengths) -> OutSlices<'a> {
-        OutSlices {
-            pos: take(&mut self.pos, len.vertices),
-            nrm: take(&mut self.nrm, len.vertices),
-            h: take(&mut self.h, len.vertices),
-            k: take(&mut self.k, len.vertices),
-            patch: take(&mut self.patch, len.vertices),
-            weight: take(&mut self.weight, len.vertices),
-            tris: take(&mut self.tris, len.triangles),
-            tri_patch: take(&mut self.tri_patch, len.triangles),
-            quads: take(&mut self.quads, len.quads),
-            corner: take(&mut self.corner, len.faces),
-            cage: take(&mut self.cage, len.cage),
-            coords: take(&mut self.coords, len.loops),
-            loop_cage: take(&mut self.loop_cage, len.loop_cage),
-            bnd: take(&mut self.bnd, len.boundary),
+impl<'a> CutSlices<'a> for VertexSlices<'a> {
+    /// Lengths: [vertices it creates, kept boundary samples, …].
+    fn take_patch(&mut self, len: &[usize; 7]) -> Self {
+        VertexSlices {
+            pos: take(&mut self.pos, len[0]),
+            nrm: take(&mut self.nrm, len[0]),
+            h: take(&mut self.h, len[0]),
+            k: take(&mut self.k, len[0]),
+            weight: take(&mut self.weight, len[0]),
+            bnd: take(&mut self.bnd, len[1]),
         }
     }
 }
 
-/// The output of one patch: its own disjoint pieces of the output arrays.
-struct PatchOut<'a> {
-    p: usize,
-    o: OutSlices<'a>,
-    fold: &'a mut TessellationFolds,
-    /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
-    folded: Vec<u32>,
+impl<'a> CutSlices<'a> for FaceSlices<'a> {
+    /// Lengths: [triangles (and their patch ids), quads, output faces (their patch corners),
+    /// cage corners of its faces, cage coordinates of its face loops, loop cage corners, vertices
+    /// it creates]; the cage lengths are 0 without cage maps.
+    fn take_patch(&mut self, len: &[usize; 7]) -> Self {
+        FaceSlices {
+            patch: take(&mut self.patch, len[6]),
+            tris: take(&mut self.tris, len[0]),
+            tri_patch: take(&mut self.tri_patch, len[0]),
+            quads: take(&mut self.quads, len[1]),
+            corner: take(&mut self.corner, len[2]),
+            cage: take(&mut self.cage, len[3]),
+            coords: take(&mut self.coords, len[4]),
+            loop_cage: take(&mut self.loop_cage, len[5]),
+        }
+    }
 }
 
 /// The first `len` items of `rest`, which keeps the others; fewer when `rest` is shorter, which
@@ -337,55 +337,80 @@ pub(crate) fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
 /// The output arrays not yet handed to a patch: every slice of `rest` is the tail of its array
 /// from the first patch not yet taken, so the patches are cut off in order one chunk at a time
 /// and no list of the pieces of all patches is held (it would cost about 260 bytes per patch).
-struct Pieces<'a> {
+/// `starts[i][p]` is where patch p's piece of the i-th slice starts (np + 1 entries each).
+struct Pieces<S> {
     next: usize,
-    vstart: &'a [usize],
-    tri_start: Vec<usize>,
-    quad_start: Vec<usize>,
-    face_start: Vec<usize>,
-    cage_start: Vec<usize>,
-    loop_start: Vec<usize>,
-    lc_start: Vec<usize>,
-    bnd_start: &'a [usize],
-    rest: OutSlices<'a>,
-    fold: std::slice::IterMut<'a, TessellationFolds>,
+    np: usize,
+    starts: Vec<Vec<usize>>,
+    rest: S,
 }
 
-impl<'a> Pieces<'a> {
-    /// The pieces of the next patch (`None` after the last).
-    fn next_patch(&mut self) -> Option<PatchOut<'a>> {
+impl<'a, S: CutSlices<'a>> Pieces<S> {
+    /// Patch index and pieces of the next patch (`None` after the last).
+    fn next_patch(&mut self) -> Option<(usize, S)> {
         let p = self.next;
-        let fold = self.fold.next()?;
+        if p >= self.np {
+            return None;
+        }
         self.next += 1;
-        let len = |s: &[usize]| s.get(p + 1).zip(s.get(p)).map_or(0, |(b, a)| b - a);
-        let lengths = PatchLengths {
-            vertices: len(self.vstart),
-            triangles: len(&self.tri_start),
-            quads: len(&self.quad_start),
-            faces: len(&self.face_start),
-            cage: len(&self.cage_start),
-            loops: len(&self.loop_start),
-            loop_cage: len(&self.lc_start),
-            boundary: len(self.bnd_start),
-        };
-        Some(PatchOut { p, o: self.rest.take_patch(&lengths), fold, folded: Vec::new() })
+        let mut len = [0; 7];
+        for (l, s) in len.iter_mut().zip(&self.starts) {
+            *l = s.get(p + 1).zip(s.get(p)).map_or(0, |(b, a)| b - a);
+        }
+        Some((p, self.rest.take_patch(&len)))
     }
 }
 
-/// Allocates the output arrays and returns them to be cut into per-patch pieces
-/// ([`Pieces::next_patch`]). The vertices a patch creates are contiguous (see
-/// `WeldMap::vstart`), as are its triangles and its boundary samples, so each patch writes its
-/// own disjoint pieces and the evaluation runs in parallel without locks.
-fn partition<'a>(
-    surface: &Surface,
-    layouts: &HashMap<usize, PatchLayout>,
-    map: &'a WeldMap,
+/// The output of one patch's evaluation: its own disjoint pieces of the per-vertex arrays.
+struct PatchOut<'a> {
+    p: usize,
+    o: VertexSlices<'a>,
+    fold: &'a mut TessellationFolds,
+    /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
+    folded: Vec<u32>,
+}
+
+/// Cuts the per-vertex output arrays (allocated by the caller) and the kept boundary samples into
+/// per-patch pieces ([`Pieces::next_patch`]), with every patch's fold result (in patch order).
+/// The vertices a patch creates are contiguous (see `WeldMap::vstart`), as are its boundary
+/// samples, so each patch writes its own disjoint pieces and the evaluation runs in parallel
+/// without locks.
+fn vertex_pieces<'a>(
+    map: &WeldMap,
     mesh: &'a mut SurfaceMesh,
     weight: &'a mut [u16],
     boundary: &'a mut BoundarySamples,
+) -> (Pieces<VertexSlices<'a>>, std::slice::IterMut<'a, TessellationFolds>) {
+    let pieces = Pieces {
+        next: 0,
+        np: map.vstart.len().saturating_sub(1),
+        starts: vec![map.vstart.clone(), boundary.start.clone()],
+        rest: VertexSlices {
+            pos: &mut mesh.positions,
+            nrm: &mut mesh.normals,
+            h: &mut mesh.mean_curvature,
+            k: &mut mesh.gaussian_curvature,
+            weight,
+            bnd: &mut boundary.samples,
+        },
+    };
+    (pieces, mesh.patch_folds.iter_mut())
+}
+
+/// Allocates the per-face output arrays (triangles, their patches, quads, face corners and, with
+/// `cage_maps`, the cage maps) and the per-vertex patch ids, and writes every patch's pieces in
+/// parallel from the welding map (triangles and quads as output vertex ids; docs/math.md#welding;
+/// the patch of a vertex is the one that created it, `WeldMap::vstart`). Runs after the welding,
+/// so these arrays and the kept boundary samples are never allocated at the same time. Without
+/// `patch_ids` the per-vertex and per-triangle patch ids stay empty.
+fn write_faces(
+    surface: &Surface,
+    layouts: &HashMap<usize, PatchLayout>,
+    map: &WeldMap,
+    mesh: &mut SurfaceMesh,
     cage_maps: bool,
-    tick: &mut dyn FnMut(u8) -> Result<(), TessellateError>,
-) -> Result<Pieces<'a>, TessellateError> {
+    patch_ids: bool,
+) -> Result<(), TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
     let mut quad_start = Vec::with_capacity(np + 1);
@@ -404,11 +429,11 @@ fn partition<'a>(
     quad_start.push(nq);
     face_start.push(nf);
     mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
-    tick(1)?;
-    mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
-    tick(2)?;
+    if patch_ids {
+        mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
+        mesh.patch = try_filled(map.vertex_count, 0, "output patch indices")?;
+    }
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
-    tick(3)?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
     // The cage maps (only with `cage_maps`): per face its cage corner, per loop its cage
     // coordinates (4 per quad, or 3 per triangle in the triangle layout, whose loops also get
@@ -426,24 +451,12 @@ fn partition<'a>(
     mesh.cage_corner = try_filled(nc, [u32::MAX; 2], "output cage corners")?;
     mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
     mesh.cage_loop_corner = try_filled(nlc, [u32::MAX; 2], "output loop cage corners")?;
-    mesh.patch_folds = vec![TessellationFolds::default(); np];
-    Ok(Pieces {
+    let mut pieces = Pieces {
         next: 0,
-        vstart: &map.vstart,
-        tri_start,
-        quad_start,
-        face_start,
-        cage_start,
-        loop_start,
-        lc_start,
-        bnd_start: &boundary.start,
-        rest: OutSlices {
-            pos: &mut mesh.positions,
-            nrm: &mut mesh.normals,
-            h: &mut mesh.mean_curvature,
-            k: &mut mesh.gaussian_curvature,
+        np,
+        starts: vec![tri_start, quad_start, face_start, cage_start, loop_start, lc_start, map.vstart.clone()],
+        rest: FaceSlices {
             patch: &mut mesh.patch,
-            weight,
             tris: &mut mesh.triangles,
             tri_patch: &mut mesh.triangle_patch,
             quads: &mut mesh.quads,
@@ -451,17 +464,48 @@ fn partition<'a>(
             cage: &mut mesh.cage_corner,
             coords: &mut mesh.cage_coords,
             loop_cage: &mut mesh.cage_loop_corner,
-            bnd: &mut boundary.samples,
         },
-        fold: mesh.patch_folds.iter_mut(),
-    })
+    };
+    loop {
+        let chunk: Vec<(usize, FaceSlices<'_>)> = (0..CHUNK).map_while(|_| pieces.next_patch()).collect();
+        if chunk.is_empty() {
+            return Ok(());
+        }
+        chunk.into_par_iter().for_each(|(p, mut o)| patch_faces(surface, layouts, map, p, &mut o));
+    }
+}
+
+/// Writes patch p's triangles and quads (layout faces through the welding map), their patch and
+/// patch corners, the patch ids of the vertices it created, and the cage maps when `o` has room
+/// for them.
+fn patch_faces(
+    surface: &Surface,
+    layouts: &HashMap<usize, PatchLayout>,
+    map: &WeldMap,
+    p: usize,
+    o: &mut FaceSlices<'_>,
+) {
+    let (layout, _, corners, points) = &layouts[&surface.patches[p].sides()];
+    let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
+    for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
+        *t = lt.map(|x| ids[x as usize]);
+    }
+    o.tri_patch.fill(p as u32);
+    o.patch.fill(p as u32);
+    for (q, lq) in o.quads.iter_mut().zip(&layout.quads) {
+        *q = lq.map(|x| ids[x as usize]);
+    }
+    o.corner.copy_from_slice(corners);
+    if !o.cage.is_empty() {
+        write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, points, o);
+    }
 }
 
 /// The cage corner of every output face of one patch (`cage`: the patch's [`Surface::cage`] row,
 /// `None` when the surface has none) and the cage coordinates of the face corners: for quads
 /// from their sector grid, for triangles from `points` ([`SampleLayout::sector_points`]) with
 /// each loop's own cage corner (docs/math.md#cage-corners).
-fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], points: &[SectorPoint], o: &mut OutSlices<'_>) {
+fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayout, corners: &[u32], points: &[SectorPoint], o: &mut FaceSlices<'_>) {
     use crate::construct::SectorMap;
     let sector = |i: u32| cage.and_then(|c| c.get(i as usize));
     for (out, &i) in o.cage.iter_mut().zip(corners) {
@@ -500,8 +544,8 @@ fn write_cage(cage: Option<&[crate::construct::CageSector]>, layout: &SampleLayo
     }
 }
 
-/// Evaluates patch `out.p` and writes the samples that create vertices, its boundary samples
-/// and its triangles into its pieces.
+/// Evaluates patch `out.p` and writes the samples that create vertices and its kept boundary
+/// samples into its pieces (its faces follow after the welding, [`write_faces`]).
 fn evaluate_patch<E: PatchEvaluator>(
     surface: &Surface,
     evaluator: &E,
@@ -512,7 +556,7 @@ fn evaluate_patch<E: PatchEvaluator>(
     out: &mut PatchOut<'_>,
 ) -> Result<(), TessellateError> {
     let (p, o) = (out.p, &mut out.o);
-    let (layout, sectors, corners, points) = &layouts[&surface.patches[p].sides()];
+    let (layout, sectors, _, _) = &layouts[&surface.patches[p].sides()];
     evaluator.evaluate(surface, p, layout, buf);
     if buf.len() != layout.uv.len() {
         return Err(TessellateError::Evaluation { patch: p, sample: buf.len().min(layout.uv.len()) });
@@ -525,11 +569,10 @@ fn evaluate_patch<E: PatchEvaluator>(
     for (s, sp) in buf.iter().enumerate() {
         if !map.owner[base + s] {
             // A boundary sample that did not create its vertex: kept for welding.
-            o.bnd[b] = *sp;
+            o.bnd[b] = KeptSample::from(sp);
             b += 1;
         } else {
             o.pos[j] = sp.position;
-            o.patch[j] = p as u32;
             if sp.normal != DVec3::ZERO && sp.normal.is_finite() {
                 o.nrm[j] = sp.normal;
                 o.weight[j] = 1;
@@ -541,21 +584,10 @@ fn evaluate_patch<E: PatchEvaluator>(
             j += 1;
         }
     }
-    let ids = &map.ids[base..map.offsets[p + 1]];
-    for (t, lt) in o.tris.iter_mut().zip(&layout.triangles) {
-        *t = lt.map(|x| ids[x as usize]);
-    }
-    o.tri_patch.fill(p as u32);
-    for (q, lq) in o.quads.iter_mut().zip(&layout.quads) {
-        *q = lq.map(|x| ids[x as usize]);
-    }
-    o.corner.copy_from_slice(corners);
-    if !o.cage.is_empty() {
-        write_cage(surface.cage.get(p).map(Vec::as_slice), layout, corners, points, o);
-    }
     if !folds {
         return Ok(());
     }
+    let ids = &map.ids[base..map.offsets[p + 1]];
     let folds = patch_folds(&surface.patches[p], sectors, layout, buf);
     out.fold.samples = folds.samples.len();
     out.fold.worst = folds.worst;
@@ -578,19 +610,22 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
     evaluator: &E,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
-    tessellate_checked(surface, r, evaluator, true, true, progress)
+    tessellate_checked(surface, r, evaluator, true, true, true, progress)
 }
 
 /// [`tessellate_surface_with`], with the fold test (`folds`) or without it (then `fold` is all
 /// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share), and with
 /// the cage maps ([`SurfaceMesh::cage_corner`], `cage_coords`, `cage_loop_corner`) or without
-/// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]).
+/// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]), and
+/// with the patch ids ([`SurfaceMesh::patch`], `triangle_patch`) or without them (`patch_ids`
+/// false: they stay empty; [`crate::options::ConvertOptions::quality_arrays`]).
 pub fn tessellate_checked<E: PatchEvaluator>(
     surface: &Surface,
     r: impl Into<Sampling>,
     evaluator: &E,
     folds: bool,
     cage_maps: bool,
+    patch_ids: bool,
     mut progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     // The setup's steps tick at SETUP · k / 8 (k = 1..8, the allocations finer), so a cancel
@@ -617,7 +652,6 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     tick(&mut progress, setup(4) + SETUP / 32.0)?;
     let normals = try_filled(nv, DVec3::ZERO, "output normals")?;
     tick(&mut progress, setup(4) + SETUP / 16.0)?;
-    let patch = try_filled(nv, 0, "output patch indices")?;
     let mean_curvature = try_filled(nv, 0.0, "output mean curvature")?;
     tick(&mut progress, setup(4) + 3.0 * SETUP / 32.0)?;
     let gaussian_curvature = try_filled(nv, 0.0, "output Gaussian curvature")?;
@@ -632,7 +666,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         cage_corner: Vec::new(),
         cage_coords: Vec::new(),
         cage_loop_corner: Vec::new(),
-        patch,
+        patch: Vec::new(),
         triangle_patch: Vec::new(),
         mean_curvature,
         gaussian_curvature,
@@ -650,15 +684,17 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let mut weight = vec![0u16; nv];
     tick(&mut progress, setup(7))?;
     let folded: Vec<u32> = {
-        let mut pieces = partition(surface, &with_sectors, &map, &mut mesh, &mut weight, &mut boundary, cage_maps, &mut |k| {
-            tick(&mut progress, setup(7) + SETUP / 8.0 * k as f32 / 4.0)
-        })?;
+        mesh.patch_folds = vec![TessellationFolds::default(); np];
+        let (mut pieces, mut fold) = vertex_pieces(&map, &mut mesh, &mut weight, &mut boundary);
         tick(&mut progress, setup(8))?;
         let mut folded = Vec::new();
         let mut done = 0usize;
         while done < np {
             let end = (done + crate::progress::chunk_size(np, CHUNK)).min(np);
-            let mut outs: Vec<PatchOut<'_>> = (done..end).map_while(|_| pieces.next_patch()).collect();
+            let mut outs: Vec<PatchOut<'_>> = (done..end)
+                .map_while(|_| pieces.next_patch().zip(fold.next()))
+                .map(|((p, o), fold)| PatchOut { p, o, fold, folded: Vec::new() })
+                .collect();
             outs.par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
             folded.extend(outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)));
@@ -695,7 +731,11 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     }
     tick(&mut progress, EVALUATION)?;
     let stats = join_shared_sides(surface, &layouts, &map, r, &boundary, &mut mesh, &mut weight);
+    // The kept samples are welded: freed before the face arrays take their place.
+    drop(boundary);
     tick(&mut progress, 0.5 * (1.0 + EVALUATION))?;
+    write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps, patch_ids)?;
+    tick(&mut progress, 0.75 + 0.25 * EVALUATION)?;
     finish_normals(&mut mesh, &weight);
     tick(&mut progress, 1.0)?;
     if !folds {
@@ -711,8 +751,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         }
         // A patch folded only through flipped triangles still gets a site: the domain centroid
         // of its first flipped triangle.
-        let Some(&p) = mesh.triangle_patch.get(t as usize) else { continue };
-        let p = p as usize;
+        let Some(p) = mesh.patch_loops.patch_of(t as usize) else { continue };
         if mesh.patch_folds.get(p).is_some_and(|f| f.worst.is_none()) {
             let local = (t as usize).checked_sub(mesh.patch_loops.triangles.get(p).copied().unwrap_or(usize::MAX));
             let layout = layouts.get(&surface.patches[p].sides());
@@ -740,7 +779,7 @@ pub fn tessellate_surface(
     tessellate_surface_with(surface, r, &eval, progress)
 }
 
-/// [`tessellate_surface`] with or without the fold test and the cage maps (see
+/// [`tessellate_surface`] with or without the fold test, the cage maps and the patch ids (see
 /// [`tessellate_checked`]).
 pub fn tessellate_surface_checked(
     surface: &Surface,
@@ -748,11 +787,12 @@ pub fn tessellate_surface_checked(
     form: WeightForm,
     folds: bool,
     cage_maps: bool,
+    patch_ids: bool,
     progress: Option<&mut dyn FnMut(f32) -> bool>,
 ) -> Result<(SurfaceMesh, WeldStats), TessellateError> {
     let r: Sampling = r.into();
     let eval = GbSurfaceEvaluator::new(surface, r, form)?;
-    tessellate_checked(surface, r, &eval, folds, cage_maps, progress)
+    tessellate_checked(surface, r, &eval, folds, cage_maps, patch_ids, progress)
 }
 
 impl SurfaceMesh {
