@@ -142,11 +142,11 @@ fn without_cage_maps_only_the_cage_arrays_are_empty() {
     }
 }
 
-/// Without `keep_surface` and `quality_arrays` (as the command line converts for OBJ and STL)
-/// the surface is `None`, the per-vertex patch ids, curvatures and G1 deviation and the
-/// per-triangle patch ids are empty, and everything else (the rest of the mesh, the report but
-/// its time) is bit-identical: both layouts, both structures, a subdivision method, a closed and
-/// an open cage.
+/// Without `keep_surface` and/or `quality_arrays` (as the command line converts for OBJ and STL:
+/// both off; `--curves`: the surface kept; PLY: the quality arrays kept) the surface is `None`
+/// or the per-vertex patch ids, curvatures and G1 deviation and the per-triangle patch ids are
+/// empty, and everything else (the rest of the mesh, the report but its time) is bit-identical:
+/// both layouts, both structures, a subdivision method, a closed and an open cage.
 #[test]
 fn without_the_surface_and_quality_arrays_only_they_are_empty() {
     for name in ["torus.obj", "grid_open.obj"] {
@@ -155,27 +155,54 @@ fn without_the_surface_and_quality_arrays_only_they_are_empty() {
             for layout in [Layout::Quads, Layout::Triangles] {
                 let with = opts(method, layout, 2);
                 let a = convert(&cage, &with, None).unwrap();
-                let without = ConvertOptions { keep_surface: false, quality_arrays: false, ..with };
-                let mut b = convert(&cage, &without, None).unwrap();
-                let what = format!("{name} {method} {layout}");
-                assert_eq!(a.surface.is_some(), method.is_patch_method(), "{what}");
-                assert!(b.surface.is_none(), "{what}");
-                let m = &mut b.mesh;
+                assert_eq!(a.surface.is_some(), method.is_patch_method(), "{name} {method} {layout}");
                 let kept = [a.mesh.patch.len(), a.mesh.triangle_patch.len(), a.mesh.mean_curvature.len()];
-                assert!(kept.iter().all(|&n| n > 0), "{what}");
-                for v in [&m.mean_curvature, &m.gaussian_curvature, &m.g1_deviation_deg] {
-                    assert!(v.is_empty(), "{what}");
+                assert!(kept.iter().all(|&n| n > 0), "{name} {method} {layout}");
+                for (keep_surface, quality_arrays) in [(false, false), (true, false), (false, true)] {
+                    let without = ConvertOptions { keep_surface, quality_arrays, ..with.clone() };
+                    let mut b = convert(&cage, &without, None).unwrap();
+                    let what = format!("{name} {method} {layout} surface {keep_surface} quality {quality_arrays}");
+                    assert_eq!(b.surface.is_some(), keep_surface && method.is_patch_method(), "{what}");
+                    assert!(b.surface == a.surface || !keep_surface, "{what}: the surface changed");
+                    let m = &mut b.mesh;
+                    for v in [&m.mean_curvature, &m.gaussian_curvature, &m.g1_deviation_deg] {
+                        assert_eq!(v.is_empty(), !quality_arrays, "{what}");
+                    }
+                    assert_eq!(m.patch.is_empty() && m.triangle_patch.is_empty(), !quality_arrays, "{what}");
+                    m.patch = a.mesh.patch.clone();
+                    m.triangle_patch = a.mesh.triangle_patch.clone();
+                    m.mean_curvature = a.mesh.mean_curvature.clone();
+                    m.gaussian_curvature = a.mesh.gaussian_curvature.clone();
+                    m.g1_deviation_deg = a.mesh.g1_deviation_deg.clone();
+                    assert!(a.mesh == b.mesh, "{what}: the mesh changed");
+                    b.report.seconds = a.report.seconds;
+                    assert_eq!(a.report, b.report, "{what}");
+                    assert_eq!(a.warnings, b.warnings, "{what}");
                 }
-                assert!(m.patch.is_empty() && m.triangle_patch.is_empty(), "{what}");
-                m.patch = a.mesh.patch.clone();
-                m.triangle_patch = a.mesh.triangle_patch.clone();
-                m.mean_curvature = a.mesh.mean_curvature.clone();
-                m.gaussian_curvature = a.mesh.gaussian_curvature.clone();
-                m.g1_deviation_deg = a.mesh.g1_deviation_deg.clone();
-                assert!(a.mesh == b.mesh, "{what}: the mesh changed");
-                b.report.seconds = a.report.seconds;
-                assert_eq!(a.report, b.report, "{what}");
-                assert_eq!(a.warnings, b.warnings, "{what}");
+            }
+        }
+    }
+}
+
+/// `PatchLoops::patch_of` (which names the patch of a flipped triangle once the per-triangle
+/// patch ids are gone) agrees with those ids on every triangle, and is `None` past the last: both
+/// layouts, both structures, on a closed model and on a public cage with flipped triangles.
+#[test]
+fn patch_of_agrees_with_the_triangle_patch_ids() {
+    let bishop = gbsurf::read_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/opensubdiv/catmark_bishop.obj")).unwrap();
+    for (name, cage) in [("torus", model("torus.obj")), ("bishop", bishop)] {
+        for method in [Method::Dual, Method::Topology] {
+            for layout in [Layout::Quads, Layout::Triangles] {
+                let Ok(out) = convert(&cage, &opts(method, layout, 2), None) else { continue };
+                let m = &out.mesh;
+                assert_eq!(m.triangle_patch.len(), m.triangles.len(), "{name} {method} {layout}");
+                for (t, &p) in m.triangle_patch.iter().enumerate() {
+                    assert_eq!(m.patch_loops.patch_of(t), Some(p as usize), "{name} {method} {layout} triangle {t}");
+                }
+                assert_eq!(m.patch_loops.patch_of(m.triangles.len()), None, "{name} {method} {layout}");
+                if name == "bishop" && method == Method::Dual {
+                    assert!(!m.flipped_triangles.is_empty() || out.report.folds > 0, "{name} {method} {layout}: the bishop should fold");
+                }
             }
         }
     }

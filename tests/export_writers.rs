@@ -142,6 +142,27 @@ fn ply_vertex_values(bytes: &[u8]) -> (Vec<(String, String)>, Vec<Vec<f64>>) {
     (props, rows)
 }
 
+/// A mesh converted without its quality arrays (`ConvertOptions::quality_arrays` off, as the
+/// command line converts for OBJ and STL) still writes as PLY: positions, normals, the fold flag
+/// and the faces, without the four scalars it does not have.
+#[test]
+fn ply_of_a_mesh_without_quality_arrays_leaves_their_scalars_out() {
+    let cube = read_mesh(format!("{MODELS}/cube.obj")).unwrap().to_polymesh();
+    let conv = convert(&cube, &ConvertOptions { quality_arrays: false, ..ConvertOptions::default() }, None).unwrap();
+    let m = &conv.mesh;
+    assert!(m.patch.is_empty() && m.mean_curvature.is_empty());
+    let mut buf = Vec::new();
+    m.write_ply(&mut buf).unwrap();
+    let (props, rows) = ply_vertex_values(&buf);
+    let names: Vec<&str> = props.iter().map(|(_, n)| n.as_str()).collect();
+    assert_eq!(names, ["x", "y", "z", "nx", "ny", "nz", "fold"]);
+    assert_eq!(rows.len(), m.positions.len());
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row[0..3], m.positions[i].to_array());
+        assert_eq!(row[6], m.fold[i] as f64);
+    }
+}
+
 /// A cube scaled by 1e-20: Gaussian curvatures near 1e40 (beyond f32). Every written value is
 /// finite, and the per-vertex data equal the f64 values exactly.
 #[test]

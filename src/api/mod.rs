@@ -142,9 +142,10 @@ impl From<TessellateError> for ConvertError {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conversion {
     /// The welded output triangle mesh with per-vertex normals, patch indices, curvatures and G1
-    /// deviation.
+    /// deviation (the last four empty without [`ConvertOptions::quality_arrays`]).
     pub mesh: SurfaceMesh,
-    /// The exact surface (patches, adjacency, curve network); `None` for subdivision methods.
+    /// The exact surface (patches, adjacency, curve network); `None` for subdivision methods and
+    /// without [`ConvertOptions::keep_surface`].
     pub surface: Option<Surface>,
     /// The report (see [`crate::quality::Report`]).
     pub report: Report,

@@ -114,7 +114,8 @@ impl SurfaceMesh {
     /// Binary little-endian PLY: `double x y z`, `float nx ny nz` (unit normals), per-vertex
     /// `double` scalars `patch`, `mean_curvature`, `gaussian_curvature`, `g1_deviation`
     /// (degrees), a `float` `fold` (1 on vertices of a fold or flipped triangle, else 0),
-    /// triangles (or the quads of the quad layout) as `uchar`-counted `int` lists. The per-vertex data are `double` so
+    /// triangles (or the quads of the quad layout) as `uchar`-counted `int` lists; the first four
+    /// scalars only when the mesh has them ([`crate::ConvertOptions::quality_arrays`]). The per-vertex data are `double` so
     /// that every value is written exactly: curvatures are unbounded (a cube scaled by 1e-20 has
     /// Gaussian curvatures near 1e40, beyond `f32`, which would have been written as `inf`), and
     /// patch indices above 2^24 are not all `f32` values.
@@ -122,13 +123,19 @@ impl SurfaceMesh {
         let patch: Vec<f64> = self.patch.iter().map(|&p| p as f64).collect();
         // Meshes built without the fold test (subdivision methods) may have no flags: all 0.
         let fold: Vec<f64> = (0..self.positions.len()).map(|v| self.fold.get(v).map_or(0.0, |&f| f as f64)).collect();
-        let scalars = [
+        // A mesh converted without its quality arrays (ConvertOptions::quality_arrays) has none
+        // to write: those scalars are left out (of a mesh with vertices; a mesh without vertices
+        // writes them all, empty).
+        let scalars: Vec<VertexScalar<'_>> = [
             VertexScalar::double("patch", &patch),
             VertexScalar::double("mean_curvature", &self.mean_curvature),
             VertexScalar::double("gaussian_curvature", &self.gaussian_curvature),
             VertexScalar::double("g1_deviation", &self.g1_deviation_deg),
             VertexScalar::float("fold", &fold),
-        ];
+        ]
+        .into_iter()
+        .filter(|s| !s.values.is_empty() || self.positions.is_empty())
+        .collect();
         write_ply_faces(w, &self.positions, Some(&self.normals), Faces::of(self), &scalars, PlyFormat::BinaryLittleEndian)
     }
 

@@ -593,10 +593,7 @@ impl Certified {
 
     /// The patch of triangle t, if the certificate covers it.
     pub(crate) fn patch_of(&self, t: usize) -> Option<usize> {
-        if t >= *self.tri_start.last()? {
-            return None;
-        }
-        Some(self.tri_start.partition_point(|&s| s <= t) - 1)
+        crate::tessellate::surface::range_of(&self.tri_start, t)
     }
 
     /// The certified regions containing every triangle of `first..=last` (triangle indices of

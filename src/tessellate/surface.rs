@@ -78,9 +78,11 @@ pub struct SurfaceMesh {
     /// its vertex lies in. `[u32::MAX; 2]` when the surface has no cage map.
     pub cage_loop_corner: Vec<[u32; 2]>,
     /// Per vertex: the patch that created it (the smallest patch index sharing it). For subdivision
-    /// methods: the face of the input mesh it descends from.
+    /// methods: the face of the input mesh it descends from. Empty when the conversion ran
+    /// without [`crate::ConvertOptions::quality_arrays`] (as are the next four).
     pub patch: Vec<u32>,
-    /// Per triangle: the patch (or input face) it belongs to.
+    /// Per triangle: the patch (or input face) it belongs to ([`PatchLoops::patch_of`] gives it
+    /// without this array).
     pub triangle_patch: Vec<u32>,
     /// Per vertex: mean curvature H = (k1 + k2)/2, sign relative to the normal.
     pub mean_curvature: Vec<f64>,
@@ -118,6 +120,13 @@ pub struct PatchLoops {
     pub triangles: Vec<usize>,
 }
 
+/// The k with `starts[k] ≤ t < starts[k + 1]` in ascending range starts (one more than there are
+/// ranges, the last the end), `None` past the end: the patch of a triangle from per-patch
+/// triangle starts ([`PatchLoops::patch_of`], the self-intersection certificates).
+pub fn range_of(starts: &[usize], t: usize) -> Option<usize> {
+    starts.partition_point(|&s| s <= t).checked_sub(1).filter(|&k| k + 1 < starts.len())
+}
+
 impl PatchLoops {
     /// Number of patches.
     pub fn len(&self) -> usize {
@@ -136,7 +145,7 @@ impl PatchLoops {
 
     /// The patch whose triangle range holds triangle t (`None` past the last).
     pub fn patch_of(&self, t: usize) -> Option<usize> {
-        self.triangles.partition_point(|&s| s <= t).checked_sub(1).filter(|&p| p < self.len())
+        range_of(&self.triangles, t)
     }
 
     /// The corner vertices of patch p, in order.
@@ -410,6 +419,7 @@ fn write_faces(
     mesh: &mut SurfaceMesh,
     cage_maps: bool,
     patch_ids: bool,
+    at: &mut dyn FnMut(f32) -> Result<(), TessellateError>,
 ) -> Result<(), TessellateError> {
     let np = surface.patches.len();
     let mut tri_start = Vec::with_capacity(np + 1);
@@ -429,12 +439,15 @@ fn write_faces(
     quad_start.push(nq);
     face_start.push(nf);
     mesh.triangles = try_filled(nt, [0; 3], "output triangles")?;
+    at(0.1)?;
     if patch_ids {
         mesh.triangle_patch = try_filled(nt, 0, "output triangle patches")?;
         mesh.patch = try_filled(map.vertex_count, 0, "output patch indices")?;
+        at(0.2)?;
     }
     mesh.quads = try_filled(nq, [0; 4], "output quads")?;
     mesh.face_corner = try_filled(nf, 0, "output face corners")?;
+    at(0.3)?;
     // The cage maps (only with `cage_maps`): per face its cage corner, per loop its cage
     // coordinates (4 per quad, or 3 per triangle in the triangle layout, whose loops also get
     // their own cage corner). Without them every piece is empty.
@@ -451,6 +464,7 @@ fn write_faces(
     mesh.cage_corner = try_filled(nc, [u32::MAX; 2], "output cage corners")?;
     mesh.cage_coords = try_filled(nl, [0.0; 2], "output cage coordinates")?;
     mesh.cage_loop_corner = try_filled(nlc, [u32::MAX; 2], "output loop cage corners")?;
+    at(0.5)?;
     let mut pieces = Pieces {
         next: 0,
         np,
@@ -466,12 +480,13 @@ fn write_faces(
             loop_cage: &mut mesh.cage_loop_corner,
         },
     };
+    // The first touch of the arrays' pages happened in `try_filled`; the faces are written in
+    // chunks of patches, ticking between them.
     loop {
         let chunk: Vec<(usize, FaceSlices<'_>)> = (0..CHUNK).map_while(|_| pieces.next_patch()).collect();
-        if chunk.is_empty() {
-            return Ok(());
-        }
+        let Some(&(last, _)) = chunk.last() else { return Ok(()) };
         chunk.into_par_iter().for_each(|(p, mut o)| patch_faces(surface, layouts, map, p, &mut o));
+        at(0.5 + 0.5 * (last + 1) as f32 / np.max(1) as f32)?;
     }
 }
 
@@ -733,9 +748,9 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     let stats = join_shared_sides(surface, &layouts, &map, r, &boundary, &mut mesh, &mut weight);
     // The kept samples are welded: freed before the face arrays take their place.
     drop(boundary);
-    tick(&mut progress, 0.5 * (1.0 + EVALUATION))?;
-    write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps, patch_ids)?;
-    tick(&mut progress, 0.75 + 0.25 * EVALUATION)?;
+    let faces_at = |f: f32| 0.5 * (1.0 + EVALUATION) + 0.25 * (1.0 - EVALUATION) * f;
+    tick(&mut progress, faces_at(0.0))?;
+    write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps, patch_ids, &mut |f| tick(&mut progress, faces_at(f)))?;
     finish_normals(&mut mesh, &weight);
     tick(&mut progress, 1.0)?;
     if !folds {
