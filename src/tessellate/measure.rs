@@ -96,6 +96,10 @@ impl BoundarySamples {
 /// Patches per chunk of the parallel pass of [`join_shared_sides`].
 const PATCH_CHUNK: usize = 4096;
 
+/// Vertices per partial sum of the mean G1 deviation. The report's mean depends on it in its last
+/// bits (the partial sums are added in order), so it is fixed and its own.
+const G1_SUM_CHUNK: usize = 4096;
+
 /// True for a sample with a usable normal.
 fn valid(sp: &KeptSample) -> bool {
     sp.normal != DVec3::ZERO && sp.normal.is_finite()
@@ -240,8 +244,8 @@ pub(crate) fn join_shared_sides(
     // Summed per fixed chunk, then the chunks in order: the same sum on every run (a rayon
     // `reduce` splits adaptively, and the float sum then varied in its last bits).
     let (count, sum, max) = shared
-        .par_chunks(PATCH_CHUNK)
-        .zip(mesh.g1_deviation_deg.par_chunks(PATCH_CHUNK))
+        .par_chunks(G1_SUM_CHUNK)
+        .zip(mesh.g1_deviation_deg.par_chunks(G1_SUM_CHUNK))
         .map(|(s, g)| {
             let on_shared = s.iter().zip(g).filter(|(&s, _)| s);
             on_shared.fold((0usize, 0.0, 0.0f64), |a, (_, &g)| (a.0 + 1, a.1 + g, a.2.max(g)))
