@@ -303,3 +303,27 @@ fn quad_layout_counts_in_obj_ply_and_stl() {
     let (ok, err) = gbsurf(&["convert", &cube, "-o", &out.to_string_lossy(), "--layout", "hexagons"]);
     assert!(!ok && err.contains("hexagons"), "{err}");
 }
+
+/// The command line converts with only the arrays its outputs need (`ConvertOptions::keep_surface`
+/// and `quality_arrays` off unless an output reads them): its OBJ, PLY and STL files are byte for
+/// byte those of a default conversion that keeps everything, written by the same writers.
+#[test]
+fn default_outputs_equal_those_of_a_full_conversion() {
+    use gbsurf::export::{MeshFormat, WriteMesh};
+    let dir = tmpdir("full-conversion");
+    for model in ["cube.obj", "torus.obj", "grid_open.obj"] {
+        let input = format!("{MODELS}/{model}");
+        let cage = gbsurf::read_mesh(&input).unwrap();
+        let full = gbsurf::api::convert(&cage, &gbsurf::ConvertOptions::default(), None).unwrap();
+        assert!(full.surface.is_some() && !full.mesh.mean_curvature.is_empty());
+        for (ext, format) in [("obj", MeshFormat::Obj), ("ply", MeshFormat::Ply), ("stl", MeshFormat::Stl)] {
+            let out = dir.join(format!("{model}.{ext}")).to_string_lossy().into_owned();
+            let (ok, err) = gbsurf(&["convert", &input, "-o", &out, "--quiet"]);
+            assert!(ok, "{model} {ext}: {err}");
+            let mut expected = Vec::new();
+            full.mesh.write_format(format, &mut expected).unwrap();
+            assert!(std::fs::read(&out).unwrap() == expected, "{model} {ext}: the file differs from the full conversion's");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
