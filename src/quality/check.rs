@@ -54,7 +54,7 @@ const VERTEX_CHUNK: usize = 1 << 15;
 
 /// Checks a triangle mesh; see [`MeshCheck`]. Linear time without hashing: the triangles'
 /// corners are bucketed per vertex (compressed rows), edges and vertex fans are checked on those
-/// short lists; duplicate positions by a parallel sort.
+/// short lists; duplicate positions by a counting sort into hash buckets ([`duplicate_positions`]).
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
     check_mesh_ticked(positions, triangles, &mut Ticker::none()).unwrap_or_default()
 }
