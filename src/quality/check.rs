@@ -52,7 +52,7 @@ pub const ZERO_AREA_REL: f64 = 1e-14;
 /// milliseconds on two cores), so progress ticks and a cancel take effect between chunks.
 const VERTEX_CHUNK: usize = 1 << 15;
 
-/// Checks a triangle mesh; see [`MeshCheck`]. Linear time without hashing: the triangles'
+/// Checks a triangle mesh; see [`MeshCheck`]. Linear time, no hash maps: the triangles'
 /// corners are bucketed per vertex (compressed rows), edges and vertex fans are checked on those
 /// short lists; duplicate positions by a counting sort into hash buckets ([`duplicate_positions`]).
 pub fn check_mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> MeshCheck {
