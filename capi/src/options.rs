@@ -2,7 +2,7 @@
 
 use super::*;
 use gbsurf::api::ConvertError;
-use gbsurf::options::{ConvertOptions, Layout, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{ConvertOptions, Layout, Method, Middle, OptionValue, Twist, WeightForm};
 
 /// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 pub const GBSURF_METHOD_DUAL: u32 = 0;
@@ -19,6 +19,11 @@ pub const GBSURF_TWIST_NONE: u32 = 0;
 pub const GBSURF_TWIST_APPROX: u32 = 1;
 /// Twist: interpolating direction blend (seed 000 eq. 4.24). The default.
 pub const GBSURF_TWIST_INTERP: u32 = 2;
+
+/// Middle constraint of the direction blends: the seed's rule, mid_scale · D_{0.5}. The default.
+pub const GBSURF_MIDDLE_SEED: u32 = 0;
+/// Middle constraint of the direction blends: the fair rule (docs/math.md#fair-middle).
+pub const GBSURF_MIDDLE_FAIR: u32 = 1;
 
 /// Correction weights: squared α (default, keeps G1).
 pub const GBSURF_WEIGHTS_SQUARED: u32 = 0;
@@ -62,6 +67,8 @@ pub struct GbsurfOptions {
     /// Memory bound of the conversion in MiB, 1..=1048576: a conversion estimated to need more is
     /// refused before any work (`GBSURF_ERR_TOO_LARGE`). Default 1024.
     pub max_memory_mb: u64,
+    /// `GBSURF_MIDDLE_*`. Default `GBSURF_MIDDLE_SEED`.
+    pub middle: u32,
 }
 
 const OPTIONS_SIZE: u32 = std::mem::size_of::<GbsurfOptions>() as u32;
@@ -97,6 +104,15 @@ impl Code for Twist {
     }
 }
 
+impl Code for Middle {
+    fn code(self) -> u32 {
+        match self {
+            Middle::Seed => GBSURF_MIDDLE_SEED,
+            Middle::Fair => GBSURF_MIDDLE_FAIR,
+        }
+    }
+}
+
 impl Code for WeightForm {
     fn code(self) -> u32 {
         match self {
@@ -121,7 +137,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
         // No `..`: a new option is a compile error here until the struct has it.
         // `cage_maps` has no field: the C ABI always builds the cage maps (the Blender add-on and
         // the adapters read them through gbsurf_mesh_cage_*).
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = *o;
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, middle, best_plane, weights, levels, max_memory_mb, cage_maps: _ } = *o;
         GbsurfOptions {
             struct_size: OPTIONS_SIZE,
             method: method.code(),
@@ -135,6 +151,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
             tile_depth,
             mid_scale,
             max_memory_mb,
+            middle: middle.code(),
         }
     }
 }
@@ -162,6 +179,8 @@ impl GbsurfOptions {
             .ok_or_else(|| bad_option("method", self.method, "expected GBSURF_METHOD_* (0..=3)"))?;
         let twist = Twist::from_code(self.twist)
             .ok_or_else(|| bad_option("twist", self.twist, "expected GBSURF_TWIST_* (0..=2)"))?;
+        let middle = Middle::from_code(self.middle)
+            .ok_or_else(|| bad_option("middle", self.middle, "expected GBSURF_MIDDLE_* (0..=1)"))?;
         let weights = WeightForm::from_code(self.weights)
             .ok_or_else(|| bad_option("weights", self.weights, "expected GBSURF_WEIGHTS_* (0..=1)"))?;
         let best_plane = match self.best_plane {
@@ -191,6 +210,7 @@ impl GbsurfOptions {
             tile_depth: self.tile_depth,
             twist,
             mid_scale: self.mid_scale,
+            middle,
             best_plane,
             weights,
             levels: self.levels,
