@@ -14,8 +14,7 @@
 //!
 //! One D per curve, used by both patches' blends: G1 holds exactly as with the seed's rule.
 //! The fold guard keeps D⁰ on every curve of a patch that folds with the fair values
-//! ([`crate::tessellate::fold::dense_folds_of`] at [`GUARD_STEPS`]) but not with the seed's,
-//! until no such patch remains.
+//! ([`guard_folds`]) but not with the seed's, until no such patch remains.
 
 use super::surface::{Patch, Surface};
 use crate::gb::{CgbBasisEvaluator, Domain, GbBasisEvaluator, Jet2, WeightForm};
@@ -30,8 +29,10 @@ pub const MAX_FAIR_SIDES: usize = 8;
 /// Steps per side of the energy's sample grid (docs/math.md#fair-middle).
 pub const ENERGY_GRID: usize = 8;
 
-/// Steps per side of the fold guard's dense layout.
-pub const GUARD_STEPS: usize = 8;
+/// Steps per side of the fold guard's first layout (the tessellation's at the defaults): a patch
+/// its samples clear ([`crate::tessellate::fold::ClearTest`]) has no fold; the others are
+/// sampled at [`crate::tessellate::fold::DENSE_STEPS`], as the report does.
+pub const GUARD_STEPS: usize = 4;
 
 /// A curve shared by two blended patches: patch A traverses it forward, B backwards.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -191,13 +192,13 @@ fn patch_terms(gram: &Gram, rows: &[SideRows], centre: DVec3, e: &[(usize, f64);
 
 /// Sets the fair D_{0.5} of every eligible curve in `rows` (the seed's twists, D⁰ = `seed[c]`),
 /// guarded against new folds. `curves[c]`: the blended curves that may move (not creased, no
-/// creased side in their patches). Returns the number of curves moved.
+/// creased side in their patches). Returns D − D⁰ per curve (zero where the seed's is kept).
 pub fn fair_middles(
     asm: &Assembly<'_>,
     opts: &ConvertOptions,
     curves: &[Option<SharedCurve>],
     rows: &mut [SideRows],
-) -> usize {
+) -> Vec<DVec3> {
     let tables = gram_tables(opts.weights);
     let start = asm.start;
     let np = start.len() - 1;
@@ -263,8 +264,7 @@ pub fn fair_middles(
             creases: Vec::new(),
             cage: Vec::new(),
         };
-        let all: Vec<usize> = (0..which.len()).collect();
-        crate::tessellate::fold::dense_folds_of(&sub, &all, GUARD_STEPS, opts.weights).into_iter().map(|x| x.0).collect()
+        guard_folds(&sub, opts.weights)
     };
     // The guard: patches that fold with the fair values but not with the seed's revert all their
     // curves; the patches across those curves are checked again.
@@ -302,5 +302,51 @@ pub fn fair_middles(
     for (p, r) in moved {
         rows[start[p]..start[p + 1]].copy_from_slice(&r);
     }
-    delta.iter().filter(|d| **d != DVec3::ZERO).count()
+    delta
+}
+
+/// The folded samples of each patch of `sub` as the report finds them at the defaults
+/// (docs/math.md#fold-clearing): the fold rule and [`ClearTest`] on the triangle layout of
+/// [`GUARD_STEPS`] steps per side; a patch cleared without a folded sample has none, the others
+/// get [`dense_folds_of`] at [`DENSE_STEPS`].
+///
+/// [`ClearTest`]: crate::tessellate::fold::ClearTest
+/// [`dense_folds_of`]: crate::tessellate::fold::dense_folds_of
+/// [`DENSE_STEPS`]: crate::tessellate::fold::DENSE_STEPS
+pub fn guard_folds(sub: &Surface, form: WeightForm) -> Vec<usize> {
+    use crate::gb::SampleLayout;
+    use crate::tessellate::fold::{dense_folds_of, patch_folds, Sectors, DENSE_STEPS};
+    use crate::tessellate::{GbSurfaceEvaluator, PatchEvaluator};
+    use std::collections::HashMap;
+    let np = sub.patches.len();
+    let mut counts = vec![usize::MAX; np];
+    if let Ok(eval) = GbSurfaceEvaluator::new(sub, GUARD_STEPS, form) {
+        let mut layouts: HashMap<usize, Option<(Sectors, SampleLayout)>> = HashMap::new();
+        for p in &sub.patches {
+            layouts.entry(p.sides()).or_insert_with(|| {
+                let domain = eval.domain(p.sides());
+                let layout = SampleLayout::new(&domain, GUARD_STEPS).ok()?;
+                Some((Sectors::new(&domain, &layout.uv), layout))
+            });
+        }
+        counts = (0..np)
+            .into_par_iter()
+            .map_init(Vec::new, |buf, i| {
+                let p = &sub.patches[i];
+                let Some((sectors, layout)) = &layouts[&p.sides()] else { return usize::MAX };
+                eval.evaluate(sub, i, layout, buf);
+                let f = patch_folds(p, sectors, layout, buf);
+                if buf.len() == layout.uv.len() && f.cleared && f.samples.is_empty() {
+                    0
+                } else {
+                    usize::MAX
+                }
+            })
+            .collect();
+    }
+    let rest: Vec<usize> = (0..np).filter(|&p| counts[p] == usize::MAX).collect();
+    for (&p, (n, _)) in rest.iter().zip(dense_folds_of(sub, &rest, DENSE_STEPS, form)) {
+        counts[p] = n;
+    }
+    counts
 }

@@ -97,6 +97,18 @@ const CHUNK: usize = 4096;
 /// [`assemble`] reporting progress to `ticker` (its current part: the twists and the patches, in
 /// chunks of [`CHUNK`] curves or patches; see [`crate::progress`]).
 pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<Surface, ConstructError> {
+    assemble_middles(net, opts, ticker).map(|(s, _)| s)
+}
+
+/// [`assemble`] and the middle constraint D_{0.5} each curve's blend uses: `mid_scale` · `mid[c]`
+/// ([`crate::options::Middle::Seed`], and every curve the fair rule leaves) or the fair value
+/// (docs/math.md#fair-middle).
+pub fn middles(net: &CurveNetwork, opts: &ConvertOptions) -> Result<(Surface, Vec<DVec3>), ConstructError> {
+    assemble_middles(net, opts, &mut Ticker::none())
+}
+
+/// [`assemble_ticked`] and the D_{0.5} of each curve ([`middles`]).
+fn assemble_middles(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<(Surface, Vec<DVec3>), ConstructError> {
     check_options(opts)?;
     let np = net.patches.len();
     // Curve uses and consistency: the first two uses of each curve and the count (a third use
@@ -276,6 +288,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         }
     }
 
+    let mut mids: Vec<DVec3> = net.mid.iter().map(|m| opts.mid_scale * *m).collect();
     // The fair middle constraints (docs/math.md#fair-middle): blended curves whose two patches
     // have no creased side and at most MAX_FAIR_SIDES sides.
     if opts.middle == Middle::Fair && kind.is_some() {
@@ -289,7 +302,10 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         let center = |p: usize| net.patches[p].center;
         let patch = |p: usize, r: &[fair::SideRows]| patch_from_rows(&net.patches[p], r);
         let asm = fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
-        fair::fair_middles(&asm, opts, &movable, &mut rows);
+        let delta = fair::fair_middles(&asm, opts, &movable, &mut rows);
+        for (m, d) in mids.iter_mut().zip(delta) {
+            *m += d;
+        }
     }
 
     // Per patch in parallel, collected in patch order; the first error in patch order wins.
@@ -323,7 +339,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
             })
             .collect()
     };
-    Ok(Surface {
+    let surface = Surface {
         creases,
         patches,
         neighbors,
@@ -337,7 +353,8 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
             Vec::new()
         },
         cage: Vec::new(),
-    })
+    };
+    Ok((surface, mids))
 }
 
 /// The patch of layout `lay` with side rows `rows` (row 0: the curve, row 1: corner blocks and
