@@ -36,7 +36,8 @@ fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let (r, level) = if quick { (4, 3) } else { (8, 4) };
     let args: Vec<String> = std::env::args().collect();
-    let middle = args.iter().position(|a| a == "--middle").and_then(|i| args.get(i + 1)?.parse().ok()).unwrap_or_default();
+    let middle =
+        args.iter().position(|a| a == "--middle").and_then(|i| args.get(i + 1)?.parse().ok()).unwrap_or_default();
     println!("GB middle constraint: {middle}\n");
     spheres(r, level, middle);
     cages(middle);

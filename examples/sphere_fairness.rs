@@ -262,7 +262,8 @@ fn network(he: &gbsurf::mesh::HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cur
 /// no scale normalisation: both columns are built the same way).
 fn cage_folds(files: &[String]) {
     let grid = env::<usize>("FAIR_MID").unwrap_or(8);
-    println!("| cage | structure | patches | folded (seed D) | folded (fair D) | folded (Middle::Fair) |\n|---|---|---|---|---|---|");
+    println!("| cage | structure | patches | folded (seed D) | folded (fair D) | folded (Middle::Fair) |");
+    println!("|---|---|---|---|---|---|");
     for file in files {
         let name = file.rsplit('/').next().unwrap_or(file);
         let Ok(poly) = gbsurf::read_mesh(file) else { continue };

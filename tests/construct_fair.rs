@@ -67,7 +67,8 @@ fn fair_middle_minimises_the_energy_of_its_two_patches() {
         let seed_opts = ConvertOptions { method, ..Default::default() };
         let (_, fair_mid) = middles(&net, &fair(method)).unwrap();
         let moved: Vec<usize> = (0..net.curves.len()).filter(|&c| fair_mid[c] != net.mid[c]).collect();
-        assert!(moved.len() * 2 > net.curves.len(), "{file}: only {} of {} curves moved", moved.len(), net.curves.len());
+        let (m, nc) = (moved.len(), net.curves.len());
+        assert!(m * 2 > nc, "{file}: only {m} of {nc} curves moved");
         for &c in moved.iter().step_by(moved.len() / 6 + 1) {
             let ps = patches_of(&net, c);
             assert_eq!(ps.len(), 2);

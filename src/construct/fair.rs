@@ -118,7 +118,9 @@ pub struct GramTables {
 impl GramTables {
     /// The tables of form `form`.
     pub fn new(form: WeightForm) -> GramTables {
-        let make = |gb: bool| (0..=MAX_FAIR_SIDES).into_par_iter().map(|n| if n >= 3 { Gram::new(n, gb, form) } else { None }).collect();
+        let make = |gb: bool| {
+            (0..=MAX_FAIR_SIDES).into_par_iter().map(|n| if n >= 3 { Gram::new(n, gb, form) } else { None }).collect()
+        };
         GramTables { gb: make(true), cgb: make(false) }
     }
 
@@ -219,7 +221,8 @@ pub fn fair_middles(
                 let n = start[p + 1] - start[p];
                 let centre = (asm.center)(p);
                 let Some(gram) = tables.get(n, centre.is_some()) else { return DVec3::ZERO };
-                let (a, b) = patch_terms(gram, &seed_rows[start[p]..start[p + 1]], centre.unwrap_or_default(), &ent(sc, k));
+                let rows_p = &seed_rows[start[p]..start[p + 1]];
+                let (a, b) = patch_terms(gram, rows_p, centre.unwrap_or_default(), &ent(sc, k));
                 num += a;
                 den += b;
             }

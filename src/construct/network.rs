@@ -108,7 +108,11 @@ pub fn middles(net: &CurveNetwork, opts: &ConvertOptions) -> Result<(Surface, Ve
 }
 
 /// [`assemble_ticked`] and the D_{0.5} of each curve ([`middles`]).
-fn assemble_middles(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<(Surface, Vec<DVec3>), ConstructError> {
+fn assemble_middles(
+    net: &CurveNetwork,
+    opts: &ConvertOptions,
+    ticker: &mut Ticker<'_>,
+) -> Result<(Surface, Vec<DVec3>), ConstructError> {
     check_options(opts)?;
     let np = net.patches.len();
     // Curve uses and consistency: the first two uses of each curve and the count (a third use
@@ -301,7 +305,8 @@ fn assemble_middles(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Tick
             blends.iter().map(|b| b.filter(|b| plain(b.patches[0]) && plain(b.patches[1]))).collect();
         let center = |p: usize| net.patches[p].center;
         let patch = |p: usize, r: &[fair::SideRows]| patch_from_rows(&net.patches[p], r);
-        let asm = fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
+        let asm =
+            fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
         let delta = fair::fair_middles(&asm, opts, &movable, &mut rows);
         for (m, d) in mids.iter_mut().zip(delta) {
             *m += d;
