@@ -19,9 +19,11 @@
 //!    self-intersections beyond the input's. Cages the reader or validator refuses get a row
 //!    with the error.
 //!
-//! `-- --quick` skips the spheres' r = 8 and CC level 4 (uses r = 4, level 3).
+//! `-- --quick` skips the spheres' r = 8 and CC level 4 (uses r = 4, level 3). `-- --middle fair`
+//! builds the GB rows with the fair middle constraint ([`Middle::Fair`], docs/math.md#fair-middle).
 
 use gbsurf::api::{convert, read_mesh, Conversion, ConvertOptions, Method};
+use gbsurf::Middle;
 use gbsurf::mesh::generate::{ico_sphere, quad_sphere, uv_sphere};
 use gbsurf::mesh::PolyMesh;
 use glam::DVec3;
@@ -33,14 +35,18 @@ fn main() {
     let start = Instant::now();
     let quick = std::env::args().any(|a| a == "--quick");
     let (r, level) = if quick { (4, 3) } else { (8, 4) };
-    spheres(r, level);
-    cages();
+    let args: Vec<String> = std::env::args().collect();
+    let middle =
+        args.iter().position(|a| a == "--middle").and_then(|i| args.get(i + 1)?.parse().ok()).unwrap_or_default();
+    println!("GB middle constraint: {middle}\n");
+    spheres(r, level, middle);
+    cages(middle);
     println!("\ntotal {:.1} s", start.elapsed().as_secs_f64());
 }
 
 // ---------------------------------------------------------------- spheres
 
-fn spheres(r: usize, level: u32) {
+fn spheres(r: usize, level: u32, middle: Middle) {
     println!("## Sphere cages (GB quads r = {r}, Catmull–Clark level {level})\n");
     println!("Sphere: centre at the origin, R = mean distance of the output vertices from it.");
     println!("Goals: GB radial deviation ≤ CC's; max |H·R + 1| ≤ 0.25 (H analytic for GB, discrete for CC).\n");
@@ -55,7 +61,7 @@ fn spheres(r: usize, level: u32) {
         let cc = convert(cage, &ConvertOptions { method: Method::CatmullClark, levels: level, ..Default::default() }, None);
         let cc_fit = cc.as_ref().ok().map(|c| sphere_fit(&c.mesh.positions, &c.mesh.mean_curvature));
         for method in [Method::Dual, Method::Topology] {
-            let opts = ConvertOptions { method, resolution: r, ..Default::default() };
+            let opts = ConvertOptions { method, resolution: r, middle, ..Default::default() };
             match convert(cage, &opts, None) {
                 Ok(c) => {
                     let (dev, med, h) = sphere_fit(&c.mesh.positions, &c.mesh.mean_curvature);
@@ -104,7 +110,7 @@ fn p99_max(mut values: Vec<f64>) -> (f64, f64) {
 
 // ---------------------------------------------------------------- cages
 
-fn cages() {
+fn cages(middle: Middle) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files: Vec<(String, PathBuf)> = Vec::new();
     for (label, dir) in [("shared", root.join("../shared/models")), ("opensubdiv", root.join("tests/data/opensubdiv"))] {
@@ -140,7 +146,7 @@ fn cages() {
             Err(e) => (format!("error: {}", one_line(&e.to_string())), String::new(), String::new()),
         };
         for method in [Method::Dual, Method::Topology] {
-            match convert(&mesh, &ConvertOptions { method, ..Default::default() }, None) {
+            match convert(&mesh, &ConvertOptions { method, middle, ..Default::default() }, None) {
                 Ok(c) => {
                     let rep = &c.report;
                     let (p99, max) = dihedral(&c);

@@ -60,7 +60,7 @@ def convert_object(obj, **options):
     """Converts one mesh object into a new object `<name>.GB` beside it and returns it.
 
     Options: method ('DUAL', 'TOPOLOGY', 'DOO_SABIN', 'CATMULL_CLARK'), resolution, fullness,
-    tile_depth, twist ('NONE', 'APPROX', 'INTERP'), mid_scale, best_plane, weights ('SQUARED',
+    tile_depth, twist ('NONE', 'APPROX', 'INTERP'), mid_scale, middle ('SEED', 'FAIR'), best_plane, weights ('SQUARED',
     'LINEAR'), levels, want_curves, want_control_net, progress (callable(fraction) -> bool).
     Raises the add-on's ConvertError (nothing created then)."""
     return addon().core.convert_object(obj, **options)
@@ -77,6 +77,7 @@ def _parser():
     p.add_argument("--tile-depth", type=float, default=3.0)
     p.add_argument("--twist", default="INTERP", choices=["NONE", "APPROX", "INTERP"])
     p.add_argument("--mid-scale", type=float, default=1.0)
+    p.add_argument("--middle", default="SEED", choices=["SEED", "FAIR"])
     p.add_argument("--no-best-plane", action="store_true")
     p.add_argument("--weights", default="SQUARED", choices=["SQUARED", "LINEAR"])
     p.add_argument("--levels", type=int, default=3)
@@ -223,7 +224,7 @@ def main(argv=None):
         return 2 if e.code else 0
     options = dict(
         method=args.method, resolution=args.resolution, fullness=args.fullness,
-        tile_depth=args.tile_depth, twist=args.twist, mid_scale=args.mid_scale,
+        tile_depth=args.tile_depth, twist=args.twist, mid_scale=args.mid_scale, middle=args.middle,
         best_plane=not args.no_best_plane, weights=args.weights, levels=args.levels,
         want_curves=args.curves, want_control_net=args.control_net,
     )

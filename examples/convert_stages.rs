@@ -2,7 +2,8 @@
 //! progress reports: every stage reports its start (`Ticker::stage`), so the time between the
 //! first report at or past one stage's start and the next stage's start is that stage's time.
 //! `cargo run --release --example convert_stages -- [a b | model.obj] [dual|topology] [resolution]`
-//! (defaults: 200 × 200 quad torus, dual, the default resolution). A warm-up conversion runs
+//! (defaults: 200 × 200 quad torus, dual, the default resolution; `MIDDLE=fair` for the fair
+//! middle constraint). A warm-up conversion runs
 //! first; then `RUNS` (default 3) conversions, and each stage's best wall and CPU time (all
 //! threads, from /proc: steadier than wall time on a shared machine) is printed.
 //! Stages (the fractions of `GB_STAGES` in src/api/mod.rs): construction (with the half-edge
@@ -47,6 +48,10 @@ fn main() {
         opts.method = Method::Topology;
     }
     opts.resolution = num(rest + 1, opts.resolution);
+    // `MIDDLE=fair`: the fair middle constraint (docs/math.md#fair-middle).
+    if let Some(m) = std::env::var("MIDDLE").ok().and_then(|s| s.parse().ok()) {
+        opts.middle = m;
+    }
     drop(convert(&mesh, &opts, None).expect("conversion"));
     let runs = std::env::var("RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(3usize).max(1);
     let mut best = [f64::INFINITY; STARTS.len()];

@@ -36,8 +36,9 @@
 //! - `CAGES=1 … sphere_fairness 0 CAGE.obj…` with the `FAIR_MID` variables: instead of the spheres,
 //!   per cage and structure the patches with folds at level 8 with the seed's and the fair D_{0.5}
 //!   (`cage_folds`).
-//! - `KAPPA`, `DEPTH`, `MID`, `TWIST`: fullness, tile depth, mid scale (D_{0.5} factor), twist mode
-//!   instead of the defaults, for every table.
+//! - `KAPPA`, `DEPTH`, `MID`, `TWIST`, `MIDDLE`: fullness, tile depth, mid scale (D_{0.5} factor),
+//!   twist mode, middle rule (`seed`, `fair`) instead of the defaults, for every table. With
+//!   `CAGES=1` a last column gives the folds of the construction's own `Middle::Fair` (guarded).
 //! - `SPLIT=K` (dual): the network's patches of more than K sides split into fans
 //!   (`construct::network::split_large_patches`, the rule used above 64 sides).
 
@@ -213,6 +214,7 @@ fn options(method: Method) -> ConvertOptions {
         tile_depth: env("DEPTH").unwrap_or(d.tile_depth),
         mid_scale: env("MID").unwrap_or(d.mid_scale),
         twist: env("TWIST").unwrap_or(d.twist),
+        middle: env("MIDDLE").unwrap_or(d.middle),
         ..d
     }
 }
@@ -260,7 +262,8 @@ fn network(he: &gbsurf::mesh::HalfEdgeMesh, opts: &ConvertOptions) -> Result<Cur
 /// no scale normalisation: both columns are built the same way).
 fn cage_folds(files: &[String]) {
     let grid = env::<usize>("FAIR_MID").unwrap_or(8);
-    println!("| cage | structure | patches | folded (seed D) | folded (fair D) |\n|---|---|---|---|---|");
+    println!("| cage | structure | patches | folded (seed D) | folded (fair D) | folded (Middle::Fair) |");
+    println!("|---|---|---|---|---|---|");
     for file in files {
         let name = file.rsplit('/').next().unwrap_or(file);
         let Ok(poly) = gbsurf::read_mesh(file) else { continue };
@@ -271,8 +274,10 @@ fn cage_folds(files: &[String]) {
             let row = network(&prep.mesh, &opts).and_then(|net| {
                 let seed = gbsurf::construct::assemble(&net, &opts).map_err(|e| e.to_string())?;
                 let (fair, _) = fair_mid(&net, &opts, grid);
+                let guarded = ConvertOptions { middle: gbsurf::Middle::Fair, ..opts };
+                let built = gbsurf::construct::assemble(&net, &guarded).map_err(|e| e.to_string())?;
                 let f = |s: &Surface| gbsurf::quality::find_folds(s, 8, opts.weights).patches;
-                Ok(format!("{} | {} | {}", seed.patches.len(), f(&seed), f(&fair)))
+                Ok(format!("{} | {} | {} | {}", seed.patches.len(), f(&seed), f(&fair), f(&built)))
             });
             println!("| {name} | {} | {} |", method.name(), row.unwrap_or_else(|e| format!("error: {e} | |")));
         }

@@ -53,5 +53,5 @@ pub mod subdiv;
 pub mod tessellate;
 
 pub use api::{convert, convert_file, read_mesh, Conversion, ConvertError};
-pub use options::{ConvertOptions, Method, Twist};
+pub use options::{ConvertOptions, Method, Middle, Twist};
 pub use glam::{DVec2, DVec3};

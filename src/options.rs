@@ -1,5 +1,5 @@
 //! The options of a conversion: [`ConvertOptions`] with its enums [`Method`], [`Twist`],
-//! [`WeightForm`] and [`Layout`]. This is their one definition: the construction reads them directly, the
+//! [`Middle`], [`WeightForm`] and [`Layout`]. This is their one definition: the construction reads them directly, the
 //! command line derives its flags from them (names from [`OptionValue::ALL`], parsing with the
 //! `FromStr` impls here, defaults from [`ConvertOptions::default`]) and the C ABI fills its struct
 //! from [`ConvertOptions::default`].
@@ -62,6 +62,50 @@ impl Twist {
             Twist::Approx => "approx",
             Twist::Interp => "interp",
         }
+    }
+}
+
+/// How each shared curve's middle constraint D_{0.5} of the direction blend is set
+/// (docs/math.md#fair-middle).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Middle {
+    /// The seed's rule: `mid_scale` times the curve's D_{0.5} (seed 000 §4.4.5).
+    #[default]
+    Seed,
+    /// The seed's D_{0.5} moved to the minimiser of the thin-plate energy of the curve's two
+    /// patches (one closed form per curve), kept where that makes a patch fold.
+    Fair,
+}
+
+impl Middle {
+    /// `seed`, `fair`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Middle::Seed => "seed",
+            Middle::Fair => "fair",
+        }
+    }
+}
+
+impl OptionValue for Middle {
+    const OPTION: &'static str = "middle";
+    const ALL: &'static [Self] = &[Middle::Seed, Middle::Fair];
+    fn name(self) -> &'static str {
+        Middle::name(self)
+    }
+}
+
+impl FromStr for Middle {
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_value(s)
+    }
+}
+
+impl fmt::Display for Middle {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -253,6 +297,10 @@ pub struct ConvertOptions {
     /// Factor on the middle constraint D_{0.5} of the direction blends (seed 000 §4.4.5), finite.
     /// Default 1.
     pub mid_scale: f64,
+    /// How D_{0.5} is set: the seed's rule (`mid_scale` · D_{0.5}) or the fair rule
+    /// (docs/math.md#fair-middle). Default seed.
+    #[serde(default)]
+    pub middle: Middle,
     /// Project onto best-fit planes (seed 000 §3.3.2): dual – the edge midpoints of each face onto
     /// the face's plane; topology – the tile vertices onto the tile's plane. Default on.
     pub best_plane: bool,
@@ -317,6 +365,7 @@ impl Default for ConvertOptions {
             tile_depth: 3.0,
             twist: Twist::Interp,
             mid_scale: 1.0,
+            middle: Middle::Seed,
             best_plane: true,
             weights: WeightForm::Squared,
             levels: 3,
@@ -377,6 +426,7 @@ mod tests {
     fn names_parse_back() {
         round_trip::<Method>();
         round_trip::<Twist>();
+        round_trip::<Middle>();
         round_trip::<WeightForm>();
         round_trip::<Layout>();
         assert_eq!(

@@ -436,7 +436,7 @@ def convert_object(obj, progress=None, depsgraph=None, collection=None, **option
     """Converts one mesh object into a new object `<name>.GB` beside it and returns it.
 
     Keyword options: method ('DUAL', 'TOPOLOGY', 'DOO_SABIN', 'CATMULL_CLARK'), resolution,
-    fullness, tile_depth, twist ('NONE', 'APPROX', 'INTERP'), mid_scale, best_plane, weights
+    fullness, tile_depth, twist ('NONE', 'APPROX', 'INTERP'), mid_scale, middle ('SEED', 'FAIR'), best_plane, weights
     ('SQUARED', 'LINEAR'), levels, want_curves, want_control_net. `progress(fraction) -> bool`
     may cancel. Raises ConvertError; nothing is created then."""
     lib_options, outputs = split_options(options)

@@ -28,13 +28,14 @@ from ctypes import (
 
 import numpy as np
 
-ABI_VERSION = 4
+ABI_VERSION = 5
 
 # GBSURF_NOT_CHECKED: a report count that was not computed (read as None).
 NOT_CHECKED = 2**64 - 1
 
 METHODS = {"DUAL": 0, "TOPOLOGY": 1, "DOO_SABIN": 2, "CATMULL_CLARK": 3}
 TWISTS = {"NONE": 0, "APPROX": 1, "INTERP": 2}
+MIDDLES = {"SEED": 0, "FAIR": 1}
 WEIGHTS = {"SQUARED": 0, "LINEAR": 1}
 # GBSURF_LAYOUT_*: output faces (the option is `face_layout` here: `layout` is taken by Blender's
 # operators and panels).
@@ -79,6 +80,7 @@ class Options(Structure):
         ("tile_depth", c_double),
         ("mid_scale", c_double),
         ("max_memory_mb", c_uint64),
+        ("middle", c_uint32),
     ]
 
 
@@ -293,11 +295,11 @@ def _check(lib, status):
         raise cls(status, name, message)
 
 
-_ENUMS = {"method": METHODS, "twist": TWISTS, "weights": WEIGHTS, "face_layout": LAYOUTS}
+_ENUMS = {"method": METHODS, "twist": TWISTS, "middle": MIDDLES, "weights": WEIGHTS, "face_layout": LAYOUTS}
 # The `Options` fields that are Python values as they are (the others: enums, best_plane).
 _PLAIN = {"resolution": int, "levels": int, "fullness": float, "tile_depth": float, "mid_scale": float, "max_memory_mb": int}
 # The library options by their Python names (as the add-on's properties and keyword options).
-OPTION_NAMES = ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "best_plane",
+OPTION_NAMES = ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale", "middle", "best_plane",
                 "weights", "levels", "max_memory_mb", "face_layout")
 
 

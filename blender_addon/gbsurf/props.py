@@ -30,6 +30,10 @@ TWIST_ITEMS = [
     ('APPROX', "Approximating", "Approximating direction blend"),
     ('INTERP', "Interpolating", "Interpolating direction blend"),
 ]
+MIDDLE_ITEMS = [
+    ('SEED', "Seed", "Middle constraint of the direction blends by the seed's rule (times Mid Scale)"),
+    ('FAIR', "Fair", "Middle constraint minimising the thin-plate energy of the curve's two patches"),
+]
 WEIGHT_ITEMS = [
     ('SQUARED', "Squared", "Squared correction weights (keep G1)"),
     ('LINEAR', "Linear", "Linear correction weights (comparison only)"),
@@ -79,6 +83,7 @@ class ConvertOptionsMixin:
     mid_scale: FloatProperty(
         name="Mid Scale", description="Factor on the middle constraint of the direction blends",
         soft_min=0.0, soft_max=3.0, update=_settings_changed)
+    middle: EnumProperty(name="Middle", items=MIDDLE_ITEMS, update=_settings_changed)
     best_plane: BoolProperty(
         name="Best Plane", description="Project onto best-fit planes",
         update=_settings_changed)
@@ -119,6 +124,7 @@ class ConvertOptionsMixin:
                 col.prop(self, "tile_depth")
             col.prop(self, "twist")
             col.prop(self, "mid_scale")
+            col.prop(self, "middle")
             col.prop(self, "best_plane")
             col.prop(self, "weights")
         else:

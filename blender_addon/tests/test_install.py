@@ -36,7 +36,7 @@ def test_registration():
         helpers.mesh_module().operators.OBJECT_OT_gbsurf_convert.bl_options)
     props = {p.identifier for p in op.properties}
     for name in ("method", "resolution", "fullness", "tile_depth", "twist", "mid_scale",
-                 "best_plane", "weights", "levels", "want_curves", "want_control_net"):
+                 "middle", "best_plane", "weights", "levels", "want_curves", "want_control_net"):
         assert name in props
     items = [i.identifier for i in op.properties["method"].enum_items]
     assert items == ['DUAL', 'TOPOLOGY', 'DOO_SABIN', 'CATMULL_CLARK']

@@ -105,7 +105,7 @@ def test_defaults_come_from_the_library():
     assert bytes(o) == bytes(raw)
     d = n.library_defaults()
     assert set(d) == set(n.OPTION_NAMES)
-    assert (d["method"], d["twist"], d["weights"]) == ('DUAL', 'INTERP', 'SQUARED')
+    assert (d["method"], d["twist"], d["middle"], d["weights"]) == ('DUAL', 'INTERP', 'SEED', 'SQUARED')
     assert (d["resolution"], d["levels"], d["best_plane"]) == (raw.resolution, raw.levels, True)
     assert (d["fullness"], d["tile_depth"], d["mid_scale"]) == (raw.fullness, raw.tile_depth, raw.mid_scale)
     op = bpy.ops.object.gbsurf_convert.get_rna_type().properties

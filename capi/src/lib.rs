@@ -74,8 +74,8 @@ pub const GBSURF_ERR_DEGENERATE: u32 = 15;
 /// ABI version: incremented on every incompatible change of this header (3: `GbsurfOffsetReport`
 /// gained `frame_seams` and `max_normal_angle_pn`, so its size changed; 4:
 /// `GbsurfReport::input_self_intersections` may be `GBSURF_NOT_CHECKED`, a new meaning of a
-/// field's values).
-pub const GBSURF_ABI_VERSION: u32 = 4;
+/// field's values; 5: `GbsurfOptions` gained `middle`, so its size changed).
+pub const GBSURF_ABI_VERSION: u32 = 5;
 
 // ---------------------------------------------------------------------------------------------
 // Error state and the panic boundary

@@ -2,7 +2,7 @@
 
 use super::*;
 use gbsurf::api::ConvertError;
-use gbsurf::options::{ConvertOptions, Layout, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{ConvertOptions, Layout, Method, Middle, OptionValue, Twist, WeightForm};
 
 /// Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 pub const GBSURF_METHOD_DUAL: u32 = 0;
@@ -19,6 +19,11 @@ pub const GBSURF_TWIST_NONE: u32 = 0;
 pub const GBSURF_TWIST_APPROX: u32 = 1;
 /// Twist: interpolating direction blend (seed 000 eq. 4.24). The default.
 pub const GBSURF_TWIST_INTERP: u32 = 2;
+
+/// Middle constraint of the direction blends: the seed's rule, mid_scale · D_{0.5}. The default.
+pub const GBSURF_MIDDLE_SEED: u32 = 0;
+/// Middle constraint of the direction blends: the fair rule (docs/math.md#fair-middle).
+pub const GBSURF_MIDDLE_FAIR: u32 = 1;
 
 /// Correction weights: squared α (default, keeps G1).
 pub const GBSURF_WEIGHTS_SQUARED: u32 = 0;
@@ -62,6 +67,8 @@ pub struct GbsurfOptions {
     /// Memory bound of the conversion in MiB, 1..=1048576: a conversion estimated to need more is
     /// refused before any work (`GBSURF_ERR_TOO_LARGE`). Default 1024.
     pub max_memory_mb: u64,
+    /// `GBSURF_MIDDLE_*`. Default `GBSURF_MIDDLE_SEED`.
+    pub middle: u32,
 }
 
 const OPTIONS_SIZE: u32 = std::mem::size_of::<GbsurfOptions>() as u32;
@@ -93,6 +100,15 @@ impl Code for Twist {
             Twist::None => GBSURF_TWIST_NONE,
             Twist::Approx => GBSURF_TWIST_APPROX,
             Twist::Interp => GBSURF_TWIST_INTERP,
+        }
+    }
+}
+
+impl Code for Middle {
+    fn code(self) -> u32 {
+        match self {
+            Middle::Seed => GBSURF_MIDDLE_SEED,
+            Middle::Fair => GBSURF_MIDDLE_FAIR,
         }
     }
 }
@@ -130,6 +146,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
             tile_depth,
             twist,
             mid_scale,
+            middle,
             best_plane,
             weights,
             levels,
@@ -151,6 +168,7 @@ impl From<&ConvertOptions> for GbsurfOptions {
             tile_depth,
             mid_scale,
             max_memory_mb,
+            middle: middle.code(),
         }
     }
 }
@@ -178,6 +196,8 @@ impl GbsurfOptions {
             .ok_or_else(|| bad_option("method", self.method, "expected GBSURF_METHOD_* (0..=3)"))?;
         let twist = Twist::from_code(self.twist)
             .ok_or_else(|| bad_option("twist", self.twist, "expected GBSURF_TWIST_* (0..=2)"))?;
+        let middle = Middle::from_code(self.middle)
+            .ok_or_else(|| bad_option("middle", self.middle, "expected GBSURF_MIDDLE_* (0..=1)"))?;
         let weights = WeightForm::from_code(self.weights)
             .ok_or_else(|| bad_option("weights", self.weights, "expected GBSURF_WEIGHTS_* (0..=1)"))?;
         let best_plane = match self.best_plane {
@@ -207,6 +227,7 @@ impl GbsurfOptions {
             tile_depth: self.tile_depth,
             twist,
             mid_scale: self.mid_scale,
+            middle,
             best_plane,
             weights,
             levels: self.levels,

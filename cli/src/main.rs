@@ -37,7 +37,7 @@ use gbsurf::api::{self, ConvertError};
 use gbsurf::export::{self, AtomicFiles, FlagPath, MeshFormat, WriteMesh};
 use gbsurf::gb::gbp::load_gbp;
 use gbsurf::gb::GbPatch;
-use gbsurf::options::{check_resolution, check_slice_count, check_stripes, ConvertOptions, Layout, Method, OptionValue, Twist, WeightForm};
+use gbsurf::options::{check_resolution, check_slice_count, check_stripes, ConvertOptions, Layout, Method, Middle, OptionValue, Twist, WeightForm};
 use gbsurf::tessellate::patch::tessellate_gb;
 use gbsurf::DVec2;
 use std::io::{BufRead, BufWriter, Write};
@@ -151,6 +151,9 @@ struct OptionFlags {
     /// Factor on the middle constraint of the direction blends.
     #[arg(long)]
     mid_scale: Option<f64>,
+    /// Middle constraint of the direction blends: the seed's rule or the fair one.
+    #[arg(long, value_parser = choice::<Middle>())]
+    middle: Option<Middle>,
     /// Project onto best-fit planes.
     #[arg(long, value_parser = on_off())]
     best_plane: Option<bool>,
@@ -175,7 +178,7 @@ impl OptionFlags {
         }
         // No `..`: a new option is a compile error here until it has a flag (or, as `cage_maps`,
         // `keep_surface` and `quality_arrays`, is set from the outputs in `convert_input`).
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, middle, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
             &mut options;
         set(method, self.method);
         set(layout, self.layout);
@@ -184,6 +187,7 @@ impl OptionFlags {
         set(tile_depth, self.tile_depth);
         set(twist, self.twist);
         set(mid_scale, self.mid_scale);
+        set(middle, self.middle);
         set(best_plane, self.best_plane);
         set(weights, self.weights);
         set(levels, self.levels);
@@ -192,8 +196,8 @@ impl OptionFlags {
     }
 
     /// `(argument id, value)` of every flag for `options`, for the defaults shown in `--help`.
-    fn shown(options: &ConvertOptions) -> [(&'static str, String); 11] {
-        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
+    fn shown(options: &ConvertOptions) -> [(&'static str, String); 12] {
+        let ConvertOptions { method, layout, resolution, fullness, tile_depth, twist, mid_scale, middle, best_plane, weights, levels, max_memory_mb, cage_maps: _, keep_surface: _, quality_arrays: _ } =
             *options;
         [
             ("method", method.to_string()),
@@ -203,6 +207,7 @@ impl OptionFlags {
             ("tile_depth", tile_depth.to_string()),
             ("twist", twist.to_string()),
             ("mid_scale", mid_scale.to_string()),
+            ("middle", middle.to_string()),
             ("best_plane", on_off_name(best_plane).to_string()),
             ("weights", weights.to_string()),
             ("levels", levels.to_string()),

@@ -79,8 +79,8 @@
 // ABI version: incremented on every incompatible change of this header (3: `GbsurfOffsetReport`
 // gained `frame_seams` and `max_normal_angle_pn`, so its size changed; 4:
 // `GbsurfReport::input_self_intersections` may be `GBSURF_NOT_CHECKED`, a new meaning of a
-// field's values).
-#define GBSURF_ABI_VERSION 4
+// field's values; 5: `GbsurfOptions` gained `middle`, so its size changed).
+#define GBSURF_ABI_VERSION 5
 
 // Method: dual structure, one GB patch per mesh vertex (seed 000 §2). The default.
 #define GBSURF_METHOD_DUAL 0
@@ -102,6 +102,12 @@
 
 // Twist: interpolating direction blend (seed 000 eq. 4.24). The default.
 #define GBSURF_TWIST_INTERP 2
+
+// Middle constraint of the direction blends: the seed's rule, mid_scale · D_{0.5}. The default.
+#define GBSURF_MIDDLE_SEED 0
+
+// Middle constraint of the direction blends: the fair rule (docs/math.md#fair-middle).
+#define GBSURF_MIDDLE_FAIR 1
 
 // Correction weights: squared α (default, keeps G1).
 #define GBSURF_WEIGHTS_SQUARED 0
@@ -178,6 +184,8 @@ typedef struct {
   // Memory bound of the conversion in MiB, 1..=1048576: a conversion estimated to need more is
   // refused before any work (`GBSURF_ERR_TOO_LARGE`). Default 1024.
   uint64_t max_memory_mb;
+  // `GBSURF_MIDDLE_*`. Default `GBSURF_MIDDLE_SEED`.
+  uint32_t middle;
 } GbsurfOptions;
 
 // Progress callback: called with the finished fraction in [0, 1] and the caller's `user_data`;

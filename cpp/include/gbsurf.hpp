@@ -94,6 +94,12 @@ enum class twist : uint32_t {
     interp = GBSURF_TWIST_INTERP,
 };
 
+/// Middle constraint of the direction blends: the seed's rule or the fair one.
+enum class middle : uint32_t {
+    seed = GBSURF_MIDDLE_SEED,
+    fair = GBSURF_MIDDLE_FAIR,
+};
+
 /// Correction weight forms.
 enum class weights : uint32_t {
     squared = GBSURF_WEIGHTS_SQUARED,
@@ -131,6 +137,7 @@ public:
     options& fullness(double f) { raw_.fullness = f; return *this; }
     options& tile_depth(double w) { raw_.tile_depth = w; return *this; }
     options& mid_scale(double s) { raw_.mid_scale = s; return *this; }
+    options& middle(gbsurf::middle m) { raw_.middle = static_cast<uint32_t>(m); return *this; }
     /// Memory bound in MiB: a conversion estimated to need more throws GBSURF_ERR_TOO_LARGE.
     options& max_memory_mb(uint64_t mb) { raw_.max_memory_mb = mb; return *this; }
     /// Throws gbsurf::error if a value is out of range.

@@ -116,6 +116,10 @@ static void options(void) {
     o.twist = 3;
     EXPECT(gbsurf_options_validate(&o), GBSURF_ERR_INVALID_OPTION);
     gbsurf_options_init(&o);
+    o.middle = 2;
+    EXPECT(gbsurf_options_validate(&o), GBSURF_ERR_INVALID_OPTION);
+    EXPECT_MSG("middle");
+    gbsurf_options_init(&o);
     o.resolution = 0;
     EXPECT(gbsurf_options_validate(&o), GBSURF_ERR_INVALID_OPTION);
     EXPECT_MSG("resolution");

@@ -2,6 +2,7 @@
 //!
 //! - [`network`]: the structure-agnostic [`CurveNetwork`] and [`assemble`] (corner blocks, twists).
 //! - [`blend`]: direction blends for G1 twists (seed 000 §4.3–4.4).
+//! - [`fair`]: the fair middle constraint D_{0.5} ([`crate::options::Middle::Fair`]).
 //! - [`check`]: G1 / gap measurements along shared sides.
 //! - [`prepare`]: interior valence-2 vertices dissolved, concave faces split (both structures).
 
@@ -10,6 +11,7 @@ pub mod check;
 pub mod derived;
 pub mod dual;
 pub mod dual_crease;
+pub mod fair;
 pub mod network;
 pub mod prepare;
 pub mod surface;

@@ -4,8 +4,9 @@
 
 use super::blend::{cross_derivative_coeffs, decompose, hodograph, BlendKind, DirectionBlend};
 use super::surface::{Patch, PatchSource, SideRef, Surface};
+use super::fair::{self, SharedCurve};
 use super::{check_options, ConstructError, TwistMode};
-use crate::options::ConvertOptions;
+use crate::options::{ConvertOptions, Middle};
 use crate::progress::{par_map, Ticker};
 use crate::gb::{CgbPatch, GbPatch, Ribbon};
 use glam::DVec3;
@@ -96,6 +97,22 @@ const CHUNK: usize = 4096;
 /// [`assemble`] reporting progress to `ticker` (its current part: the twists and the patches, in
 /// chunks of [`CHUNK`] curves or patches; see [`crate::progress`]).
 pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<Surface, ConstructError> {
+    assemble_middles(net, opts, ticker).map(|(s, _)| s)
+}
+
+/// [`assemble`] and the middle constraint D_{0.5} each curve's blend uses: `mid_scale` · `mid[c]`
+/// ([`crate::options::Middle::Seed`], and every curve the fair rule leaves) or the fair value
+/// (docs/math.md#fair-middle).
+pub fn middles(net: &CurveNetwork, opts: &ConvertOptions) -> Result<(Surface, Vec<DVec3>), ConstructError> {
+    assemble_middles(net, opts, &mut Ticker::none())
+}
+
+/// [`assemble_ticked`] and the D_{0.5} of each curve ([`middles`]).
+fn assemble_middles(
+    net: &CurveNetwork,
+    opts: &ConvertOptions,
+    ticker: &mut Ticker<'_>,
+) -> Result<(Surface, Vec<DVec3>), ConstructError> {
     check_options(opts)?;
     let np = net.patches.len();
     // Curve uses and consistency: the first two uses of each curve and the count (a third use
@@ -190,11 +207,13 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
     let mut crease: Vec<f64> = net.crease.clone();
     let mut made_sharp = 0usize;
     let crease_of = |crease: &[f64], c: usize| crease.get(c).copied().unwrap_or(0.0);
+    // The curves with a direction blend and their twists' factors per unit D_{0.5}.
+    let mut blends: Vec<Option<SharedCurve>> = vec![None; nc];
     if let Some(kind) = kind {
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
         // first error in curve order is returned, as in a serial loop.
-        let twists: Vec<Result<Option<[DVec3; 4]>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
+        let twists: Vec<Result<Option<([DVec3; 4], [f64; 4])>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
             let Some((a, b)) = pair(c).filter(|_| crease_of(&crease, c) < 1.0) else {
                 return Ok(None);
             };
@@ -210,8 +229,9 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
                 }
                 t => t,
             };
-            let Some(t) = t? else { continue };
+            let Some((t, gamma)) = t? else { continue };
             let Some(((pa, sa, _), (pb, sb, _))) = pair(c) else { continue };
+            blends[c] = Some(SharedCurve { patches: [pa, pb], sides: [sa, sb], gamma });
             let (a, b) = (start[pa] + sa, start[pb] + sb);
             rows[a][1][1] = t[0];
             rows[a][1][2] = t[1];
@@ -272,18 +292,35 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
         }
     }
 
+    let mut mids: Vec<DVec3> = net.mid.iter().map(|m| opts.mid_scale * *m).collect();
+    // The fair middle constraints (docs/math.md#fair-middle): blended curves whose two patches
+    // have no creased side and at most MAX_FAIR_SIDES sides.
+    if opts.middle == Middle::Fair && kind.is_some() {
+        let side_curves: Vec<usize> = net.patches.iter().flat_map(|l| l.sides.iter().map(|s| s.curve)).collect();
+        let plain = |p: usize| {
+            let l = &net.patches[p];
+            l.sides.len() <= fair::MAX_FAIR_SIDES && l.sides.iter().all(|s| crease_of(&crease, s.curve) == 0.0)
+        };
+        let movable: Vec<Option<SharedCurve>> =
+            blends.iter().map(|b| b.filter(|b| plain(b.patches[0]) && plain(b.patches[1]))).collect();
+        let center = |p: usize| net.patches[p].center;
+        let patch = |p: usize, r: &[fair::SideRows]| patch_from_rows(&net.patches[p], r);
+        let asm =
+            fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
+        let delta = fair::fair_middles(&asm, opts, &movable, &mut rows);
+        for (m, d) in mids.iter_mut().zip(delta) {
+            *m += d;
+        }
+    }
+
     // Per patch in parallel, collected in patch order; the first error in patch order wins.
     let built: Vec<Result<Patch, ConstructError>> = ticker.within(0.5, 1.0, |t| {
         par_map(t, np, CHUNK, |p| {
-            let (lay, rows_p) = (&net.patches[p], &rows[start[p]..start[p + 1]]);
+            let rows_p = &rows[start[p]..start[p + 1]];
             if let Some(i) = rows_p.iter().position(|r| r.iter().flatten().any(|q| !q.is_finite())) {
                 return Err(ConstructError::NonFinite { patch: p, side: i });
             }
-            let ribbons: Vec<Ribbon> = rows_p.iter().map(|r| Ribbon::from_fn(3, 2, 4, |k, j| r[k][j])).collect();
-            Ok(match lay.center {
-                Some(center) => Patch::Gb(GbPatch { ribbons, center }),
-                None => Patch::Cgb(CgbPatch { ribbons }),
-            })
+            patch_from_rows(&net.patches[p], rows_p).ok_or(ConstructError::Internal(format!("patch {p}")))
         })
     })?;
     let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
@@ -307,7 +344,7 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
             })
             .collect()
     };
-    Ok(Surface {
+    let surface = Surface {
         creases,
         patches,
         neighbors,
@@ -321,6 +358,20 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
             Vec::new()
         },
         cage: Vec::new(),
+    };
+    Ok((surface, mids))
+}
+
+/// The patch of layout `lay` with side rows `rows` (row 0: the curve, row 1: corner blocks and
+/// twists); `None` when a point is not finite.
+fn patch_from_rows(lay: &PatchLayout, rows: &[[[DVec3; 4]; 2]]) -> Option<Patch> {
+    if rows.iter().flatten().flatten().any(|q| !q.is_finite()) {
+        return None;
+    }
+    let ribbons: Vec<Ribbon> = rows.iter().map(|r| Ribbon::from_fn(3, 2, 4, |k, j| r[k][j])).collect();
+    Some(match lay.center {
+        Some(center) => Patch::Gb(GbPatch { ribbons, center }),
+        None => Patch::Cgb(CgbPatch { ribbons }),
     })
 }
 
@@ -328,7 +379,9 @@ pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut T
 /// `[A col 1, A col 2, B col 1, B col 2]` of row 1, from one direction blend (seed 000 §4.4).
 /// `[ra, rb]`: the rows of A's and B's sides; `[sa, sb]`: the sides on curve `c`; `[pa, pb]`:
 /// the two patches. D at each end is (λ_A X_A − λ_B X_B)/2 with the end scales λ of the sides
-/// next to the corner ([`CurveNetwork::end_scale`]); X_A, X_B themselves are kept.
+/// next to the corner ([`CurveNetwork::end_scale`]); X_A, X_B themselves are kept. Also returns
+/// each twist's factor per unit D_{0.5} (the twists are affine in it: 2kα/9 with k = 1 (approx)
+/// or 2 (interp) and α that side's scalar at the twist's end; docs/math.md#fair-middle).
 fn shared_twists(
     net: &CurveNetwork,
     opts: &ConvertOptions,
@@ -337,7 +390,7 @@ fn shared_twists(
     [ra, rb]: [&[[[DVec3; 4]; 2]]; 2],
     [sa, sb]: [usize; 2],
     [pa, pb]: [usize; 2],
-) -> Result<[DVec3; 4], ConstructError> {
+) -> Result<([DVec3; 4], [f64; 4]), ConstructError> {
     let cc = net.curves[c];
     let (na, nb) = (ra.len(), rb.len());
     // The end scale of the side next to the corner: side i of patch p, at its end or its start.
@@ -375,7 +428,17 @@ fn shared_twists(
     let qa = cross_derivative_coeffs([aa0, aa1], [ba0, ba1], &blend, &cc, xa0, xa1);
     let qb = cross_derivative_coeffs([ab0, ab1], [bb0, bb1], &blend, &cc, xb0, xb1);
     // P_{j,1} = P_{j,0} + Q_j / 3 (eq. 4.23); B runs the curve backwards: its column j is A's 3−j.
-    Ok([cc[1] + qa[1] / 3.0, cc[2] + qa[2] / 3.0, cc[2] + qb[2] / 3.0, cc[1] + qb[1] / 3.0])
+    // D_{0.5} enters the blend's middle coefficient with factor k, which enters Q_1 (Q_2) with
+    // 2α(0)/3 (2α(1)/3), and the twist is P + Q/3.
+    let k = match kind {
+        BlendKind::Approx => 1.0,
+        BlendKind::Interp => 2.0,
+    };
+    let g = |alpha: f64| 2.0 * k * alpha / 9.0;
+    Ok((
+        [cc[1] + qa[1] / 3.0, cc[2] + qa[2] / 3.0, cc[2] + qb[2] / 3.0, cc[1] + qb[1] / 3.0],
+        [g(aa0), g(aa1), g(ab1), g(ab0)],
+    ))
 }
 
 /// The end scale λ ([`CurveNetwork::end_scale`]) of side `u` at its end (`at_end`) or its start,

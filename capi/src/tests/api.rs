@@ -53,6 +53,7 @@ fn options_init_matches_rust_defaults_and_validates() {
     assert_eq!((o.layout, o.resolution), (GBSURF_LAYOUT_QUADS, 2));
     assert_eq!(o.method, GBSURF_METHOD_DUAL);
     assert_eq!(o.twist, GBSURF_TWIST_INTERP);
+    assert_eq!(o.middle, GBSURF_MIDDLE_SEED);
     assert_eq!(o.fullness, d.fullness);
     assert_eq!(o.max_memory_mb, d.max_memory_mb);
     // SAFETY: valid struct.
@@ -63,11 +64,12 @@ fn options_init_matches_rust_defaults_and_validates() {
 
     type Case = (fn(&mut GbsurfOptions), u32, &'static str);
     // The limits are the core's (gbsurf::limits), whatever the width of the C field.
-    let cases: [Case; 15] = [
+    let cases: [Case; 16] = [
         (|o| o.layout = 2, GBSURF_ERR_INVALID_OPTION, "layout"),
         (|o| o.struct_size = 12, GBSURF_ERR_INVALID_OPTION, "struct_size"),
         (|o| o.method = 4, GBSURF_ERR_INVALID_OPTION, "method"),
         (|o| o.twist = 99, GBSURF_ERR_INVALID_OPTION, "twist"),
+        (|o| o.middle = 2, GBSURF_ERR_INVALID_OPTION, "middle"),
         (|o| o.weights = 2, GBSURF_ERR_INVALID_OPTION, "weights"),
         (|o| o.best_plane = 2, GBSURF_ERR_INVALID_OPTION, "best_plane"),
         (|o| o.resolution = 0, GBSURF_ERR_INVALID_OPTION, "resolution"),
