@@ -269,7 +269,10 @@ def test_semi_sharp_crease_sweep_moves_the_surface_a_little_per_step(method, sta
 def test_a_folded_result_says_so_and_marks_the_fold():
     """OpenSubdiv's bishop (without its crease tags): its dual report at resolution 3 counts 2
     folded patches and 5 self-intersecting pairs. The result's info says NOT VALID with the
-    report's figures, and `gb_fold` marks vertices; the plain cube has no mark. (The rook without
+    report's figures, and `gb_fold` marks vertices; the plain cube has no mark. A borderline
+    fixture: the 2 folds are dual patches 844 and 846, next to the cage vertex 844 where the
+    topology structure is refused, so a change to the construction may clear them; hence only a
+    fold at all is asserted, not its count. (The rook without
     its tags served here until the direction blends were kept on their side of the curve,
     docs/math.md#blend-side, which removed its 24 folds; before it, a cube with a corner pulled
     inside, until the fold rule's blended reference.)"""

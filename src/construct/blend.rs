@@ -39,6 +39,16 @@ pub enum BlendKind {
     Interp,
 }
 
+/// k of the side rule (docs/math.md#blend-side): the middle Bernstein coefficient's component
+/// across T(½) is raised to −k√(ab), which keeps D(u)·e ≥ ab(1 − k²)/(a + b + 2k√(ab)). k = 0
+/// (raised to 0, D·e ≥ ab/(a + b)): k = ¼ and ½ were measured to raise max |H|·diag on the rook's
+/// and car's topology structure (rook 1043 → 1475, 1993) and k = ¾ folds the rook's.
+pub const SIDE_MARGIN: f64 = 0.0;
+
+/// τ of the side rule's ramps (docs/math.md#blend-side): the full lift where
+/// min(a, b)/(a + b) ≥ τ and |mean⊥| ≥ τ (|d_0| + |d_2|)/2, none as either tends to 0.
+pub const SIDE_RAMP: f64 = 0.01;
+
 /// A quadratic direction blend D(u) = Σ_j B²_j(u) d_j (Bernstein coefficients `d`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DirectionBlend {
@@ -56,19 +66,30 @@ impl DirectionBlend {
     }
 
     /// The blend kept on its side of the curve (docs/math.md#blend-side; not in the seeds, which
-    /// take D0.5 as given, seed 000 eq. 4.16, 4.24): with `t` the curve tangent T(½) and e the unit
-    /// part of (d_0 + d_2)/2 orthogonal to it, the middle Bernstein coefficient d_1 is moved along
-    /// e until d_1·e ≥ 0, where d_0·e > 0 and d_2·e > 0. Then D(u)·e has non-negative Bernstein
-    /// coefficients, so D(u)·e ≥ (d_0·e)(d_2·e)/(d_0·e + d_2·e) > 0: D does not swing across the
-    /// curve and turn the cross-derivatives X = αD + βT of both patches over. Elsewhere the blend
-    /// is unchanged. One blend serves both patches, so G1 holds for any d_1.
+    /// take D0.5 as given, seed 000 eq. 4.16, 4.24). With T̂ the unit of `t` (the tangent T(½)), e
+    /// the unit part of (d_0 + d_2)/2 orthogonal to T̂ and a = d_0·e, c = d_1·e, b = d_2·e: where
+    /// a > 0, b > 0 and c < −k√(ab) ([`SIDE_MARGIN`] k = 0), d_1 is moved along e by
+    /// w·(−k√(ab) − c), with the ramp w = r(min(a, b)/(a + b))·r(|mean⊥|/((|d_0| + |d_2|)/2)),
+    /// r(x) = clamp(x/τ, 0, 1), τ = [`SIDE_RAMP`]. At w = 1, d_1·e becomes −k√(ab), so
+    /// D(u)·e ≥ ab(1 − k²)/(a + b + 2k√(ab)) > 0: D does not swing across T(½) and turn the
+    /// cross-derivatives X = αD + βT of both patches over. The move is continuous in d_0, d_1, d_2
+    /// (w → 0 as a, b or |mean⊥| → 0); d_1's components along T̂ and T̂ × e stay. Elsewhere the
+    /// blend is unchanged. One blend serves both patches, so G1 holds for any d_1.
     pub fn kept_on_side(mut self, t: DVec3) -> Self {
         let Some(t) = t.try_normalize() else { return self };
         let mean = 0.5 * (self.d[0] + self.d[2]);
-        let Some(e) = (mean - mean.dot(t) * t).try_normalize() else { return self };
+        let across = mean - mean.dot(t) * t;
+        let Some(e) = across.try_normalize() else { return self };
         let (a, c, b) = (self.d[0].dot(e), self.d[1].dot(e), self.d[2].dot(e));
-        if a > 0.0 && b > 0.0 && c < 0.0 {
-            self.d[1] -= c * e;
+        if !(a > 0.0 && b > 0.0) {
+            return self;
+        }
+        let lift = -SIDE_MARGIN * (a * b).sqrt() - c;
+        if lift > 0.0 {
+            let ramp = |x: f64| (x / SIDE_RAMP).clamp(0.0, 1.0);
+            let size = 0.5 * (self.d[0].length() + self.d[2].length());
+            let w = ramp(a.min(b) / (a + b)) * ramp(across.length() / size);
+            self.d[1] += w * lift * e;
         }
         self
     }
@@ -149,31 +170,96 @@ mod tests {
         assert_near!(a.eval(0.5), 0.25 * d0 + 0.5 * m + 0.25 * d1);
     }
 
+    /// min over u of D(u)·e, sampled on 1001 steps.
+    fn min_across(b: &DirectionBlend, e: DVec3) -> f64 {
+        (0..=1000).map(|k| b.eval(k as f64 / 1000.0).dot(e)).fold(f64::MAX, f64::min)
+    }
+
+    /// The side rule's margin ab(1 − k²)/(a + b + 2k√(ab)) for D·e (docs/math.md#blend-side).
+    fn margin(a: f64, b: f64) -> f64 {
+        let k = SIDE_MARGIN;
+        a * b * (1.0 - k * k) / (a + b + 2.0 * k * (a * b).sqrt())
+    }
+
     /// The rook dual's base curves (docs/math.md#blend-side): D(0) and D0.5 across the curve
     /// 0.00131, D(1) 0.0242. The interpolating quadratic through them dips below zero
     /// (D0.5 < (√D(0) − √D(1))²/4), so D swings through the tangent; kept on its side it does not,
-    /// and it keeps D(0), D(1) and every component along the tangent and the normal.
+    /// and it keeps D(0), D(1) and d_1's components along T̂ and T̂ × e. The move is exactly
+    /// (−k√(ab) − c)·e (min(a, b)/(a + b) = 0.051 > τ: the full lift).
     #[test]
     fn a_blend_kept_on_its_side_does_not_swing_across_the_curve() {
-        let (t, e, n) = (DVec3::X, DVec3::Y, DVec3::Z);
-        let d0 = 0.00131 * e + 0.0004 * t;
-        let d1 = 0.02415 * e - 0.003 * t + 0.001 * n;
-        let mid = 0.00131 * e;
+        let (t, y, n) = (DVec3::X, DVec3::Y, DVec3::Z);
+        let d0 = 0.00131 * y + 0.0004 * t;
+        let d1 = 0.02415 * y - 0.003 * t + 0.001 * n;
+        let mid = 0.00131 * y;
         let before = DirectionBlend::new(BlendKind::Interp, d0, mid, d1);
         let after = before.kept_on_side(2.0 * t);
-        let across = |b: &DirectionBlend| (0..=100).map(|k| b.eval(k as f64 / 100.0).dot(e)).fold(f64::MAX, f64::min);
-        assert!(across(&before) < 0.0, "{}", across(&before));
-        // D·e ≥ ab/(a + b) with a, b the ends' components along e (here e = Y up to the normal part).
-        let (a, b) = (d0.dot(e), d1.dot(e));
-        assert!(across(&after) > 0.9 * a * b / (a + b), "{}", across(&after));
-        assert_near!(after.eval(0.0), d0);
-        assert_near!(after.eval(1.0), d1);
+        // e: the unit part of (d_0 + d_2)/2 orthogonal to T̂ = X.
+        let mean = 0.5 * (d0 + d1);
+        let e = (mean - mean.x * t).normalize();
+        let (a, c, b) = (d0.dot(e), before.d[1].dot(e), d1.dot(e));
+        assert!(min_across(&before, e) < 0.0, "{}", min_across(&before, e));
+        assert_near!(after.d[1], before.d[1] + (-SIDE_MARGIN * (a * b).sqrt() - c) * e);
+        assert!(min_across(&after, e) >= (1.0 - 1e-9) * margin(a, b), "{} {}", min_across(&after, e), margin(a, b));
+        assert!(min_across(&after, e) < 1.01 * margin(a, b), "the margin is attained");
+        assert_eq!((after.d[0], after.d[2]), (before.d[0], before.d[2]));
         assert_near!(after.d[1].dot(t), before.d[1].dot(t));
+        assert_near!(after.d[1].dot(t.cross(e)), before.d[1].dot(t.cross(e)));
         // A blend already on its side, or one whose ends point to different sides, is unchanged.
-        let ok = DirectionBlend::new(BlendKind::Interp, d0, 0.01 * e, d1);
+        let ok = DirectionBlend::new(BlendKind::Interp, d0, 0.01 * y, d1);
         assert_eq!(ok.kept_on_side(t), ok);
         let twisted = DirectionBlend::new(BlendKind::Interp, d0, mid, -d1 + 0.1 * d0);
         assert_eq!(twisted.kept_on_side(t), twisted);
+    }
+
+    /// The approximating blend: d_1 is D0.5 itself, and it is moved the same way.
+    #[test]
+    fn an_approximating_blend_is_kept_on_its_side() {
+        let (t, e) = (DVec3::X, DVec3::Y);
+        let (d0, d1) = (0.5 * e + 0.2 * t, 2.0 * e - 0.3 * t);
+        let before = DirectionBlend::new(BlendKind::Approx, d0, -1.5 * e + 0.4 * t, d1);
+        assert!(min_across(&before, e) < 0.0);
+        let after = before.kept_on_side(t);
+        assert_near!(after.d[1], -SIDE_MARGIN * (0.5f64 * 2.0).sqrt() * e + 0.4 * t);
+        assert!(min_across(&after, e) >= (1.0 - 1e-9) * margin(0.5, 2.0));
+    }
+
+    /// The rule acts wherever c < −k√(ab) (k = 0: c < 0), also on curves that do not swing:
+    /// with a = b = 1 a curve with D(½)·e = 0.6 (c = 0.2) is left alone, one with D(½)·e = 0.2
+    /// (c = −0.6, min D·e = 0.2) is raised to c = −k√(ab), D(½)·e = (2 − 2k)/4.
+    #[test]
+    fn the_side_rule_acts_below_the_margin_only() {
+        let (t, e) = (DVec3::X, DVec3::Y);
+        let (d0, d1) = (e + 0.5 * t, e - 0.5 * t);
+        let fine = DirectionBlend::new(BlendKind::Interp, d0, 0.6 * e, d1);
+        assert_near!(fine.d[1].dot(e), 0.2);
+        assert_eq!(fine.kept_on_side(t), fine);
+        let near = DirectionBlend::new(BlendKind::Interp, d0, 0.2 * e, d1);
+        assert_near!(near.d[1].dot(e), -0.6);
+        let lifted = near.kept_on_side(t);
+        assert_near!(lifted.d[1].dot(e), -SIDE_MARGIN);
+        assert_near!(lifted.eval(0.5).dot(e), (2.0 - 2.0 * SIDE_MARGIN) / 4.0);
+    }
+
+    /// The move is continuous where the rule switches on or off: sweeping a = d_0·e across 0 (the
+    /// ramp min(a, b)/(a + b)) and (d_0 + d_2)/2 across T̂ (e flips; the ramp |mean⊥|), d_1 moves
+    /// by O(step) between neighbouring steps. A rule without ramps jumps by |c| ≈ 1 there.
+    #[test]
+    fn the_side_rule_is_continuous_at_its_edges() {
+        let (t, e) = (DVec3::X, DVec3::Y);
+        let max_jump = |blend: &dyn Fn(f64) -> DirectionBlend| {
+            let steps = 4000;
+            let d1 = |k: usize| blend(-0.02 + 0.04 * k as f64 / steps as f64).kept_on_side(t).d[1];
+            (1..=steps).map(|k| (d1(k) - d1(k - 1)).length()).fold(0.0, f64::max)
+        };
+        // a across 0 (b = 1, D0.5·e = −0.5: c ≈ −1.5 < −k√(ab) wherever a > 0).
+        let sweep_a = |a: f64| DirectionBlend::new(BlendKind::Interp, a * e + 0.3 * t, -0.5 * e, e - 0.2 * t);
+        assert!(sweep_a(0.02).kept_on_side(t) != sweep_a(0.02), "the rule acts at a = 0.02");
+        assert!(max_jump(&sweep_a) < 1e-2, "{}", max_jump(&sweep_a));
+        // mean⊥ across 0 (a = b = s; d_1 points the other way along T).
+        let sweep_mean = |s: f64| DirectionBlend::new(BlendKind::Approx, s * e + t, -e - t + 0.5 * DVec3::Z, s * e - t);
+        assert!(sweep_mean(0.02).kept_on_side(t) != sweep_mean(0.02), "the rule acts at s = 0.02");
+        assert!(max_jump(&sweep_mean) < 1e-2, "{}", max_jump(&sweep_mean));
     }
 
     #[test]

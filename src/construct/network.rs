@@ -501,7 +501,8 @@ pub struct SplitPatch {
 ///   the parallelogram points C_a[2] + C_b[1] − C_a[3] of the two sides meeting there;
 /// - D_{0.5} of spoke i: (D(0) + D(1))/2, D(0), D(1) the blend's end directions from the two
 ///   parts' neighbouring sides ([`end_d`], with their end scales), so the direction blend is
-///   linear along the spoke in both blend kinds.
+///   linear along the spoke in both blend kinds at `mid_scale` = 1, where the side rule
+///   ([`DirectionBlend::kept_on_side`]) is a no-op.
 ///
 /// A patch whose spokes would leave a tangent plane degenerate (a corner straight above or below
 /// c, or no Newell normal) is left unsplit. `None` when nothing is split.

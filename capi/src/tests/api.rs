@@ -801,10 +801,12 @@ fn report_carries_validity_and_accepts_the_first_version() {
     // A torus with one cage vertex pushed through the tube: the cage and the dual surface cross
     // themselves (valid: no intersections beyond the cage's own). OpenSubdiv's bishop without its
     // creases: its dual report at r = 3 counts 2 folded patches and 5 self-intersecting pairs (not
-    // valid; docs/math.md#fold-clearing). (OpenSubdiv's rook without its creases served here until
-    // the direction blends were kept on their side of the curve, docs/math.md#blend-side: its 24
-    // folded patches are gone; before it, a cube with a corner pulled inside, until the fold rule's
-    // blended reference.) The plain torus: no self-intersections, so the cage is not checked
+    // valid; docs/math.md#fold-clearing). A borderline fixture: the 2 folds are dual patches 844 and
+    // 846, next to the cage vertex 844 where the topology structure is refused, so a change to the
+    // construction may clear them; hence only folds > 0 is asserted. (OpenSubdiv's rook without
+    // its creases served here until the direction blends were kept on their side of the curve,
+    // docs/math.md#blend-side: its 24 folded patches are gone; before it, a cube with a corner
+    // pulled inside, until the fold rule's blended reference.) The plain torus: no self-intersections, so the cage is not checked
     // (GBSURF_NOT_CHECKED).
     let plain = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
     let mut torus = gbsurf::mesh::generate::torus(10, 6, 10.0, 3.0).unwrap();
