@@ -327,3 +327,25 @@ fn default_outputs_equal_those_of_a_full_conversion() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--middle fair` reaches the construction (a different surface from `--middle seed`, the
+/// default); a value that is not a rule is a usage error naming the flag.
+#[test]
+fn middle_flag_selects_the_rule() {
+    let dir = tmpdir("middle");
+    let input = format!("{MODELS}/cube_nonplanar.obj");
+    let out = |rule: &str| dir.join(format!("{rule}.obj")).to_string_lossy().into_owned();
+    for rule in ["seed", "fair"] {
+        let (ok, err) = gbsurf(&["convert", &input, "-o", &out(rule), "--middle", rule, "--quiet"]);
+        assert!(ok, "{rule}: {err}");
+    }
+    let (ok, err) = gbsurf(&["convert", &input, "-o", &out("default"), "--quiet"]);
+    assert!(ok, "{err}");
+    let read = |rule: &str| std::fs::read(out(rule)).unwrap();
+    assert!(read("seed") == read("default"), "the default is not the seed's rule");
+    assert!(read("seed") != read("fair"), "--middle fair changed nothing");
+    let (ok, err) = gbsurf(&["convert", &input, "-o", &out("bogus"), "--middle", "bogus"]);
+    assert!(!ok && err.contains("--middle"), "{err}");
+    assert!(!dir.join("bogus.obj").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

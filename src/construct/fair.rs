@@ -118,9 +118,10 @@ pub struct GramTables {
 impl GramTables {
     /// The tables of form `form`.
     pub fn new(form: WeightForm) -> GramTables {
-        let make = |gb: bool| {
-            (0..=MAX_FAIR_SIDES).into_par_iter().map(|n| if n >= 3 { Gram::new(n, gb, form) } else { None }).collect()
-        };
+        // Serial (a few milliseconds): they are built inside a `OnceLock`'s initialiser, and a
+        // rayon worker waiting there for its own parallel loop could pick up another conversion
+        // that enters the same initialiser (a deadlock).
+        let make = |gb: bool| (0..=MAX_FAIR_SIDES).map(|n| if n >= 3 { Gram::new(n, gb, form) } else { None }).collect();
         GramTables { gb: make(true), cgb: make(false) }
     }
 
@@ -254,10 +255,9 @@ pub fn fair_middles(
     };
     let folds = |which: &[usize], make: &(dyn Fn(usize) -> Option<Patch> + Sync)| -> Vec<usize> {
         let patches: Vec<Option<Patch>> = which.par_iter().map(|&p| make(p)).collect();
-        if patches.iter().any(Option::is_none) {
-            // A non-finite point: treat every listed patch as folded (the caller reverts them).
-            return vec![1; which.len()];
-        }
+        // A patch that cannot be built (a non-finite point) counts as folded (the caller reverts
+        // it); the others are checked.
+        let built: Vec<bool> = patches.iter().map(Option::is_some).collect();
         let sub = Surface {
             patches: patches.into_iter().flatten().collect(),
             neighbors: Vec::new(),
@@ -267,7 +267,8 @@ pub fn fair_middles(
             creases: Vec::new(),
             cage: Vec::new(),
         };
-        guard_folds(&sub, opts.weights)
+        let mut found = guard_folds(&sub, opts.weights).into_iter();
+        built.iter().map(|&b| if b { found.next().unwrap_or(1) } else { 1 }).collect()
     };
     // The guard: patches that fold with the fair values but not with the seed's revert all their
     // curves; the patches across those curves are checked again.

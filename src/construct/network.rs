@@ -84,7 +84,9 @@ pub(super) fn side_points(net: &CurveNetwork, u: SideUse) -> [DVec3; 4] {
 /// the adjacent boundaries). Twists:
 /// - [`TwistMode::None`]: the layout's `corner_twists` (shared by both sides at a corner);
 /// - [`TwistMode::Approx`] / [`TwistMode::Interp`]: on every curve shared by two patches, one
-///   direction blend for both (see [`super::blend`]), with D_{0.5} = `mid_scale` · `mid[c]`;
+///   direction blend for both (see [`super::blend`]), with D_{0.5} = `mid_scale` · `mid[c]`
+///   (kept on its side of the curve, docs/math.md#blend-side; with [`Middle::Fair`] the fair
+///   value, docs/math.md#fair-middle);
 /// - on open sides (curve used once): the twist of the adjacent side at that corner when that side
 ///   is shared, otherwise the corner twist, so the corner block stays consistent.
 pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, ConstructError> {
@@ -293,8 +295,9 @@ fn assemble_middles(
     }
 
     let mut mids: Vec<DVec3> = net.mid.iter().map(|m| opts.mid_scale * *m).collect();
-    // The fair middle constraints (docs/math.md#fair-middle): blended curves whose two patches
-    // have no creased side and at most MAX_FAIR_SIDES sides.
+    // The fair middle constraints (docs/math.md#fair-middle): blended curves between two distinct
+    // patches with no creased side and at most MAX_FAIR_SIDES sides (a curve used twice by one
+    // patch keeps the seed's: the closed form treats its two uses as independent patches).
     if opts.middle == Middle::Fair && kind.is_some() {
         let side_curves: Vec<usize> = net.patches.iter().flat_map(|l| l.sides.iter().map(|s| s.curve)).collect();
         let plain = |p: usize| {
@@ -302,7 +305,7 @@ fn assemble_middles(
             l.sides.len() <= fair::MAX_FAIR_SIDES && l.sides.iter().all(|s| crease_of(&crease, s.curve) == 0.0)
         };
         let movable: Vec<Option<SharedCurve>> =
-            blends.iter().map(|b| b.filter(|b| plain(b.patches[0]) && plain(b.patches[1]))).collect();
+            blends.iter().map(|b| b.filter(|b| b.patches[0] != b.patches[1] && plain(b.patches[0]) && plain(b.patches[1]))).collect();
         let center = |p: usize| net.patches[p].center;
         let patch = |p: usize, r: &[fair::SideRows]| patch_from_rows(&net.patches[p], r);
         let asm =
@@ -320,7 +323,7 @@ fn assemble_middles(
             if let Some(i) = rows_p.iter().position(|r| r.iter().flatten().any(|q| !q.is_finite())) {
                 return Err(ConstructError::NonFinite { patch: p, side: i });
             }
-            patch_from_rows(&net.patches[p], rows_p).ok_or(ConstructError::Internal(format!("patch {p}")))
+            patch_from_rows(&net.patches[p], rows_p).ok_or_else(|| ConstructError::Internal(format!("patch {p}")))
         })
     })?;
     let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;

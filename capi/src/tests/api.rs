@@ -1202,3 +1202,31 @@ fn cage_loop_values_holed_takes_the_users_corners() {
         gbsurf_result_free(r);
     }
 }
+
+/// `middle = GBSURF_MIDDLE_FAIR` reaches the construction: a cube with one corner pulled out
+/// converts to a different closed surface than with `GBSURF_MIDDLE_SEED` (the default).
+#[test]
+fn middle_fair_changes_the_surface() {
+    let (mut p, s, f) = cube();
+    p[18..21].copy_from_slice(&[1.6, 1.4, 1.5]);
+    let run = |middle: u32| {
+        let mut o = std::mem::MaybeUninit::<GbsurfOptions>::uninit();
+        // SAFETY: writable struct, then initialized by gbsurf_options_init.
+        let mut o = unsafe {
+            assert_eq!(gbsurf_options_init(o.as_mut_ptr()), GBSURF_OK);
+            o.assume_init()
+        };
+        o.middle = middle;
+        let mut r = null_mut();
+        // SAFETY: valid arrays and options, writable out-param.
+        assert_eq!(unsafe { convert(&p, &s, &f, &o, &mut r) }, GBSURF_OK, "{}", last());
+        let points = out_positions(r);
+        // SAFETY: a live handle, freed once.
+        unsafe { gbsurf_result_free(r) };
+        points
+    };
+    let (seed, fair) = (run(GBSURF_MIDDLE_SEED), run(GBSURF_MIDDLE_FAIR));
+    assert_eq!(seed.len(), fair.len());
+    let moved = seed.iter().zip(&fair).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+    assert!(moved > 1e-4, "the fair rule moved the surface by {moved:e} only");
+}
