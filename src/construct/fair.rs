@@ -258,15 +258,7 @@ pub fn fair_middles(
         // A patch that cannot be built (a non-finite point) counts as folded (the caller reverts
         // it); the others are checked.
         let built: Vec<bool> = patches.iter().map(Option::is_some).collect();
-        let sub = Surface {
-            patches: patches.into_iter().flatten().collect(),
-            neighbors: Vec::new(),
-            sources: Vec::new(),
-            curves: Vec::new(),
-            warnings: Vec::new(),
-            creases: Vec::new(),
-            cage: Vec::new(),
-        };
+        let sub = Surface::of_patches(patches.into_iter().flatten().collect());
         let mut found = guard_folds(&sub, opts.weights).into_iter();
         built.iter().map(|&b| if b { found.next().unwrap_or(1) } else { 1 }).collect()
     };

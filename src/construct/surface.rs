@@ -188,6 +188,20 @@ pub struct Surface {
 }
 
 impl Surface {
+    /// Patches alone, without adjacency, sources, curves or cage maps: for checks that look at
+    /// each patch by itself (the fold tests of a subset of a surface's patches).
+    pub fn of_patches(patches: Vec<Patch>) -> Surface {
+        Surface {
+            patches,
+            neighbors: Vec::new(),
+            sources: Vec::new(),
+            curves: Vec::new(),
+            warnings: Vec::new(),
+            creases: Vec::new(),
+            cage: Vec::new(),
+        }
+    }
+
     /// Sharpness of side `side` of patch `p` (0 when the surface has no creases).
     pub fn side_crease(&self, p: usize, side: usize) -> f64 {
         self.creases.get(p).and_then(|c| c.get(side)).copied().unwrap_or(0.0)

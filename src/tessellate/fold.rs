@@ -458,15 +458,7 @@ pub fn dense_folds_of_ticked<E>(
         chunked(&direct)?;
         return Ok(out);
     }
-    let sub = Surface {
-        patches,
-        neighbors: Vec::new(),
-        sources: Vec::new(),
-        curves: Vec::new(),
-        warnings: Vec::new(),
-        creases: Vec::new(),
-        cage: Vec::new(),
-    };
+    let sub = Surface::of_patches(patches);
     let Ok(eval) = GbSurfaceEvaluator::new(&sub, level, form) else {
         chunked(&direct)?;
         return Ok(out);
