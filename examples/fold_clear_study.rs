@@ -30,7 +30,9 @@ fn main() {
                 let mut buf = Vec::new();
                 eval.evaluate(s, p, &layout, &mut buf);
                 let ribbons = patch.ribbons();
-                let centre = centre_reference(ribbons, &mut Binomials::default());
+                let centre = centre_reference(ribbons, &mut Binomials::default(), || {
+                    sectors.centre_sample().map_or(DVec3::ZERO, |k| buf[k].normal)
+                });
                 let mut min_ref = 1.0f64;
                 for (k, sp) in buf.iter().enumerate() {
                     let (i, t) = sectors.at()[k];

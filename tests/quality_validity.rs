@@ -231,6 +231,31 @@ fn every_shared_model_is_valid_with_both_structures() {
     }
 }
 
+/// Blender's default cone (32 vertices, radius 1, depth 2): the topology structure's base cap
+/// turns by about 116° from its rim, where its ribbons lean outwards and up, to its flat centre
+/// facing down. The mean of the ribbons' normals points up there, and every sample near the
+/// centre used to be counted as folded against it; the cap's vector area points down
+/// (docs/math.md#folds). The 8-sided cone of height 1 is the same case. Both structures stay
+/// valid, at the default layout and at triangles r = 8.
+#[test]
+fn a_cone_whose_base_cap_turns_more_than_a_right_angle_is_valid() {
+    for (n, height) in [(32, 2.0), (8, 1.0)] {
+        let base = gbsurf::mesh::generate::cone(n).unwrap();
+        let positions: Vec<DVec3> = base.positions.iter().map(|p| DVec3::new(p.x, p.y, p.z * height)).collect();
+        let cone = PolyMesh::new(positions, base.faces.clone());
+        for method in [Method::Dual, Method::Topology] {
+            for opts in [ConvertOptions::default(), ConvertOptions::triangles_r8()] {
+                let c = convert(&cone, &ConvertOptions { method, ..opts }, None).unwrap();
+                let r = &c.report;
+                assert!(r.valid, "cone {n} {method}: {:?}", r.validity_problems());
+                assert_eq!(r.folds, 0, "cone {n} {method}");
+                let dense = find_folds(c.surface.as_ref().unwrap(), 40, WeightForm::default());
+                assert_eq!(dense.patches, 0, "cone {n} {method} at level 40");
+            }
+        }
+    }
+}
+
 #[test]
 fn curvature_times_diagonal_of_a_sphere_sample() {
     // Unit sphere points with H = −1 everywhere: |H| × diagonal = 2√3.

@@ -7,7 +7,9 @@
 //!   turns against the reference normal R = unit((1 − a)·N_i(s) + a·N̄): N_i(s) the boundary
 //!   frame normal T × X of ribbon i ([`ribbon_frame`](crate::construct::check::ribbon_frame)) at
 //!   s = c/(b + c), the foot of the sample on side i, and N̄ the unit mean of the ribbons' normals
-//!   at their midpoints ([`crate::tessellate::fold::blended_reference`], docs/math.md#folds): the
+//!   at their midpoints, or the boundary's unit vector area where that is more than 60° away and
+//!   nearer to the patch's normal at its centre ([`crate::tessellate::fold::centre_reference`],
+//!   [`crate::tessellate::fold::blended_reference`], docs/math.md#folds, #fold-centre): the
 //!   parameterisation turned over, or the surface normal turned against the frame its ribbons
 //!   give it. Both are oriented alike (side i runs counter-clockwise, X points into the domain).
 //!   Every conversion applies this rule inside the tessellation pass to the samples it evaluates

@@ -3,8 +3,9 @@
 //! v_{i−1}, v_i) with barycentric weights (a, b, c) is folded where its unit normal turns against
 //! the reference normal unit((1 − a)·N_i(s) + a·N̄) ([`blended_reference`]): N_i(s) the unit
 //! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i, N̄ the patch's
-//! centre reference ([`centre_reference`], the unit mean of its ribbons' normals at their
-//! midpoints).
+//! centre reference ([`centre_reference`]: the unit mean of its ribbons' normals at their
+//! midpoints, or the unit vector area of its boundary where a rim turns by more than a right
+//! angle).
 //!
 //! The tessellation's samples are too sparse to see a small fold (a Jacobian that turns over near
 //! a corner, inside one output face), so the pass runs in two steps (docs/math.md#fold-clearing):
@@ -51,6 +52,15 @@ impl Sectors {
     /// Per sample: its centre weight a.
     pub fn centre_weights(&self) -> &[f64] {
         &self.centre
+    }
+
+    /// The sample nearest to the domain centre (largest centre weight; the first of equals), or
+    /// `None` for an empty layout.
+    pub fn centre_sample(&self) -> Option<usize> {
+        self.centre.iter().enumerate().fold(None, |best: Option<(usize, f64)>, (k, &a)| match best {
+            Some((_, b)) if b >= a => best,
+            _ => Some((k, a)),
+        }).map(|(k, _)| k)
     }
 
     /// The sectors of the samples `uv` in the domain polygon `domain` (counter-clockwise,
@@ -104,11 +114,51 @@ impl Sectors {
     }
 }
 
-/// The centre reference N̄ of a patch: the unit mean of its ribbons' normals at their midpoints
-/// (s = ½; undefined ones left out), or zero when that mean vanishes. It does not depend on which
-/// side is numbered first, unlike any one ribbon's normal.
-pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials) -> DVec3 {
-    ribbons.iter().map(|r| ribbon_normal_with(r, 0.5, binomials)).sum::<DVec3>().normalize_or_zero()
+/// The centre reference N̄ of a patch (docs/math.md#folds): the unit mean of its ribbons' normals
+/// at their midpoints (s = ½; undefined ones left out), or zero when that mean vanishes. It does
+/// not depend on which side is numbered first, unlike any one ribbon's normal.
+///
+/// Around a rim that turns by more than a right angle (a cone's base, whose ribbons all lean
+/// outwards and up while the cap faces down) that mean points the wrong way. So it is checked
+/// against a second candidate, the unit vector area A = ½ Σ_k p_k × p_{k+1} of the boundary's
+/// control polygon (the row 0 points of the ribbons in order, a closed loop; by Stokes' theorem
+/// the vector area of a closed curve is ∫ n dA over any surface it bounds, the patch's mean
+/// normal). Where the two are more than 60° apart ([`CANDIDATES_AGREE`]), N̄ is the one nearer to
+/// the patch's own normal at its centre, `centre_normal()` (called only then; zero when
+/// undefined, which keeps the mean).
+pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials, centre_normal: impl FnOnce() -> DVec3) -> DVec3 {
+    let mean = ribbons.iter().map(|r| ribbon_normal_with(r, 0.5, binomials)).sum::<DVec3>().normalize_or_zero();
+    let area = vector_area(ribbons).normalize_or_zero();
+    if mean == DVec3::ZERO || area == DVec3::ZERO || !area.is_finite() || mean.dot(area) >= CANDIDATES_AGREE {
+        return mean;
+    }
+    let n = centre_normal();
+    if n.is_finite() && n.dot(area) > n.dot(mean) {
+        area
+    } else {
+        mean
+    }
+}
+
+/// Dot product of the two candidates for N̄ ([`centre_reference`]) above which the ribbons' mean
+/// is taken without looking at the patch (cos 60°).
+pub const CANDIDATES_AGREE: f64 = 0.5;
+
+/// ½ Σ_k p_k × p_{k+1} over the closed control polygon of the ribbons' row 0 (each ribbon's last
+/// point is the next one's first), relative to its first point.
+fn vector_area(ribbons: &[Ribbon]) -> DVec3 {
+    let mut points = ribbons.iter().flat_map(|r| {
+        let row = r.row(0);
+        row[..row.len().saturating_sub(1)].iter().copied()
+    });
+    let Some(first) = points.next() else { return DVec3::ZERO };
+    let mut area = DVec3::ZERO;
+    let mut prev = first;
+    for p in points {
+        area += 0.5 * (prev - first).cross(p - first);
+        prev = p;
+    }
+    area
 }
 
 /// The reference normal of a sample with centre weight a whose foot has the ribbon normal `foot`:
@@ -132,6 +182,17 @@ pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
     } else {
         foot
     }
+}
+
+/// How far the unit normal `n` of a sample (centre weight a, foot normal `foot`) agrees with its
+/// frame: n·R with R = [`blended_reference`]; `None` where R is undefined. The sample is folded
+/// where this is negative.
+pub fn reference_dot(n: DVec3, foot: DVec3, centre: DVec3, a: f64) -> Option<f64> {
+    let r = blended_reference(foot, centre, a);
+    if r == DVec3::ZERO {
+        return None;
+    }
+    Some(n.dot(r))
 }
 
 /// Unit boundary-frame normal T × X of `ribbon` at s (zero where undefined): the same vectors as
@@ -284,7 +345,9 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
     // None: the sector names a missing ribbon.
     let mut binomials = Binomials::default();
     let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal_with(r, s, &mut binomials))).collect();
-    let centre = centre_reference(ribbons, &mut binomials);
+    let centre = centre_reference(ribbons, &mut binomials, || {
+        sectors.centre_sample().and_then(|k| points.get(k)).map_or(DVec3::ZERO, |p| p.normal)
+    });
     for (k, (((&x, sp), &f), &a)) in layout.uv.iter().zip(points).zip(&sectors.foot).zip(&sectors.centre).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
             cleared = false;
@@ -294,12 +357,10 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
             cleared = false;
             continue;
         };
-        let normal = blended_reference(*normal, centre, a);
-        if normal == DVec3::ZERO {
+        let Some(rel) = reference_dot(sp.normal, *normal, centre, a) else {
             cleared = false;
             continue;
-        }
-        let rel = sp.normal.dot(normal);
+        };
         cleared &= rel >= ClearTest::REFERENCE;
         if rel < 0.0 {
             out.samples.push(k as u32);
@@ -360,7 +421,8 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
     };
     let ribbons = patch.ribbons();
     let mut binomials = Binomials::default();
-    let centre = centre_reference(ribbons, &mut binomials);
+    let middle = domain.vertices().iter().copied().sum::<DVec2>() / n as f64;
+    let centre = centre_reference(ribbons, &mut binomials, || ev.jacobian_normal(middle, form).normalize_or_zero());
     let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
     for (i, ribbon) in ribbons.iter().enumerate().take(n) {
         let pts = fold_sample_points(&domain, i, level);
@@ -378,16 +440,14 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
                 }
                 let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
                 let foot = ribbon_normal_with(ribbon, s, &mut binomials);
-                let reference = blended_reference(foot, centre, a as f64 / level as f64);
-                if reference == DVec3::ZERO {
-                    continue;
-                }
                 let jn = ev.jacobian_normal(uv, form);
                 let scale = jn.length();
                 if !(scale > 0.0) {
                     continue;
                 }
-                let rel = jn.dot(reference) / scale;
+                let Some(rel) = reference_dot(jn / scale, foot, centre, a as f64 / level as f64) else {
+                    continue;
+                };
                 if rel < 0.0 {
                     count += 1;
                     if rel < worst {
@@ -559,13 +619,15 @@ mod tests {
                     eval.evaluate(&surface, p, &layout, &mut buf);
                     let got = patch_folds(patch, &sectors, &layout, &buf);
                     let ribbons = patch.ribbons();
-                    let centre = centre_reference(ribbons, &mut Binomials::default());
+                    let centre = centre_reference(ribbons, &mut Binomials::default(), || {
+                        sectors.centre_sample().map_or(DVec3::ZERO, |k| buf[k].normal)
+                    });
                     let expected: Vec<u32> = (0..buf.len() as u32)
                         .filter(|&k| {
                             let (sp, (i, s)) = (&buf[k as usize], sectors.at[k as usize]);
                             let foot = ribbon_normal(&ribbons[i as usize], s);
-                            let r = blended_reference(foot, centre, sectors.centre[k as usize]);
-                            sp.normal != DVec3::ZERO && sp.normal.is_finite() && sp.normal.dot(r) < 0.0
+                            let rel = reference_dot(sp.normal, foot, centre, sectors.centre[k as usize]);
+                            sp.normal != DVec3::ZERO && sp.normal.is_finite() && rel.is_some_and(|r| r < 0.0)
                         })
                         .collect();
                     assert_eq!(got.samples, expected, "{method:?} r = {r}, patch {p}");
