@@ -235,7 +235,7 @@ fn every_shared_model_is_valid_with_both_structures() {
 /// turns by about 116° from its rim, where its ribbons lean outwards and up, to its flat centre
 /// facing down. The mean of the ribbons' normals points up there, and every sample near the
 /// centre used to be counted as folded against it; the cap's vector area points down
-/// (docs/math.md#folds). The 8-sided cone of height 1 is the same case. Both structures stay
+/// (docs/math.md#fold-centre). The 8-sided cone of height 1 is the same case. Both structures stay
 /// valid, at the default layout and at triangles r = 8.
 #[test]
 fn a_cone_whose_base_cap_turns_more_than_a_right_angle_is_valid() {

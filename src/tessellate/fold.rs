@@ -4,8 +4,8 @@
 //! the reference normal unit((1 − a)·N_i(s) + a·N̄) ([`blended_reference`]): N_i(s) the unit
 //! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i, N̄ the patch's
 //! centre reference ([`centre_reference`]: the unit mean of its ribbons' normals at their
-//! midpoints, or the unit vector area of its boundary where a rim turns by more than a right
-//! angle).
+//! midpoints, or the unit vector area of its boundary where that is more than 60° from the mean
+//! and nearer to the patch's normal at its centre).
 //!
 //! The tessellation's samples are too sparse to see a small fold (a Jacobian that turns over near
 //! a corner, inside one output face), so the pass runs in two steps (docs/math.md#fold-clearing):
@@ -122,14 +122,21 @@ impl Sectors {
 /// outwards and up while the cap faces down) that mean points the wrong way. So it is checked
 /// against a second candidate, the unit vector area A = ½ Σ_k p_k × p_{k+1} of the boundary's
 /// control polygon (the row 0 points of the ribbons in order, a closed loop; by Stokes' theorem
-/// the vector area of a closed curve is ∫ n dA over any surface it bounds, the patch's mean
-/// normal). Where the two are more than 60° apart ([`CANDIDATES_AGREE`]), N̄ is the one nearer to
-/// the patch's own normal at its centre, `centre_normal()` (called only then; zero when
-/// undefined, which keeps the mean).
+/// the vector area of a closed curve is ∫ n dA over any surface it bounds, so A of the control
+/// polygon approximates the patch's mean normal; not used where |A| is below [`MIN_AREA_RATIO`]
+/// of the area of a circle of the same perimeter). Where the two are more than 60° apart
+/// ([`CANDIDATES_AGREE`]), N̄ is the one nearer to the patch's own normal at its centre,
+/// `centre_normal()` (called only then; zero when undefined, which keeps the mean).
 pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials, centre_normal: impl FnOnce() -> DVec3) -> DVec3 {
     let mean = ribbons.iter().map(|r| ribbon_normal_with(r, 0.5, binomials)).sum::<DVec3>().normalize_or_zero();
-    let area = vector_area(ribbons).normalize_or_zero();
-    if mean == DVec3::ZERO || area == DVec3::ZERO || !area.is_finite() || mean.dot(area) >= CANDIDATES_AGREE {
+    let (area, perimeter) = vector_area(ribbons);
+    // A loop whose vector area nearly cancels (a long thin saddle) gives no direction.
+    let disc = perimeter * perimeter / (4.0 * std::f64::consts::PI);
+    if mean == DVec3::ZERO || !(area.length() > MIN_AREA_RATIO * disc) {
+        return mean;
+    }
+    let area = area.normalize();
+    if mean.dot(area) >= CANDIDATES_AGREE {
         return mean;
     }
     let n = centre_normal();
@@ -140,25 +147,32 @@ pub fn centre_reference(ribbons: &[Ribbon], binomials: &mut Binomials, centre_no
     }
 }
 
+/// Below this ratio of its vector area's length to the area of the circle of the same perimeter,
+/// a boundary loop gives no candidate for N̄ ([`centre_reference`] keeps the ribbons' mean): a
+/// planar convex loop is above 0.1 while its width is a tenth of its length or more, a loop that
+/// folds back over itself is near 0.
+pub const MIN_AREA_RATIO: f64 = 0.01;
+
 /// Dot product of the two candidates for N̄ ([`centre_reference`]) above which the ribbons' mean
 /// is taken without looking at the patch (cos 60°).
 pub const CANDIDATES_AGREE: f64 = 0.5;
 
 /// ½ Σ_k p_k × p_{k+1} over the closed control polygon of the ribbons' row 0 (each ribbon's last
-/// point is the next one's first), relative to its first point.
-fn vector_area(ribbons: &[Ribbon]) -> DVec3 {
+/// point is the next one's first), relative to its first point, and the polygon's length.
+fn vector_area(ribbons: &[Ribbon]) -> (DVec3, f64) {
     let mut points = ribbons.iter().flat_map(|r| {
         let row = r.row(0);
         row[..row.len().saturating_sub(1)].iter().copied()
     });
-    let Some(first) = points.next() else { return DVec3::ZERO };
-    let mut area = DVec3::ZERO;
+    let Some(first) = points.next() else { return (DVec3::ZERO, 0.0) };
+    let (mut area, mut length) = (DVec3::ZERO, 0.0);
     let mut prev = first;
-    for p in points {
+    for p in points.chain(std::iter::once(first)) {
         area += 0.5 * (prev - first).cross(p - first);
+        length += prev.distance(p);
         prev = p;
     }
-    area
+    (area, length)
 }
 
 /// The reference normal of a sample with centre weight a whose foot has the ribbon normal `foot`:
@@ -403,6 +417,16 @@ impl PatchEval<'_> {
         };
         d.su.cross(d.sv)
     }
+
+    /// The unit normal at `uv` ([`crate::gb::SurfaceDerivs::normal`]), zero where the
+    /// parameterisation degenerates.
+    fn unit_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
+        let d = match self {
+            PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
+            PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
+        };
+        d.normal().unwrap_or(DVec3::ZERO)
+    }
 }
 
 /// The fold rule on a dense grid of `patch`, evaluated directly with weight form `form`: in each
@@ -421,8 +445,7 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
     };
     let ribbons = patch.ribbons();
     let mut binomials = Binomials::default();
-    let middle = domain.vertices().iter().copied().sum::<DVec2>() / n as f64;
-    let centre = centre_reference(ribbons, &mut binomials, || ev.jacobian_normal(middle, form).normalize_or_zero());
+    let centre = centre_reference(ribbons, &mut binomials, || ev.unit_normal(domain.center(), form));
     let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
     for (i, ribbon) in ribbons.iter().enumerate().take(n) {
         let pts = fold_sample_points(&domain, i, level);
