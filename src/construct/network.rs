@@ -4,6 +4,7 @@
 
 use super::blend::{cross_derivative_coeffs, decompose, hodograph, BlendKind, DirectionBlend};
 use super::surface::{Patch, PatchSource, SideRef, Surface};
+use super::centre;
 use super::fair::{self, SharedCurve};
 use super::{check_options, ConstructError, TwistMode};
 use crate::options::{ConvertOptions, Middle};
@@ -326,7 +327,15 @@ fn assemble_middles(
             patch_from_rows(&net.patches[p], rows_p).ok_or_else(|| ConstructError::Internal(format!("patch {p}")))
         })
     })?;
-    let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
+    let mut patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
+    // High-valence GB patches: the central point fitted to the boundary (docs/math.md#centre-fit).
+    patches.par_iter_mut().for_each(|p| {
+        if let Patch::Gb(g) = p {
+            if g.ribbons.len() >= centre::CENTRE_FIT_MIN_SIDES {
+                centre::fit_centre(g, opts.weights);
+            }
+        }
+    });
     let mut neighbors: Vec<Vec<Option<SideRef>>> = net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
     for c in 0..nc {
         if let Some(((pa, sa, _), (pb, sb, _))) = pair(c) {

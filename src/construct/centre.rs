@@ -1,0 +1,67 @@
+//! The central control point of a high-valence GB patch (docs/math.md#centre-fit; not in the
+//! seeds, defined here).
+//!
+//! The seed puts a dual patch's central point C at its cage vertex (seed 000 §2.4). On a patch of
+//! many sides the central weight B₀ is large over most of the domain (at the centre of a cubic
+//! patch B₀ = (n − 2)(n − 4)/n², 0.82 for n = 32), so C alone shapes the middle of the patch, and
+//! the cage vertex is rarely where the ribbons would have the surface go: the valence-32 pole of
+//! Blender's UV sphere became a point whose mean curvature was −10.7/R instead of −1/R.
+//!
+//! Here C moves along the patch's normal N at its domain centre to the point where the centre's
+//! mean curvature H equals that of the isotropic paraboloid z = ½κr² (in the frame of the centre
+//! point and N) fitted by least squares to points of the boundary curves. Moving C by t·N changes
+//! neither S_u nor S_v at the centre (∇B₀ = 0 there: B₀ is invariant under the rotations of the
+//! regular domain), so N, E, F, G stay and H is affine in t, H(t) = H₀ + h·t; the centre point
+//! moves by t·B₀(0)·N, so the fit κ(t) = 2 Σ z_k r_k² / Σ r_k⁴ with z_k = (p_k − S(0))·N is affine
+//! in t too. One linear equation gives t. The ribbons, hence the boundary and G1, are unchanged.
+
+use crate::bezier::BezierCurve;
+use crate::gb::{Domain, Evaluate, GbPatch, WeightForm};
+
+/// Patches with at least this many sides get their central point fitted; smaller ones keep the
+/// seed's (their ribbons reach the centre: B₀(0) = 0 for n = 4, 0.2 for n = 6, 0.47 for n = 9).
+pub const CENTRE_FIT_MIN_SIDES: usize = 9;
+
+/// Points per side of the boundary (s = k/4, k = 0..3) the paraboloid is fitted to.
+const SAMPLES_PER_SIDE: usize = 4;
+
+/// Moves `patch`'s central point along its centre normal so that the centre's mean curvature
+/// matches the paraboloid fitted to its boundary (module doc). Leaves the patch as it is where the
+/// centre's normal or curvature is undefined or the equation has no finite solution.
+pub fn fit_centre(patch: &mut GbPatch, form: WeightForm) {
+    let n = patch.ribbons.len();
+    let Ok(domain) = Domain::regular(n) else { return };
+    let at = domain.center();
+    let d0 = patch.eval_derivs(at, form);
+    let Some(normal) = d0.normal() else { return };
+    let Some((h0, _)) = d0.mean_and_gaussian(normal) else { return };
+    let mut boundary = Vec::with_capacity(n * SAMPLES_PER_SIDE);
+    for r in &patch.ribbons {
+        let Ok(curve) = BezierCurve::new(r.row(0).to_vec()) else { return };
+        boundary.extend((0..SAMPLES_PER_SIDE).map(|k| curve.eval(k as f64 / SAMPLES_PER_SIDE as f64)));
+    }
+    let (mut szr, mut sr2, mut sr4) = (0.0, 0.0, 0.0);
+    for p in &boundary {
+        let d = *p - d0.p;
+        let z = d.dot(normal);
+        let r2 = (d.length_squared() - z * z).max(0.0);
+        (szr, sr2, sr4) = (szr + z * r2, sr2 + r2, sr4 + r2 * r2);
+    }
+    if !(sr4 > 0.0) {
+        return;
+    }
+    // One step of length ℓ along N gives h and B₀(0) (both exact: the dependence is affine).
+    let step = (sr2 / boundary.len() as f64).sqrt();
+    let mut moved = patch.clone();
+    moved.center += step * normal;
+    let d1 = moved.eval_derivs(at, form);
+    let Some((h1, _)) = d1.mean_and_gaussian(normal) else { return };
+    let h = (h1 - h0) / step;
+    let b0 = (d1.p - d0.p).dot(normal) / step;
+    let kappa0 = 2.0 * szr / sr4;
+    let dkappa = -2.0 * b0 * sr2 / sr4;
+    let t = (kappa0 - h0) / (h - dkappa);
+    if t.is_finite() {
+        patch.center += t * normal;
+    }
+}
