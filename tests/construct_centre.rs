@@ -5,7 +5,6 @@
 
 use gbsurf::api::convert;
 use gbsurf::assert_near;
-use gbsurf::bezier::BezierCurve;
 use gbsurf::construct::centre::{fit_centre, CENTRE_FIT_MIN_SIDES};
 use gbsurf::construct::{Patch, PatchSource};
 use gbsurf::gb::{Domain, Evaluate, GbPatch, WeightForm};
@@ -33,9 +32,8 @@ fn centre_and_fit(g: &GbPatch) -> (f64, f64) {
     let h = d.mean_and_gaussian(n).unwrap().0;
     let (mut szr, mut sr4) = (0.0, 0.0);
     for r in &g.ribbons {
-        let curve = BezierCurve::new(r.row(0).to_vec()).unwrap();
         for k in 0..4 {
-            let q = curve.eval(k as f64 / 4.0) - d.p;
+            let q = r.boundary_point(k as f64 / 4.0) - d.p;
             let z = q.dot(n);
             let r2 = q.length_squared() - z * z;
             szr += z * r2;
@@ -89,6 +87,22 @@ fn patches_of_fewer_sides_keep_the_cage_vertex() {
     let mesh = cone_of(8, 1.5);
     let g = dual_patch(&mesh, 8);
     assert_near!(g.center, DVec3::new(0.0, 0.0, 1.5), 1e-12);
+}
+
+#[test]
+fn a_patch_with_an_open_side_keeps_the_cage_vertex() {
+    // An open fan of 10 triangles around vertex 0 (a boundary vertex): its dual patch has 11
+    // sides, one of them open, so the boundary is one-sided and the fit is not made.
+    let mut positions = vec![DVec3::new(0.0, 0.0, 0.3)];
+    for i in 0..=10 {
+        let a = std::f64::consts::PI * i as f64 / 10.0;
+        positions.push(DVec3::new(a.cos(), a.sin(), 0.0));
+    }
+    let faces = (1..=10u32).map(|i| vec![0, i, i + 1]).collect();
+    let mesh = PolyMesh::new(positions, faces);
+    let g = dual_patch(&mesh, 0);
+    assert!(g.ribbons.len() >= CENTRE_FIT_MIN_SIDES);
+    assert_near!(g.center, DVec3::new(0.0, 0.0, 0.3), 1e-12);
 }
 
 #[test]

@@ -15,19 +15,32 @@
 //! moves by t·B₀(0)·N, so the fit κ(t) = 2 Σ z_k r_k² / Σ r_k⁴ with z_k = (p_k − S(0))·N is affine
 //! in t too. One linear equation gives t. The ribbons, hence the boundary and G1, are unchanged.
 
-use crate::bezier::BezierCurve;
 use crate::gb::{Domain, Evaluate, GbPatch, WeightForm};
+use glam::DVec3;
 
 /// Patches with at least this many sides get their central point fitted; smaller ones keep the
-/// seed's (their ribbons reach the centre: B₀(0) = 0 for n = 4, 0.2 for n = 6, 0.47 for n = 9).
+/// seed's (their ribbons reach the centre: B₀(0) = 0 for n = 4, 0.22 for n = 6, 0.43 for n = 9).
 pub const CENTRE_FIT_MIN_SIDES: usize = 9;
+
+/// Smallest |h − dκ/dt| relative to |h| for which the fit is solved (module doc): below it the
+/// centre's curvature and the fit change alike with C and no move matches them.
+pub const MIN_SLOPE_GAP: f64 = 0.1;
+
+/// Largest move of C, relative to the RMS distance of the boundary points from the centre point:
+/// a move of the size of the patch itself is no correction of its middle any more. (Measured on
+/// the apexes of cones of 9 to 32 sides and height 0.2 to 3: moves of 0.08 to 0.76 of it.)
+pub const MAX_MOVE: f64 = 1.0;
 
 /// Points per side of the boundary (s = k/4, k = 0..3) the paraboloid is fitted to.
 const SAMPLES_PER_SIDE: usize = 4;
 
 /// Moves `patch`'s central point along its centre normal so that the centre's mean curvature
 /// matches the paraboloid fitted to its boundary (module doc). Leaves the patch as it is where the
-/// centre's normal or curvature is undefined or the equation has no finite solution.
+/// centre's normal or curvature is undefined, or where the equation is ill-conditioned (the two
+/// slopes h and dκ/dt within a tenth of h of each other, [`MIN_SLOPE_GAP`]); the move is at most
+/// the boundary's RMS distance from the centre point ([`MAX_MOVE`]). Only for patches whose
+/// sides are all shared: the caller leaves the patches of open boundary vertices alone (a
+/// one-sided boundary says nothing of the curvature across it).
 pub fn fit_centre(patch: &mut GbPatch, form: WeightForm) {
     let n = patch.ribbons.len();
     let Ok(domain) = Domain::regular(n) else { return };
@@ -35,17 +48,17 @@ pub fn fit_centre(patch: &mut GbPatch, form: WeightForm) {
     let d0 = patch.eval_derivs(at, form);
     let Some(normal) = d0.normal() else { return };
     let Some((h0, _)) = d0.mean_and_gaussian(normal) else { return };
-    let mut boundary = Vec::with_capacity(n * SAMPLES_PER_SIDE);
-    for r in &patch.ribbons {
-        let Ok(curve) = BezierCurve::new(r.row(0).to_vec()) else { return };
-        boundary.extend((0..SAMPLES_PER_SIDE).map(|k| curve.eval(k as f64 / SAMPLES_PER_SIDE as f64)));
-    }
-    let (mut szr, mut sr2, mut sr4) = (0.0, 0.0, 0.0);
+    let boundary: Vec<DVec3> = patch
+        .ribbons
+        .iter()
+        .flat_map(|r| (0..SAMPLES_PER_SIDE).map(move |k| r.boundary_point(k as f64 / SAMPLES_PER_SIDE as f64)))
+        .collect();
+    let (mut szr, mut sr2, mut sr4, mut sd2) = (0.0, 0.0, 0.0, 0.0);
     for p in &boundary {
         let d = *p - d0.p;
         let z = d.dot(normal);
         let r2 = (d.length_squared() - z * z).max(0.0);
-        (szr, sr2, sr4) = (szr + z * r2, sr2 + r2, sr4 + r2 * r2);
+        (szr, sr2, sr4, sd2) = (szr + z * r2, sr2 + r2, sr4 + r2 * r2, sd2 + d.length_squared());
     }
     if !(sr4 > 0.0) {
         return;
@@ -60,7 +73,11 @@ pub fn fit_centre(patch: &mut GbPatch, form: WeightForm) {
     let b0 = (d1.p - d0.p).dot(normal) / step;
     let kappa0 = 2.0 * szr / sr4;
     let dkappa = -2.0 * b0 * sr2 / sr4;
-    let t = (kappa0 - h0) / (h - dkappa);
+    if !((h - dkappa).abs() >= MIN_SLOPE_GAP * h.abs()) {
+        return;
+    }
+    let bound = MAX_MOVE * (sd2 / boundary.len() as f64).sqrt();
+    let t = ((kappa0 - h0) / (h - dkappa)).clamp(-bound, bound);
     if t.is_finite() {
         patch.center += t * normal;
     }

@@ -30,7 +30,8 @@ pub struct PatchLayout {
     /// The first-approximation twist at corner i (the end of side i), used by
     /// [`TwistMode::None`] and on open sides: seed 000 eq. 2.11 (dual) or the tile vertex (§3.4.1).
     pub corner_twists: Vec<DVec3>,
-    /// Central control point of a GB patch (the mesh vertex, §2.4.1); `None` for a CGB patch.
+    /// Central control point of a GB patch (the mesh vertex, §2.4.1; moved after the assembly for
+    /// patches of many sides, docs/math.md#centre-fit); `None` for a CGB patch.
     pub center: Option<DVec3>,
     /// What the patch stands for.
     pub source: PatchSource,
@@ -328,10 +329,14 @@ fn assemble_middles(
         })
     })?;
     let mut patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
-    // High-valence GB patches: the central point fitted to the boundary (docs/math.md#centre-fit).
-    patches.par_iter_mut().for_each(|p| {
-        if let Patch::Gb(g) = p {
-            if g.ribbons.len() >= centre::CENTRE_FIT_MIN_SIDES {
+    // High-valence GB patches with every side shared: the central point fitted to the boundary
+    // (docs/math.md#centre-fit). The fair middle's fold guard builds patches with the seed's
+    // central point; it never sees a fitted one, as it moves only curves of patches of at most
+    // MAX_FAIR_SIDES sides.
+    const _: () = assert!(fair::MAX_FAIR_SIDES < centre::CENTRE_FIT_MIN_SIDES);
+    patches.par_iter_mut().enumerate().for_each(|(p, patch)| {
+        if let Patch::Gb(g) = patch {
+            if g.ribbons.len() >= centre::CENTRE_FIT_MIN_SIDES && shared[start[p]..start[p + 1]].iter().all(|&s| s) {
                 centre::fit_centre(g, opts.weights);
             }
         }
@@ -501,7 +506,7 @@ pub struct SplitPatch {
 /// For a patch with corners N_0..N_{n−1} (corner i ends side i):
 /// - centre node c: the central control point when the patch has one (the dual structure's mesh
 ///   vertex; at the centre of an n-gon the GB patch's central weight is (n−2)(n−4)/n² → 1, so the
-///   unsplit surface passes near it), else the mean of the first-approximation corner twists;
+///   seed's unsplit surface passes near it), else the mean of the first-approximation corner twists;
 ///   normal: the Newell normal of N_0..N_{n−1};
 /// - spoke i from c to N_i: C0 = c, C1 = c + π_c(N_i − c)/3, C2 = N_i + (|N_i − c|/3)·w_i,
 ///   C3 = N_i, π_c the projection onto the tangent plane at c and w_i = unit(n_i × (â + b̂)) the
