@@ -65,9 +65,10 @@ pub fn fit_centre(patch: &mut GbPatch, form: WeightForm) {
     }
     // One step of length ℓ along N gives h and B₀(0) (both exact: the dependence is affine).
     let step = (sr2 / boundary.len() as f64).sqrt();
-    let mut moved = patch.clone();
-    moved.center += step * normal;
-    let d1 = moved.eval_derivs(at, form);
+    let seed = patch.center;
+    patch.center = seed + step * normal;
+    let d1 = patch.eval_derivs(at, form);
+    patch.center = seed;
     let Some((h1, _)) = d1.mean_and_gaussian(normal) else { return };
     let h = (h1 - h0) / step;
     let b0 = (d1.p - d0.p).dot(normal) / step;

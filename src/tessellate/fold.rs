@@ -410,22 +410,22 @@ impl PatchEval<'_> {
             Patch::Cgb(c) => c.evaluator().ok().map(|e| PatchEval::Cgb(c, e)),
         }
     }
-    fn jacobian_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
-        let d = match self {
+    fn derivs(&mut self, uv: DVec2, form: WeightForm) -> crate::gb::SurfaceDerivs {
+        match self {
             PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
             PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
-        };
+        }
+    }
+
+    fn jacobian_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
+        let d = self.derivs(uv, form);
         d.su.cross(d.sv)
     }
 
     /// The unit normal at `uv` ([`crate::gb::SurfaceDerivs::normal`]), zero where the
     /// parameterisation degenerates.
     fn unit_normal(&mut self, uv: DVec2, form: WeightForm) -> DVec3 {
-        let d = match self {
-            PatchEval::Gb(g, e) => g.eval_derivs_with_form(e, uv, form),
-            PatchEval::Cgb(c, e) => c.eval_derivs_with(e, uv, form),
-        };
-        d.normal().unwrap_or(DVec3::ZERO)
+        self.derivs(uv, form).normal().unwrap_or(DVec3::ZERO)
     }
 }
 
