@@ -1,5 +1,6 @@
 //! Does the report's fold count tell the truth? `cargo run --release --example fold_truth --
-//! CAGE.obj...`. Per cage and structure (default options) it prints:
+//! CAGE.obj...`. Per cage and structure (default options; `MIDDLE=fair` for the fair middle
+//! constraint) it prints:
 //! - `report`: the patches the conversion's report counts as folded (its own tessellation samples,
 //!   [`gbsurf::quality::validity`]'s rule);
 //! - `rule@L`: the patches the same rule flags on the denser triangle layouts of level L = 4, 8, 16,
@@ -32,7 +33,8 @@ fn main() {
             }
         };
         for method in [Method::Dual, Method::Topology] {
-            let o = ConvertOptions { method, ..Default::default() };
+            let middle = if std::env::var("MIDDLE").as_deref() == Ok("fair") { gbsurf::Middle::Fair } else { gbsurf::Middle::Seed };
+            let o = ConvertOptions { method, middle, ..Default::default() };
             let c = match gbsurf::api::convert(&poly, &o, None) {
                 Ok(c) => c,
                 Err(e) => {

@@ -1,14 +1,14 @@
 //! The central point of a high-valence GB patch (docs/math.md#centre-fit): the centre's mean
 //! curvature equals the paraboloid fitted to the boundary (checked against the formula, evaluated
-//! afresh), the boundary and G1 are untouched, the UV sphere's poles become fair, and patches of
-//! fewer than 9 sides keep the seed's central point.
+//! afresh), the boundary and G1 are untouched, the UV sphere's poles become fair, and quads keep
+//! the seed's central point.
 
 use gbsurf::api::convert;
 use gbsurf::assert_near;
-use gbsurf::construct::centre::{fit_centre, CENTRE_FIT_MIN_SIDES};
+use gbsurf::construct::centre::{fit_centre, fits};
 use gbsurf::construct::{Patch, PatchSource};
 use gbsurf::gb::{Domain, Evaluate, GbPatch, WeightForm};
-use gbsurf::mesh::generate::{cone, uv_sphere};
+use gbsurf::mesh::generate::{cone, torus, uv_sphere};
 use gbsurf::mesh::PolyMesh;
 use gbsurf::{ConvertOptions, DVec3};
 use proptest::prelude::*;
@@ -78,15 +78,26 @@ fn the_uv_spheres_poles_have_the_spheres_curvature() {
         assert!(worst < 0.25, "patch {p}: max |H·R + 1| = {worst}");
     }
     assert_eq!(poles, 2);
-    assert!(32 >= CENTRE_FIT_MIN_SIDES);
+    assert!(fits(32));
 }
 
 #[test]
-fn patches_of_fewer_sides_keep_the_cage_vertex() {
-    // The apex of a cone of 8 sides: C is the cage vertex, as the seed has it.
-    let mesh = cone_of(8, 1.5);
-    let g = dual_patch(&mesh, 8);
-    assert_near!(g.center, DVec3::new(0.0, 0.0, 1.5), 1e-12);
+fn quads_keep_the_cage_vertex_and_other_side_counts_are_fitted() {
+    // A torus vertex has valence 4: its dual patch keeps C at the cage vertex, as the seed has it.
+    let mesh = torus(12, 8, 3.0, 1.0).unwrap();
+    let g = dual_patch(&mesh, 5);
+    assert_eq!(g.ribbons.len(), 4);
+    assert_near!(g.center, mesh.positions[5], 1e-12);
+    // The apexes of cones of 3, 5 and 8 sides are fitted: C moves along the axis.
+    for n in [3, 5, 8] {
+        let mesh = cone_of(n, 1.5);
+        let g = dual_patch(&mesh, n);
+        assert_eq!(g.ribbons.len(), n);
+        assert!((g.center - DVec3::new(0.0, 0.0, 1.5)).length() > 1e-3, "n = {n}: C = {:?}", g.center);
+        assert_near!(g.center.x, 0.0, 1e-9);
+        assert_near!(g.center.y, 0.0, 1e-9);
+    }
+    assert!(!fits(4) && fits(3) && fits(5) && !fits(2));
 }
 
 #[test]
@@ -101,7 +112,7 @@ fn a_patch_with_an_open_side_keeps_the_cage_vertex() {
     let faces = (1..=10u32).map(|i| vec![0, i, i + 1]).collect();
     let mesh = PolyMesh::new(positions, faces);
     let g = dual_patch(&mesh, 0);
-    assert!(g.ribbons.len() >= CENTRE_FIT_MIN_SIDES);
+    assert!(fits(g.ribbons.len()));
     assert_near!(g.center, DVec3::new(0.0, 0.0, 0.3), 1e-12);
 }
 

@@ -744,10 +744,11 @@ fn crafted_regions_violating_a_condition_are_not_certified() {
 }
 
 /// Every folded patch of a report has a site, also a patch folded only through flipped triangles
-/// (the thin three-sided vertex patches of a cone over a 200-gon, dual structure).
+/// (the thin three-sided vertex patches of a cone over a 300-gon, dual structure; the 200-gon's
+/// stopped folding when their central points were fitted, docs/math.md#centre-fit).
 #[test]
 fn every_folded_patch_gets_a_site() {
-    let cone = gbsurf::mesh::generate::cone(200).unwrap();
+    let cone = gbsurf::mesh::generate::cone(300).unwrap();
     let opts = gbsurf::api::ConvertOptions { method: gbsurf::api::Method::Dual, resolution: 4, ..ConvertOptions::triangles_r8() };
     let c = gbsurf::api::convert(&cone, &opts, None).unwrap();
     assert!(c.report.folds > 0 && !c.report.valid, "{} folds", c.report.folds);
@@ -847,7 +848,9 @@ fn reported(c: &gbsurf::api::Conversion) -> Vec<usize> {
 /// report named 18 patches, 17 of them bent but not turned over, and missed 24 of the 25 that
 /// turned over then. Those 24 (the base ring, [`ROOK_DUAL_BASE_RING`]) no longer turn over since
 /// the direction blend is kept on its side of the curve (docs/math.md#blend-side); the one left,
-/// 950, is a sector of a split crease vertex (docs/math.md#dual-creases).
+/// 950 (a 6-sided sector of a split crease vertex, docs/math.md#dual-creases), no longer turns
+/// over since its central point is fitted (docs/math.md#centre-fit): none is named, and 950's
+/// neighbouring normals agree.
 #[test]
 fn the_rook_dual_report_names_the_patches_that_turn_over() {
     let path = format!("{OPENSUBDIV}/catmark_rook.obj");
@@ -865,10 +868,17 @@ fn the_rook_dual_report_names_the_patches_that_turn_over() {
         let hit = c.mesh.triangles.iter().zip(&c.mesh.triangle_patch).any(|(t, &q)| q as usize == p && t.iter().any(|&v| c.mesh.fold[v as usize] == 1));
         assert!(hit, "patch {p}: no flagged vertex");
     }
+    for p in ROOK_DUAL_FORMER_FLIPS {
+        let (dot, at, _) = fine::neighbour_normals(&surface.patches[p], opts.weights, 60);
+        assert!(dot > 0.0, "patch {p}: neighbouring normals {dot} at {at:?}");
+    }
 }
 
 /// The rook dual's patches that turn over (`examples/fold_truth.rs`, default options).
-const ROOK_DUAL_FLIPS: [usize; 1] = [950];
+const ROOK_DUAL_FLIPS: [usize; 0] = [];
+
+/// The rook dual's patches that turned over before their central points were fitted.
+const ROOK_DUAL_FORMER_FLIPS: [usize; 1] = [950];
 
 /// The rook dual's 4-sided base-ring patches that turned over before the direction blend was kept
 /// on its side of the curve (docs/math.md#blend-side).

@@ -148,9 +148,8 @@ int main() {
     }
 
     // Validity in the report: the unit cube is valid (no self-intersections, so its cage is not
-    // checked: GBSURF_NOT_CHECKED); OpenSubdiv's rook with its crease tags has a dual patch that
-    // turns over (a sector of a split crease vertex, docs/math.md#blend-side), and the fold sites
-    // name folded patches. (A cube with a corner pulled inside served
+    // checked: GBSURF_NOT_CHECKED); OpenSubdiv's bishop with its crease tags has dual patches
+    // that turn over (docs/math.md#folds), and the fold sites name folded patches. (A cube with a corner pulled inside served
     // here until the fold rule's blended reference: its dual patches only bend.)
     {
         CHECK(a.report().valid == 1 && a.report().folds == 0 && a.fold_sites().empty());

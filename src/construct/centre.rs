@@ -1,5 +1,5 @@
-//! The central control point of a high-valence GB patch (docs/math.md#centre-fit; not in the
-//! seeds, defined here).
+//! The central control point of a GB patch fitted to its boundary (docs/math.md#centre-fit; not
+//! in the seeds, defined here), for every side count but 4 ([`fits`]).
 //!
 //! The seed puts a dual patch's central point C at its cage vertex (seed 000 §2.4). On a patch of
 //! many sides the central weight B₀ is large over most of the domain (at the centre of a cubic
@@ -18,9 +18,15 @@
 use crate::gb::{Domain, Evaluate, GbPatch, WeightForm};
 use glam::DVec3;
 
-/// Patches with at least this many sides get their central point fitted; smaller ones keep the
-/// seed's (their ribbons reach the centre: B₀(0) = 0 for n = 4, 0.22 for n = 6, 0.43 for n = 9).
-pub const CENTRE_FIT_MIN_SIDES: usize = 9;
+/// Whether a GB patch of `n` sides gets its central point fitted: every n but 4. At the centre
+/// of a cubic patch B₀(0) = (n − 2)(n − 4)/n² (−1/9 for n = 3, 0.22 for n = 6, 0.82 for n = 32):
+/// for n = 4 it vanishes, so C does not move the centre point and reaches the centre's curvature
+/// only through B₀'s second derivatives; quads keep the seed's C (the tensor-product-like case the
+/// seed's rule was made for). Measured (docs/math.md#centre-fit): fitting every n ≥ 3 but 4 rather
+/// than n ≥ 9 makes the rook's dual fold-free and lowers the ico and quad spheres' |H·R + 1|.
+pub fn fits(n: usize) -> bool {
+    n >= 3 && n != 4
+}
 
 /// Smallest |h − dκ/dt| relative to |h| for which the fit is solved (module doc): below it the
 /// centre's curvature and the fit change alike with C and no move matches them.

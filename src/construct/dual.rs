@@ -9,8 +9,8 @@
 //!   2e): C0 = c_f, C1 = κ c_f + (1−κ) F'_f, C2 = κ c_g + (1−κ) F'_g, C3 = c_g (eq. 2.2 with
 //!   the typo corrected: C2 uses C3, see docs/math.md#dual).
 //! - patch of vertex V with outgoing half-edges h_0..h_{n−1} (CCW): corner i is the centroid of
-//!   face(h_i), side i crosses edge h_i; the central control point is V (§2.4.1), moved for
-//!   patches of 9 or more sides after the assembly (docs/math.md#centre-fit).
+//!   face(h_i), side i crosses edge h_i; the central control point is V (§2.4.1), fitted to the
+//!   boundary for every valence but 4 when the patch is built (docs/math.md#centre-fit).
 //! - first-approximation twist at corner f (eq. 2.11): T = κ² c_f + κ(1−κ)(F'_1 + F'_2) + (1−κ)² V,
 //!   F_1, F_2 the midpoints of the two edges of f at V.
 //! - D_{0.5} of edge (A → B) (eq. 4.29 corrected to a vector): the symmetric difference of the

@@ -30,8 +30,8 @@ pub struct PatchLayout {
     /// The first-approximation twist at corner i (the end of side i), used by
     /// [`TwistMode::None`] and on open sides: seed 000 eq. 2.11 (dual) or the tile vertex (§3.4.1).
     pub corner_twists: Vec<DVec3>,
-    /// Central control point of a GB patch (the mesh vertex, §2.4.1; moved after the assembly for
-    /// patches of many sides, docs/math.md#centre-fit); `None` for a CGB patch.
+    /// Central control point of a GB patch (the mesh vertex, §2.4.1; fitted to the boundary when the
+    /// patch is built, for every side count but 4, docs/math.md#centre-fit); `None` for a CGB patch.
     pub center: Option<DVec3>,
     /// What the patch stands for.
     pub source: PatchSource,
@@ -296,6 +296,18 @@ fn assemble_middles(
         }
     }
 
+    // Patch p from its rows, its central point fitted to its boundary where every side is shared
+    // (docs/math.md#centre-fit): the one rule for the patches built below and for those the fair
+    // middle's fold guard checks, so that the guard sees the patches the surface will have.
+    let fitted = |p: usize, rows_p: &[fair::SideRows]| {
+        let mut patch = patch_from_rows(&net.patches[p], rows_p)?;
+        if let Patch::Gb(g) = &mut patch {
+            if centre::fits(g.ribbons.len()) && shared[start[p]..start[p + 1]].iter().all(|&s| s) {
+                centre::fit_centre(g, opts.weights);
+            }
+        }
+        Some(patch)
+    };
     let mut mids: Vec<DVec3> = net.mid.iter().map(|m| opts.mid_scale * *m).collect();
     // The fair middle constraints (docs/math.md#fair-middle): blended curves between two distinct
     // patches with no creased side and at most MAX_FAIR_SIDES sides (a curve used twice by one
@@ -309,7 +321,7 @@ fn assemble_middles(
         let movable: Vec<Option<SharedCurve>> =
             blends.iter().map(|b| b.filter(|b| b.patches[0] != b.patches[1] && plain(b.patches[0]) && plain(b.patches[1]))).collect();
         let center = |p: usize| net.patches[p].center;
-        let patch = |p: usize, r: &[fair::SideRows]| patch_from_rows(&net.patches[p], r);
+        let patch = |p: usize, r: &[fair::SideRows]| fitted(p, r);
         let asm =
             fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
         let delta = fair::fair_middles(&asm, opts, &movable, &mut rows);
@@ -325,22 +337,10 @@ fn assemble_middles(
             if let Some(i) = rows_p.iter().position(|r| r.iter().flatten().any(|q| !q.is_finite())) {
                 return Err(ConstructError::NonFinite { patch: p, side: i });
             }
-            patch_from_rows(&net.patches[p], rows_p).ok_or_else(|| ConstructError::Internal(format!("patch {p}")))
+            fitted(p, rows_p).ok_or_else(|| ConstructError::Internal(format!("patch {p}")))
         })
     })?;
-    let mut patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
-    // High-valence GB patches with every side shared: the central point fitted to the boundary
-    // (docs/math.md#centre-fit). The fair middle's fold guard builds patches with the seed's
-    // central point; it never sees a fitted one, as it moves only curves of patches of at most
-    // MAX_FAIR_SIDES sides.
-    const _: () = assert!(fair::MAX_FAIR_SIDES < centre::CENTRE_FIT_MIN_SIDES);
-    patches.par_iter_mut().enumerate().for_each(|(p, patch)| {
-        if let Patch::Gb(g) = patch {
-            if g.ribbons.len() >= centre::CENTRE_FIT_MIN_SIDES && shared[start[p]..start[p + 1]].iter().all(|&s| s) {
-                centre::fit_centre(g, opts.weights);
-            }
-        }
-    });
+    let patches = built.into_iter().collect::<Result<Vec<Patch>, ConstructError>>()?;
     let mut neighbors: Vec<Vec<Option<SideRef>>> = net.patches.iter().map(|l| vec![None; l.sides.len()]).collect();
     for c in 0..nc {
         if let Some(((pa, sa, _), (pb, sb, _))) = pair(c) {
