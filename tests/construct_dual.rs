@@ -23,6 +23,7 @@ fn opts(t: TwistMode) -> ConvertOptions {
 
 #[test]
 fn patch_per_vertex_with_valence_sides() {
+    let mut fitted = 0;
     for name in GOOD {
         let m = load(name);
         let s = build_dual(&m, &opts(TwistMode::Interp)).unwrap();
@@ -39,6 +40,7 @@ fn patch_per_vertex_with_valence_sides() {
                 let at = Domain::regular(n).unwrap().center();
                 let normal = g.eval_derivs(at, opts(TwistMode::Interp).weights).normal().unwrap();
                 let moved = g.center - m.position(v);
+                fitted += usize::from(moved.length() > 1e-9);
                 assert!(moved.cross(normal).length() <= 1e-9 * (1.0 + moved.length()), "{name} vertex {}: {moved}", v.idx());
             } else {
                 assert_eq!(g.center, m.position(v), "{name} vertex {}", v.idx());
@@ -47,6 +49,8 @@ fn patch_per_vertex_with_valence_sides() {
             assert_eq!(open, usize::from(m.is_boundary_vertex(v)), "{name} vertex {}", v.idx());
         }
     }
+    // The fit moves C on the shared models (their corners are mostly of valence 3).
+    assert!(fitted >= 50, "{fitted} central points moved");
 }
 
 #[test]

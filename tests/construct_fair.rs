@@ -160,6 +160,10 @@ fn fair_middle_folds_no_more_patches_than_the_seed_rule() {
     }
     // The cases fold at all (so the comparison means something).
     assert!(seen.iter().filter(|s| !s.contains("seed 0,")).count() >= 2, "{seen:?}");
+    // The rook (dual): no fold with the seed's rule; with the fair one at most the one sector
+    // the guard cannot see (doc above), so that it cannot get worse unnoticed.
+    let (seed, fair) = (folds("catmark_rook", Method::Dual, Middle::Seed), folds("catmark_rook", Method::Dual, Middle::Fair));
+    assert!(seed == 0 && fair <= 1, "rook dual: seed {seed}, fair {fair}");
 }
 
 /// Unguarded, the fair values fold two patches of the bishop's dual network (prepared cage,

@@ -165,7 +165,8 @@ const FOLDED: &[(&str, Method)] =
 /// (cage, structure) pairs that folded until the direction blends were kept on their side of the
 /// curve (docs/math.md#blend-side; the rook's topology reported 1 folded patch, the car's 4, 2 of
 /// them turned over) or until the central points of GB patches of n ≠ 4 sides were fitted
-/// (docs/math.md#centre-fit; the rook's dual turned over in one patch, 950) and are valid now:
+/// (docs/math.md#centre-fit; the rook's dual turned over in one crease sector, 950, built from
+/// the smooth surface) and are valid now:
 /// they must stay so.
 const UNFOLDED: &[(&str, Method)] =
     &[("catmark_rook", Method::Topology), ("catmark_car", Method::Topology), ("catmark_rook", Method::Dual)];

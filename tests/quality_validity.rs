@@ -848,9 +848,9 @@ fn reported(c: &gbsurf::api::Conversion) -> Vec<usize> {
 /// report named 18 patches, 17 of them bent but not turned over, and missed 24 of the 25 that
 /// turned over then. Those 24 (the base ring, [`ROOK_DUAL_BASE_RING`]) no longer turn over since
 /// the direction blend is kept on its side of the curve (docs/math.md#blend-side); the one left,
-/// 950 (a 6-sided sector of a split crease vertex, docs/math.md#dual-creases), no longer turns
-/// over since its central point is fitted (docs/math.md#centre-fit): none is named, and 950's
-/// neighbouring normals agree.
+/// 950 (a 6-sided CGB sector of a split crease vertex, docs/math.md#dual-creases), no longer
+/// turns over since the smooth surface the sectors start from has its central points fitted
+/// (docs/math.md#centre-fit): none is named, and 950's neighbouring normals agree.
 #[test]
 fn the_rook_dual_report_names_the_patches_that_turn_over() {
     let path = format!("{OPENSUBDIV}/catmark_rook.obj");
@@ -877,7 +877,7 @@ fn the_rook_dual_report_names_the_patches_that_turn_over() {
 /// The rook dual's patches that turn over (`examples/fold_truth.rs`, default options).
 const ROOK_DUAL_FLIPS: [usize; 0] = [];
 
-/// The rook dual's patches that turned over before their central points were fitted.
+/// The rook dual's patches that turned over before the central points were fitted.
 const ROOK_DUAL_FORMER_FLIPS: [usize; 1] = [950];
 
 /// The rook dual's 4-sided base-ring patches that turned over before the direction blend was kept

@@ -2,7 +2,7 @@
 //!
 //! - [`network`]: the structure-agnostic [`CurveNetwork`] and [`assemble`] (corner blocks, twists).
 //! - [`blend`]: direction blends for G1 twists (seed 000 §4.3–4.4).
-//! - [`centre`]: the central point of a high-valence GB patch fitted to its boundary.
+//! - [`centre`]: the central point of a GB patch (every side count but 4) fitted to its boundary.
 //! - [`fair`]: the fair middle constraint D_{0.5} ([`crate::options::Middle::Fair`]).
 //! - [`check`]: G1 / gap measurements along shared sides.
 //! - [`prepare`]: interior valence-2 vertices dissolved, concave faces split (both structures).
