@@ -1,6 +1,7 @@
 //! Times the progress reports and the cancel latency of [`gbsurf::api::convert`] for every
 //! method on a 50k-face UV sphere (250 segments × 200 rings) and a 40k-face quad torus (200 × 200):
 //! `cargo run --release --example progress_timing -- [sphere|torus|all] [dual|topology|doo-sabin|catmull-clark|all]`.
+//! `MIDDLE=fair` runs the patch methods with the fair middle constraint.
 //!
 //! Per case it prints the wall time, the number of progress calls, the largest interval between
 //! two consecutive reports (counting the start of `convert` and its return as reports) with the
@@ -31,7 +32,8 @@ fn main() {
     let (mut worst_gap, mut worst_latency) = (0.0f64, 0.0f64);
     for (name, mesh) in &inputs {
         for &method in methods.iter().filter(|m| only == "all" || m.name() == only) {
-            let opts = ConvertOptions { method, resolution: 2, levels: 2, ..Default::default() };
+            let middle = if std::env::var("MIDDLE").as_deref() == Ok("fair") { gbsurf::Middle::Fair } else { gbsurf::Middle::Seed };
+            let opts = ConvertOptions { method, resolution: 2, levels: 2, middle, ..Default::default() };
             let mut calls: Vec<(f64, f32)> = Vec::new();
             let t0 = Instant::now();
             let mut cb = |f: f32| {

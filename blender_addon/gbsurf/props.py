@@ -123,8 +123,11 @@ class ConvertOptionsMixin:
             else:
                 col.prop(self, "tile_depth")
             col.prop(self, "twist")
-            col.prop(self, "mid_scale")
-            col.prop(self, "middle")
+            # The middle constraint shapes the direction blends, which twist 'NONE' does not use.
+            blend = col.column()
+            blend.active = self.twist != 'NONE'
+            blend.prop(self, "mid_scale")
+            blend.prop(self, "middle")
             col.prop(self, "best_plane")
             col.prop(self, "weights")
         else:

@@ -19,6 +19,7 @@
 use super::surface::{Patch, Surface};
 use crate::gb::{CgbBasisEvaluator, Domain, GbBasisEvaluator, Jet2, WeightForm};
 use crate::options::ConvertOptions;
+use crate::progress::{chunk_size, par_map, Cancelled, Ticker};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -196,12 +197,17 @@ fn patch_terms(gram: &Gram, rows: &[SideRows], centre: DVec3, e: &[(usize, f64);
 /// Sets the fair D_{0.5} of every eligible curve in `rows` (the seed's twists, D⁰ = `seed[c]`),
 /// guarded against new folds. `curves[c]`: the blended curves that may move (not creased, no
 /// creased side in their patches). Returns D − D⁰ per curve (zero where the seed's is kept).
+/// Progress: the closed form takes the first [`CLOSED_FORM_SHARE`] of `ticker`'s range, ticked
+/// per chunk of curves; the guard the rest, ticked per chunk of patches checked (chunks of at
+/// most [`CHUNK`], [`chunk_size`]), its rounds after the first within what is left (they check few patches); a cancel
+/// takes effect after the running chunk.
 pub fn fair_middles(
     asm: &Assembly<'_>,
     opts: &ConvertOptions,
     curves: &[Option<SharedCurve>],
     rows: &mut [SideRows],
-) -> Vec<DVec3> {
+    ticker: &mut Ticker<'_>,
+) -> Result<Vec<DVec3>, Cancelled> {
     let tables = gram_tables(opts.weights);
     let start = asm.start;
     let np = start.len() - 1;
@@ -212,10 +218,9 @@ pub fn fair_middles(
     };
     // Δ_c = D − D⁰ per curve (zero: the seed's).
     let seed_rows: &[SideRows] = rows;
-    let mut delta: Vec<DVec3> = curves
-        .par_iter()
-        .map(|sc| {
-            let Some(sc) = sc else { return DVec3::ZERO };
+    let mut delta: Vec<DVec3> = ticker.within(0.0, CLOSED_FORM_SHARE, |t| {
+        par_map(t, curves.len(), CHUNK, |c| {
+            let Some(sc) = &curves[c] else { return DVec3::ZERO };
             let (mut num, mut den) = (DVec3::ZERO, 0.0);
             for k in 0..2 {
                 let p = sc.patches[k];
@@ -234,7 +239,7 @@ pub fn fair_middles(
                 DVec3::ZERO
             }
         })
-        .collect();
+    })?;
     // Patch p's rows with the current Δ of its curves.
     let moved_rows = |p: usize, delta: &[DVec3]| -> Vec<SideRows> {
         let mut out = seed_rows[start[p]..start[p + 1]].to_vec();
@@ -253,24 +258,44 @@ pub fn fair_middles(
         }
         out
     };
-    let folds = |which: &[usize], make: &(dyn Fn(usize) -> Option<Patch> + Sync)| -> Vec<usize> {
-        let patches: Vec<Option<Patch>> = which.par_iter().map(|&p| make(p)).collect();
-        // A patch that cannot be built (a non-finite point) counts as folded (the caller reverts
-        // it); the others are checked.
-        let built: Vec<bool> = patches.iter().map(Option::is_some).collect();
-        let sub = Surface::of_patches(patches.into_iter().flatten().collect());
-        let mut found = guard_folds(&sub, opts.weights).into_iter();
-        built.iter().map(|&b| if b { found.next().unwrap_or(1) } else { 1 }).collect()
+    // The folded samples of each patch of `which`, in chunks of CHUNK patches, ticking the part
+    // [a, b] of the guard's range between chunks.
+    let folds = |which: &[usize],
+                 make: &(dyn Fn(usize) -> Option<Patch> + Sync),
+                 t: &mut Ticker<'_>,
+                 [a, b]: [f32; 2]|
+     -> Result<Vec<usize>, Cancelled> {
+        let mut out = Vec::with_capacity(which.len());
+        for part in which.chunks(chunk_size(which.len(), CHUNK)) {
+            let patches: Vec<Option<Patch>> = part.par_iter().map(|&p| make(p)).collect();
+            // A patch that cannot be built (a non-finite point) counts as folded (the caller
+            // reverts it); the others are checked.
+            let built: Vec<bool> = patches.iter().map(Option::is_some).collect();
+            let sub = Surface::of_patches(patches.into_iter().flatten().collect());
+            let mut found = guard_folds(&sub, opts.weights).into_iter();
+            out.extend(built.iter().map(|&b| if b { found.next().unwrap_or(1) } else { 1 }));
+            t.at_part(a, b, out.len(), which.len())?;
+        }
+        Ok(out)
     };
     // The guard: patches that fold with the fair values but not with the seed's revert all their
     // curves; the patches across those curves are checked again.
     let mut check: Vec<usize> = (0..np)
         .filter(|&p| (start[p]..start[p + 1]).any(|s| delta[asm.side_curves[s]] != DVec3::ZERO))
         .collect();
+    // The first round checks nearly every patch: it takes the guard's range up to ¾ (the fair
+    // patches to ½, the folded ones' seed patches to ¾); each later round half of what is left.
+    let mut part = [0.0f32, 0.75];
     while !check.is_empty() {
-        let fair = folds(&check, &|p| (asm.patch)(p, &moved_rows(p, &delta)));
-        let folded: Vec<usize> = check.iter().zip(&fair).filter(|x| *x.1 > 0).map(|x| *x.0).collect();
-        let seed = folds(&folded, &|p| (asm.patch)(p, &seed_rows[start[p]..start[p + 1]]));
+        let [a, b] = part;
+        let (folded, seed) = ticker.within(CLOSED_FORM_SHARE, 1.0, |t| {
+            let mid = a + (b - a) * 2.0 / 3.0;
+            let fair = folds(&check, &|p| (asm.patch)(p, &moved_rows(p, &delta)), t, [a, mid])?;
+            let folded: Vec<usize> = check.iter().zip(&fair).filter(|x| *x.1 > 0).map(|x| *x.0).collect();
+            let seed = folds(&folded, &|p| (asm.patch)(p, &seed_rows[start[p]..start[p + 1]]), t, [mid, b])?;
+            Ok::<_, Cancelled>((folded, seed))
+        })?;
+        part = [b, b + (1.0 - b) / 2.0];
         let mut next = Vec::new();
         for (&p, &s) in folded.iter().zip(&seed) {
             if s > 0 {
@@ -298,8 +323,15 @@ pub fn fair_middles(
     for (p, r) in moved {
         rows[start[p]..start[p + 1]].copy_from_slice(&r);
     }
-    delta
+    Ok(delta)
 }
+
+/// Curves or patches per parallel chunk between two progress ticks of [`fair_middles`].
+const CHUNK: usize = 4096;
+
+/// The closed form's share of [`fair_middles`]' progress range (one pass over the curves; the
+/// guard, which builds and samples the patches, takes the rest).
+const CLOSED_FORM_SHARE: f32 = 0.15;
 
 /// The folded samples of each patch of `sub` as the report finds them at the defaults
 /// (docs/math.md#fold-clearing): the fold rule and [`ClearTest`] on the triangle layout of

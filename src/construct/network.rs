@@ -98,6 +98,10 @@ pub fn assemble(net: &CurveNetwork, opts: &ConvertOptions) -> Result<Surface, Co
 /// Patches per progress tick of the parallel loops of [`assemble_ticked`].
 const CHUNK: usize = 4096;
 
+/// The end of the twists' share of [`assemble_ticked`]'s progress range; the fair middle
+/// constraint (when chosen) takes the rest up to ½, the patches the second half.
+const TWISTS_END: f32 = 0.4;
+
 /// [`assemble`] reporting progress to `ticker` (its current part: the twists and the patches, in
 /// chunks of [`CHUNK`] curves or patches; see [`crate::progress`]).
 pub fn assemble_ticked(net: &CurveNetwork, opts: &ConvertOptions, ticker: &mut Ticker<'_>) -> Result<Surface, ConstructError> {
@@ -217,7 +221,7 @@ fn assemble_middles(
         // Per shared curve in parallel: the blends read only rows 0 (never written here) and each
         // write only the two inner twists of its own two sides, so the order does not matter; the
         // first error in curve order is returned, as in a serial loop.
-        let twists: Vec<Result<Option<([DVec3; 4], [f64; 4])>, ConstructError>> = ticker.within(0.0, 0.5, |t| par_map(t, nc, CHUNK, |c| {
+        let twists: Vec<Result<Option<([DVec3; 4], [f64; 4])>, ConstructError>> = ticker.within(0.0, TWISTS_END, |t| par_map(t, nc, CHUNK, |c| {
             let Some((a, b)) = pair(c).filter(|_| crease_of(&crease, c) < 1.0) else {
                 return Ok(None);
             };
@@ -324,7 +328,7 @@ fn assemble_middles(
         let patch = |p: usize, r: &[fair::SideRows]| fitted(p, r);
         let asm =
             fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
-        let delta = fair::fair_middles(&asm, opts, &movable, &mut rows);
+        let delta = ticker.within(TWISTS_END, 0.5, |t| fair::fair_middles(&asm, opts, &movable, &mut rows, t))?;
         for (m, d) in mids.iter_mut().zip(delta) {
             *m += d;
         }
