@@ -105,12 +105,15 @@ fn valid(sp: &KeptSample) -> bool {
     sp.normal != DVec3::ZERO && sp.normal.is_finite()
 }
 
-/// Adds a sample's normal and curvatures to a welded vertex and counts it.
-fn add(sp: &KeptSample, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16) {
+/// Adds a sample's normal and curvatures to a welded vertex and counts it (`k` is `None` when
+/// the Gaussian curvatures are not kept, see [`super::surface::tessellate_checked`]).
+fn add(sp: &KeptSample, n: &mut DVec3, h: &mut f64, k: Option<&mut f64>, w: &mut u16) {
     *n += sp.normal;
     if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
         *h += sp.mean_curvature;
-        *k += sp.gaussian_curvature;
+        if let Some(k) = k {
+            *k += sp.gaussian_curvature;
+        }
     }
     *w = w.saturating_add(1);
 }
@@ -191,7 +194,7 @@ pub(crate) fn join_shared_sides(
                             let v = gv - vstart[p];
                             let (a_position, a_normal) = (positions[gv], nrm[v]);
                             if valid(b) {
-                                add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                                add(b, &mut nrm[v], &mut h[v], k.get_mut(v), &mut w[v]);
                             }
                             gap_max = max_gap(gap_max, a_position.distance(b.position));
                             if surface.side_crease(p, i) == 0.0 {
@@ -286,17 +289,19 @@ pub(crate) fn join_shared_sides(
                 let s = lp.boundary_index(i, 0);
                 if let Some(sp) = kept(p, s).filter(|sp| valid(sp)) {
                     let Some(v) = vertex(p, s).checked_sub(lo).filter(|&v| v < nrm.len()) else { continue };
-                    add(sp, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                    add(sp, &mut nrm[v], &mut h[v], k.get_mut(v), &mut w[v]);
                 }
             }
         }
     });
-    mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
-        if w > 1 {
-            *h /= w as f64;
-            *k /= w as f64;
-        }
-    });
+    // (An empty array, the Gaussian curvatures when not kept, is left as it is.)
+    for curvature in [&mut mesh.mean_curvature, &mut mesh.gaussian_curvature] {
+        curvature.par_iter_mut().zip(weight.par_iter()).for_each(|(h, &w)| {
+            if w > 1 {
+                *h /= w as f64;
+            }
+        });
+    }
     // Summed per fixed chunk, then the chunks in order: the same sum on every run (a rayon
     // `reduce` splits adaptively, and the float sum then varied in its last bits).
     let (count, sum, max) = shared
