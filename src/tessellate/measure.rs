@@ -105,12 +105,15 @@ fn valid(sp: &KeptSample) -> bool {
     sp.normal != DVec3::ZERO && sp.normal.is_finite()
 }
 
-/// Adds a sample's normal and curvatures to a welded vertex and counts it.
-fn add(sp: &KeptSample, n: &mut DVec3, h: &mut f64, k: &mut f64, w: &mut u16) {
+/// Adds a sample's normal and curvatures to a welded vertex and counts it (`k` is `None` when
+/// the Gaussian curvatures are not kept, see [`super::surface::tessellate_checked`]).
+fn add(sp: &KeptSample, n: &mut DVec3, h: &mut f64, k: Option<&mut f64>, w: &mut u16) {
     *n += sp.normal;
     if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
         *h += sp.mean_curvature;
-        *k += sp.gaussian_curvature;
+        if let Some(k) = k {
+            *k += sp.gaussian_curvature;
+        }
     }
     *w = w.saturating_add(1);
 }
@@ -143,9 +146,18 @@ pub(crate) fn join_shared_sides(
 ) -> WeldStats {
     let np = surface.patches.len();
     let nv = map.vertex_count;
-    let sides_of = |p: usize| surface.patches[p].sides();
+    // Side counts by patch, read far more often than once per patch (a patch's own struct is
+    // much larger than its count, so reading them there misses the cache at every neighbour).
+    let sides: Vec<u32> = surface.patches.iter().map(|p| p.sides() as u32).collect();
+    let sides_of = |p: usize| sides[p] as usize;
     let kept = |p: usize, s: usize| boundary.kept(p, sides_of(p), s);
     let vertex = |p: usize, s: usize| map.ids[map.offsets[p] + s] as usize;
+    // The layout of every side count by index (a hash lookup per corner cost more than the rest).
+    let mut by_n: Vec<Option<&SampleLayout>> = vec![None; layouts.keys().max().map_or(0, |&n| n + 1)];
+    for (&n, l) in layouts {
+        by_n[n] = Some(l);
+    }
+    let layout_of = |p: usize| by_n[sides_of(p)].expect("a layout for every side count");
     let mut shared = vec![false; nv];
     let mut stats = WeldStats::default();
     {
@@ -169,10 +181,10 @@ pub(crate) fn join_shared_sides(
                 .into_par_iter()
                 .with_min_len(64)
                 .map(|(p, (((((nrm, h), k), g1), sh), w))| {
-                    let lp = &layouts[&sides_of(p)];
+                    let lp = layout_of(p);
                     let mut gap_max = 0.0;
                     for (i, nb) in surface.shared_sides_of(p) {
-                        let lq = &layouts[&sides_of(nb.patch)];
+                        let lq = layout_of(nb.patch);
                         for t in 1..r {
                             // p's sample created the vertex (the smaller side emits the inner
                             // samples), the neighbour's is kept.
@@ -182,7 +194,7 @@ pub(crate) fn join_shared_sides(
                             let v = gv - vstart[p];
                             let (a_position, a_normal) = (positions[gv], nrm[v]);
                             if valid(b) {
-                                add(b, &mut nrm[v], &mut h[v], &mut k[v], &mut w[v]);
+                                add(b, &mut nrm[v], &mut h[v], k.get_mut(v), &mut w[v]);
                             }
                             gap_max = max_gap(gap_max, a_position.distance(b.position));
                             if surface.side_crease(p, i) == 0.0 {
@@ -202,45 +214,94 @@ pub(crate) fn join_shared_sides(
     // The corners (nodes of any number of patches): first measured, reading the samples that
     // created their vertex from the output arrays before any other sample is added there, then
     // the kept samples added in patch order.
+    let (positions, normals) = (&mesh.positions, &mesh.normals);
     let corner = |p: usize, s: usize| match kept(p, s) {
         Some(sp) => (sp.position, sp.normal),
-        None => (mesh.positions[vertex(p, s)], mesh.normals[vertex(p, s)]),
+        None => (positions[vertex(p, s)], normals[vertex(p, s)]),
     };
-    for p in 0..np {
-        let lp = &layouts[&sides_of(p)];
-        for (i, nb) in surface.shared_sides_of(p) {
-            let lq = &layouts[&sides_of(nb.patch)];
-            for t in [0, r] {
-                let sa = lp.boundary_index(i, t);
-                let (a, b) = (corner(p, sa), corner(nb.patch, lq.boundary_index(nb.side, r - t)));
-                stats.max_boundary_gap = max_gap(stats.max_boundary_gap, a.0.distance(b.0));
-                if surface.side_crease(p, i) > 0.0 {
-                    continue;
+    // Measured in parallel a chunk of patches at a time (the reads are scattered over the mesh:
+    // serial, this was a third of the welding): each pair gives its gap and, on smooth sides,
+    // its angle for its vertex; the angles are then applied serially. Neither result depends on
+    // the order: the gap's NaN-propagating maximum is associative and commutative, and so is
+    // the per-vertex `f64::max` of the angles (it skips NaN, and the vertex's value starts at 0).
+    let mut done = 0;
+    while done < np {
+        let end = np.min(done + PATCH_CHUNK);
+        let (gap, creased, found) = (done..end)
+            .into_par_iter()
+            .with_min_len(64)
+            .fold(
+                || (0.0, 0usize, Vec::<(u32, f64)>::new()),
+                |(mut gap, mut creased, mut found), p| {
+                    let lp = layout_of(p);
+                    for (i, nb) in surface.shared_sides_of(p) {
+                        let lq = layout_of(nb.patch);
+                        let smooth = surface.side_crease(p, i) == 0.0;
+                        creased += usize::from(surface.side_crease(p, i) > 0.0);
+                        for t in [0, r] {
+                            let sa = lp.boundary_index(i, t);
+                            let (a, b) = (corner(p, sa), corner(nb.patch, lq.boundary_index(nb.side, r - t)));
+                            gap = max_gap(gap, a.0.distance(b.0));
+                            if smooth {
+                                found.push((vertex(p, sa) as u32, angle_deg(a.1, b.1)));
+                            }
+                        }
+                    }
+                    (gap, creased, found)
+                },
+            )
+            .reduce(
+                || (0.0, 0, Vec::new()),
+                |(g, c, mut f), (g2, c2, f2)| {
+                    f.extend(f2);
+                    (max_gap(g, g2), c + c2, f)
+                },
+            );
+        stats.max_boundary_gap = max_gap(stats.max_boundary_gap, gap);
+        stats.crease_sides += creased;
+        for (v, angle) in found {
+            let v = v as usize;
+            mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle);
+            shared[v] = true;
+        }
+        done = end;
+    }
+    // The kept corner samples added in patch order (the sums' order fixes their last bits), in
+    // parallel over ranges of vertices: every range scans all corners in patch order and adds
+    // those of its own vertices, so each vertex gets its samples in the serial order.
+    let parts = rayon::current_num_threads().clamp(1, np.max(1));
+    let mut pieces = Vec::with_capacity(parts);
+    {
+        use super::surface::take;
+        let (mut nrm, mut h, mut k, mut w) = (&mut mesh.normals[..], &mut mesh.mean_curvature[..], &mut mesh.gaussian_curvature[..], &mut weight[..]);
+        let mut lo = 0;
+        for j in 1..=parts {
+            let hi = map.vstart[np * j / parts];
+            let len = hi - lo;
+            pieces.push((lo, take(&mut nrm, len), take(&mut h, len), take(&mut k, len), take(&mut w, len)));
+            lo = hi;
+        }
+    }
+    pieces.into_par_iter().for_each(|(lo, nrm, h, k, w)| {
+        for p in 0..np {
+            let lp = layout_of(p);
+            for i in 0..lp.sides {
+                let s = lp.boundary_index(i, 0);
+                if let Some(sp) = kept(p, s).filter(|sp| valid(sp)) {
+                    let Some(v) = vertex(p, s).checked_sub(lo).filter(|&v| v < nrm.len()) else { continue };
+                    add(sp, &mut nrm[v], &mut h[v], k.get_mut(v), &mut w[v]);
                 }
-                let v = vertex(p, sa);
-                mesh.g1_deviation_deg[v] = mesh.g1_deviation_deg[v].max(angle_deg(a.1, b.1));
-                shared[v] = true;
             }
-        }
-        stats.crease_sides += surface.shared_sides_of(p).filter(|&(i, nb)| (p, i) < (nb.patch, nb.side) && surface.side_crease(p, i) > 0.0).count();
-    }
-    for p in 0..np {
-        let n = sides_of(p);
-        let lp = &layouts[&n];
-        for i in 0..n {
-            let s = lp.boundary_index(i, 0);
-            if let Some(sp) = kept(p, s).filter(|sp| valid(sp)) {
-                let v = vertex(p, s);
-                add(sp, &mut mesh.normals[v], &mut mesh.mean_curvature[v], &mut mesh.gaussian_curvature[v], &mut weight[v]);
-            }
-        }
-    }
-    mesh.mean_curvature.par_iter_mut().zip(mesh.gaussian_curvature.par_iter_mut()).zip(weight.par_iter()).for_each(|((h, k), &w)| {
-        if w > 1 {
-            *h /= w as f64;
-            *k /= w as f64;
         }
     });
+    // (An empty array, the Gaussian curvatures when not kept, is left as it is.)
+    for curvature in [&mut mesh.mean_curvature, &mut mesh.gaussian_curvature] {
+        curvature.par_iter_mut().zip(weight.par_iter()).for_each(|(h, &w)| {
+            if w > 1 {
+                *h /= w as f64;
+            }
+        });
+    }
     // Summed per fixed chunk, then the chunks in order: the same sum on every run (a rayon
     // `reduce` splits adaptively, and the float sum then varied in its last bits).
     let (count, sum, max) = shared

@@ -160,6 +160,10 @@ impl PatchLoops {
         let mut out = PatchLoops { per_side: r, ..PatchLoops::default() };
         out.start.reserve(np + 1);
         out.triangles.reserve(np + 1);
+        // Exactly the loops' length (grown by doubling it took up to twice that, 6.5 bytes per
+        // output vertex instead of 4 on a quad mesh at resolution 2).
+        let loop_len = |l: &SampleLayout| l.uv.len() - l.first_boundary();
+        out.ids.reserve_exact(surface.patches.iter().map(|patch| loop_len(&layouts[&patch.sides()])).sum());
         let mut nt = 0usize;
         for (p, patch) in surface.patches.iter().enumerate() {
             out.start.push(out.ids.len());
@@ -593,7 +597,9 @@ fn evaluate_patch<E: PatchEvaluator>(
                 o.weight[j] = 1;
                 if sp.mean_curvature.is_finite() && sp.gaussian_curvature.is_finite() {
                     o.h[j] = sp.mean_curvature;
-                    o.k[j] = sp.gaussian_curvature;
+                    if let Some(k) = o.k.get_mut(j) {
+                        *k = sp.gaussian_curvature;
+                    }
                 }
             }
             j += 1;
@@ -632,8 +638,13 @@ pub fn tessellate_surface_with<E: PatchEvaluator>(
 /// 0 and `patch_folds`, `flipped_triangles` are empty; for timing the test's share), and with
 /// the cage maps ([`SurfaceMesh::cage_corner`], `cage_coords`, `cage_loop_corner`) or without
 /// them (`cage_maps` false: they stay empty; [`crate::options::ConvertOptions::cage_maps`]), and
-/// with the patch ids ([`SurfaceMesh::patch`], `triangle_patch`) or without them (`patch_ids`
-/// false: they stay empty; [`crate::options::ConvertOptions::quality_arrays`]).
+/// with the quality arrays (the patch ids [`SurfaceMesh::patch`] and `triangle_patch`, the
+/// Gaussian curvatures, the G1 deviations) or without them (`patch_ids` false; as
+/// [`crate::options::ConvertOptions::quality_arrays`]): then the patch ids and the Gaussian
+/// curvatures are never allocated, and the G1 deviations are freed as soon as the welding has
+/// measured them (the report's figures need them and the mean curvatures only), so neither is
+/// held while the face arrays are written, the peak of the tessellation (8 + 8 bytes per vertex
+/// less there).
 pub fn tessellate_checked<E: PatchEvaluator>(
     surface: &Surface,
     r: impl Into<Sampling>,
@@ -669,7 +680,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     tick(&mut progress, setup(4) + SETUP / 16.0)?;
     let mean_curvature = try_filled(nv, 0.0, "output mean curvature")?;
     tick(&mut progress, setup(4) + 3.0 * SETUP / 32.0)?;
-    let gaussian_curvature = try_filled(nv, 0.0, "output Gaussian curvature")?;
+    let gaussian_curvature = if patch_ids { try_filled(nv, 0.0, "output Gaussian curvature")? } else { Vec::new() };
     let g1_deviation_deg = try_filled(nv, 0.0, "output G1 deviation")?;
     let fold = try_filled(nv, 0, "output fold flags")?;
     let mut mesh = SurfaceMesh {
@@ -746,8 +757,12 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     }
     tick(&mut progress, EVALUATION)?;
     let stats = join_shared_sides(surface, &layouts, &map, r, &boundary, &mut mesh, &mut weight);
-    // The kept samples are welded: freed before the face arrays take their place.
+    // The kept samples are welded: freed before the face arrays take their place, as are the G1
+    // deviations when the caller does not keep them (their figures are in `stats`).
     drop(boundary);
+    if !patch_ids {
+        mesh.g1_deviation_deg = Vec::new();
+    }
     let faces_at = |f: f32| 0.5 * (1.0 + EVALUATION) + 0.25 * (1.0 - EVALUATION) * f;
     tick(&mut progress, faces_at(0.0))?;
     write_faces(surface, &with_sectors, &map, &mut mesh, cage_maps, patch_ids, &mut |f| tick(&mut progress, faces_at(f)))?;
