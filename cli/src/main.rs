@@ -31,6 +31,8 @@
 //!
 //! Errors print one line and exit with status 1 (2 for usage errors).
 
+// The C ABI is the workspace's only unsafe code; the CLI has none.
+#![forbid(unsafe_code)]
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use gbsurf::api::{self, ConvertError};
@@ -564,7 +566,6 @@ mod openmesh_io {
 }
 
 fn main() -> ExitCode {
-    limit_malloc_arenas();
     let cli = match command().try_get_matches().and_then(|m| Cli::from_arg_matches(&m)) {
         Ok(cli) => cli,
         Err(e) => e.exit(),
@@ -589,25 +590,6 @@ fn main() -> ExitCode {
         }
     }
 }
-
-/// One glibc malloc arena for all threads (`mallopt(M_ARENA_MAX, 1)`), set before any other
-/// thread starts. By default glibc gives each rayon worker an arena of its own, and memory freed
-/// in one is not reused by the others: on the 200 × 200 torus (`scripts/bench_cli`) the peak
-/// resident memory of `convert` drops from 205 MB to 175 MB (OBJ) and from 212 MB to 182 MB
-/// (PLY), at the same CPU time (measured with `GLIBC_TUNABLES=glibc.malloc.arena_max`, 2 cores).
-/// With two arenas the peak was the same but varied from run to run (182 to 191 MB for PLY: which
-/// threads share one is a matter of timing). Other C libraries and allocators are left alone.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn limit_malloc_arenas() {
-    // SAFETY: `mallopt` only sets a tuning parameter of glibc's allocator (it returns 0 on an
-    // unknown value, which is ignored); it is called before any other thread exists.
-    unsafe {
-        libc::mallopt(libc::M_ARENA_MAX, 1);
-    }
-}
-
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn limit_malloc_arenas() {}
 
 /// Points this far outside the domain polygon (in area units) still count as inside.
 const DOMAIN_TOL: f64 = 1e-12;
