@@ -74,9 +74,15 @@ proptest! {
     }
 }
 
-/// Enough vertices for several windows of parallel chunks: every line in its place.
+/// Enough vertices for several windows of parallel chunks (in a pool of 2 threads, so that
+/// whatever the machine's cores the next window is encoded while one is written): every line in
+/// its place.
 #[test]
 fn large_obj_and_ply_keep_order_and_bits() {
+    rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(large_obj_and_ply_keep_order_and_bits_in_pool);
+}
+
+fn large_obj_and_ply_keep_order_and_bits_in_pool() {
     let n = 300_001;
     let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(i as f64 * 0.1, -(i as f64) / 3.0, 1e-300 * i as f64)).collect();
     let normals: Vec<DVec3> = positions.iter().map(|p| p.normalize_or_zero()).collect();
@@ -96,6 +102,59 @@ fn large_obj_and_ply_keep_order_and_bits() {
         let (back, _) = parse_ply(&ply).unwrap();
         assert_eq!(bits(&back.positions), bits(&positions), "{format:?}");
         assert_eq!(back.faces, m.triangles.iter().map(|t| t.to_vec()).collect::<Vec<_>>(), "{format:?}");
+    }
+}
+
+/// A writer that takes `left` bytes and then fails.
+struct FailAfter {
+    out: Vec<u8>,
+    left: usize,
+}
+
+impl std::io::Write for FailAfter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.left == 0 {
+            return Err(std::io::Error::other("disk full"));
+        }
+        let k = buf.len().min(self.left);
+        self.out.extend_from_slice(&buf[..k]);
+        self.left -= k;
+        Ok(k)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A write that fails part-way (in the first window, in a later one, at the very end) returns the
+/// error, and what reached the writer is exactly the start of the full output, in 1- and
+/// 2-thread pools and for OBJ, binary PLY and STL.
+#[test]
+fn a_failing_writer_gets_a_prefix_and_the_error() {
+    let n = 200_001;
+    let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(i as f64, 0.5 * i as f64, (i % 7) as f64)).collect();
+    let normals: Vec<DVec3> = positions.iter().map(|p| p.normalize_or_zero()).collect();
+    let m = tri_mesh(positions, normals);
+    type Writer = fn(&TriMesh, &mut dyn std::io::Write) -> std::io::Result<()>;
+    let writers: [(&str, Writer); 3] = [
+        ("obj", |m, w| m.write_obj(w)),
+        ("ply", |m, w| m.write_ply(w, PlyFormat::BinaryLittleEndian, &[])),
+        ("stl", |m, w| m.write_stl(w)),
+    ];
+    for threads in [1, 2] {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            for (name, write) in writers {
+                let mut full = Vec::new();
+                write(&m, &mut full).unwrap();
+                for left in [1000, full.len() / 2, full.len() - 1] {
+                    let mut w = FailAfter { out: Vec::new(), left };
+                    let r = write(&m, &mut w);
+                    assert!(r.is_err(), "{name}, {threads} threads, {left} bytes: no error");
+                    assert_eq!(w.out.len(), left, "{name}, {threads} threads");
+                    assert!(w.out == full[..left], "{name}, {threads} threads, {left} bytes: not a prefix");
+                }
+            }
+        });
     }
 }
 

@@ -1,8 +1,8 @@
 //! The one way the mesh writers produce their bodies: items (vertices, faces, triangles) are
 //! encoded into byte buffers in parallel chunks (rayon), a bounded window of chunks at a time,
 //! and written in order; the next window is encoded while the calling thread writes the current
-//! one. Memory stays bounded (two windows of a few MB, whatever the mesh size) and the output is
-//! identical to a sequential encoding. Also the number formatting shared by the text writers:
+//! one. Memory stays bounded (two windows of at most 4 × 8 chunks, whatever the mesh size and the
+//! number of cores) and the output is identical to a sequential encoding. Also the number formatting shared by the text writers:
 //! shortest round-trip decimal floats (`zmij`) and integers (`itoa`).
 
 use rayon::prelude::*;
@@ -10,8 +10,13 @@ use std::io::{self, Write};
 use std::ops::Range;
 
 /// Items per chunk: large enough that a chunk's work dwarfs the scheduling, small enough that a
-/// window of chunks stays a few MB.
+/// window of chunks stays a few MB (16Ki items; at most 4 × [`MAX_WINDOW_THREADS`] chunks per
+/// window: 38 MB of binary PLY with every quality scalar, 72 bytes per vertex).
 const CHUNK_ITEMS: usize = 1 << 14;
+
+/// The most threads a window is sized for: beyond it more cores no longer enlarge the two
+/// windows held at once.
+const MAX_WINDOW_THREADS: usize = 8;
 
 /// One window of encoded chunks: the bytes of each chunk and its encoding's result. The buffers
 /// are kept from window to window (cleared, not freed), so their pages are touched once rather
@@ -50,7 +55,7 @@ impl Window {
 
 /// Writes the encoding of items `0..n` to `w`: `encode(range, buf)` appends the bytes of the items
 /// in `range` to `buf`. Chunks run in parallel, a window of `4 × rayon::current_num_threads()`
-/// chunks at a time; while the calling thread writes one window, the pool encodes the next
+/// chunks (at most 4 × [`MAX_WINDOW_THREADS`]) at a time; while the calling thread writes one window, the pool encodes the next
 /// (`rayon::in_place_scope`: `w` stays on the calling thread, so it need not be `Send`), so at
 /// most two windows are held in memory at once. The first error in item order, of `encode` or of
 /// writing, stops the writing and is returned (a later window may have been encoded in vain).
@@ -59,7 +64,7 @@ where
     W: Write + ?Sized,
     F: Fn(Range<usize>, &mut Vec<u8>) -> io::Result<()> + Sync,
 {
-    let window = CHUNK_ITEMS * 4 * rayon::current_num_threads().max(1);
+    let window = CHUNK_ITEMS * 4 * rayon::current_num_threads().clamp(1, MAX_WINDOW_THREADS);
     let (mut ready, mut next) = (Window::default(), Window::default());
     ready.encode(0, n.min(window), &encode);
     let mut start = 0;
