@@ -160,11 +160,19 @@ def test_live_mode_error_is_stored_not_raised():
 
 
 def test_display_switches_the_active_colour():
+    mesh_io = helpers.mesh_module().mesh_io
     src, out = converted_cube()
     out.gbsurf.display = 'G1'
     assert out.data.color_attributes.active_color.name == "gb_g1_color"
     out.gbsurf.display = 'PATCH'
     assert out.data.color_attributes.active_color.name == "gb_patch_color"
+    # Made when first shown, from the per-vertex attribute it maps: one colour per patch.
+    patch = mesh_io.get_point_attribute(out.data, "gb_patch")
+    rgba = mesh_io.get_point_attribute(out.data, "gb_patch_color")
+    assert np.allclose(rgba, mesh_io.index_colors(patch))
+    assert len({tuple(c) for c in rgba.round(6)}) > 1
+    out.gbsurf.display = 'MEAN_CURVATURE'
+    assert out.data.color_attributes.active_color.name == "gb_curvature_color"
     mat = out.data.materials[0]
     assert any(n.type == 'VERTEX_COLOR' for n in mat.node_tree.nodes)
 
