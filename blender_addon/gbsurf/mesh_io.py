@@ -295,7 +295,7 @@ def carry_cage_data(mesh, cage_corner, cage_coords, face_sizes, faces, loop_corn
         if layer is None:  # Blender's limit on UV maps
             break
         vals = cage_loop_values(uv, face_sizes, cage_corner, cage_coords, loop_corner)
-        vals = vals.astype(np.float32).reshape(-1)
+        vals = np.ascontiguousarray(vals, dtype=np.float32).reshape(-1)  # no copy: already float32
         if hasattr(layer, "uv"):
             layer.uv.foreach_set("vector", vals)
         else:
