@@ -173,7 +173,13 @@ fn main() {
                         let xb = [3.0 * (b1[3] - b0[3]), 3.0 * (b1[0] - b0[0])];
                         let d0 = 0.5 * (xa[0] - xb[0]);
                         let d1 = 0.5 * (xa[1] - xb[1]);
-                        let mid = 1.5 * (1.0 - o.fullness) * (ga.center - gb_.center);
+                        // V_A, V_B: the cage vertices of the two patches (their central points are
+                        // fitted to the boundary for valences other than 4, docs/math.md#centre-fit).
+                        let cage_vertex = |q: usize, fallback: DVec3| match surf.sources[q] {
+                            gbsurf::construct::PatchSource::Vertex(v) => poly.positions.get(v).copied().unwrap_or(fallback),
+                            _ => fallback,
+                        };
+                        let mid = 1.5 * (1.0 - o.fullness) * (cage_vertex(*p, ga.center) - cage_vertex(nb.patch, gb_.center));
                         let tm = bez_d(a0, 0.5).normalize();
                         let db = 0.5 * (d0 + d1);
                         let e = (db - db.dot(tm) * tm).normalize_or_zero();
