@@ -33,7 +33,7 @@ fn main() {
             }
         };
         for method in [Method::Dual, Method::Topology] {
-            let middle = if std::env::var("MIDDLE").as_deref() == Ok("fair") { gbsurf::Middle::Fair } else { gbsurf::Middle::Seed };
+            let middle: gbsurf::Middle = std::env::var("MIDDLE").ok().and_then(|s| s.parse().ok()).unwrap_or_default();
             let o = ConvertOptions { method, middle, ..Default::default() };
             let c = match gbsurf::api::convert(&poly, &o, None) {
                 Ok(c) => c,

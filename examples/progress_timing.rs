@@ -32,7 +32,7 @@ fn main() {
     let (mut worst_gap, mut worst_latency) = (0.0f64, 0.0f64);
     for (name, mesh) in &inputs {
         for &method in methods.iter().filter(|m| only == "all" || m.name() == only) {
-            let middle = if std::env::var("MIDDLE").as_deref() == Ok("fair") { gbsurf::Middle::Fair } else { gbsurf::Middle::Seed };
+            let middle: gbsurf::Middle = std::env::var("MIDDLE").ok().and_then(|s| s.parse().ok()).unwrap_or_default();
             let opts = ConvertOptions { method, resolution: 2, levels: 2, middle, ..Default::default() };
             let mut calls: Vec<(f64, f32)> = Vec::new();
             let t0 = Instant::now();

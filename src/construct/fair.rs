@@ -199,8 +199,8 @@ fn patch_terms(gram: &Gram, rows: &[SideRows], centre: DVec3, e: &[(usize, f64);
 /// creased side in their patches). Returns D − D⁰ per curve (zero where the seed's is kept).
 /// Progress: the closed form takes the first [`CLOSED_FORM_SHARE`] of `ticker`'s range, ticked
 /// per chunk of curves; the guard the rest, ticked per chunk of patches checked (chunks of at
-/// most [`CHUNK`], [`chunk_size`]), its rounds after the first within what is left (they check few patches); a cancel
-/// takes effect after the running chunk.
+/// most [`CHUNK`], [`chunk_size`]), its rounds after the first within what is left (they check
+/// few patches). A cancel takes effect after the running chunk.
 pub fn fair_middles(
     asm: &Assembly<'_>,
     opts: &ConvertOptions,

@@ -325,9 +325,8 @@ fn assemble_middles(
         let movable: Vec<Option<SharedCurve>> =
             blends.iter().map(|b| b.filter(|b| b.patches[0] != b.patches[1] && plain(b.patches[0]) && plain(b.patches[1]))).collect();
         let center = |p: usize| net.patches[p].center;
-        let patch = |p: usize, r: &[fair::SideRows]| fitted(p, r);
         let asm =
-            fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &patch };
+            fair::Assembly { start: &start, shared: &shared, side_curves: &side_curves, center: &center, patch: &fitted };
         let delta = ticker.within(TWISTS_END, 0.5, |t| fair::fair_middles(&asm, opts, &movable, &mut rows, t))?;
         for (m, d) in mids.iter_mut().zip(delta) {
             *m += d;

@@ -2,8 +2,9 @@
 //! encoded into byte buffers in parallel chunks (rayon), a bounded window of chunks at a time,
 //! and written in order; the next window is encoded while the calling thread writes the current
 //! one. Memory stays bounded (two windows of at most 4 × 8 chunks, whatever the mesh size and the
-//! number of cores) and the output is identical to a sequential encoding. Also the number formatting shared by the text writers:
-//! shortest round-trip decimal floats (`zmij`) and integers (`itoa`).
+//! number of cores) and the output is identical to a sequential encoding. Also the number
+//! formatting shared by the text writers: shortest round-trip decimal floats (`zmij`) and
+//! integers (`itoa`).
 
 use rayon::prelude::*;
 use std::io::{self, Write};
@@ -55,9 +56,9 @@ impl Window {
 
 /// Writes the encoding of items `0..n` to `w`: `encode(range, buf)` appends the bytes of the items
 /// in `range` to `buf`. Chunks run in parallel, a window of `4 × rayon::current_num_threads()`
-/// chunks (at most 4 × [`MAX_WINDOW_THREADS`]) at a time; while the calling thread writes one window, the pool encodes the next
-/// (`rayon::in_place_scope`: `w` stays on the calling thread, so it need not be `Send`), so at
-/// most two windows are held in memory at once. The first error in item order, of `encode` or of
+/// chunks (at most 4 × [`MAX_WINDOW_THREADS`]) at a time; while the calling thread writes one
+/// window, the pool encodes the next (`rayon::in_place_scope`: `w` stays on the calling thread,
+/// so it need not be `Send`), so at most two windows are held in memory at once. The first error in item order, of `encode` or of
 /// writing, stops the writing and is returned (a later window may have been encoded in vain).
 pub(crate) fn write_chunks<W, F>(w: &mut W, n: usize, encode: F) -> io::Result<()>
 where

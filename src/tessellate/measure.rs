@@ -100,6 +100,10 @@ const PATCH_CHUNK: usize = 4096;
 /// bits (the partial sums are added in order), so it is fixed and its own.
 const G1_SUM_CHUNK: usize = 4096;
 
+/// The most vertex ranges the kept corner samples are added over in parallel (each range scans
+/// every corner of the surface).
+const MAX_CORNER_PARTS: usize = 8;
+
 /// True for a sample with a usable normal.
 fn valid(sp: &KeptSample) -> bool {
     sp.normal != DVec3::ZERO && sp.normal.is_finite()
@@ -236,8 +240,9 @@ pub(crate) fn join_shared_sides(
                     let lp = layout_of(p);
                     for (i, nb) in surface.shared_sides_of(p) {
                         let lq = layout_of(nb.patch);
-                        let smooth = surface.side_crease(p, i) == 0.0;
-                        creased += usize::from(surface.side_crease(p, i) > 0.0);
+                        let sharpness = surface.side_crease(p, i);
+                        let smooth = sharpness == 0.0;
+                        creased += usize::from(sharpness > 0.0);
                         for t in [0, r] {
                             let sa = lp.boundary_index(i, t);
                             let (a, b) = (corner(p, sa), corner(nb.patch, lq.boundary_index(nb.side, r - t)));
@@ -268,8 +273,10 @@ pub(crate) fn join_shared_sides(
     }
     // The kept corner samples added in patch order (the sums' order fixes their last bits), in
     // parallel over ranges of vertices: every range scans all corners in patch order and adds
-    // those of its own vertices, so each vertex gets its samples in the serial order.
-    let parts = rayon::current_num_threads().clamp(1, np.max(1));
+    // those of its own vertices, so each vertex gets its samples in the serial order. Every range
+    // scans every corner, so their number is capped (MAX_CORNER_PARTS): more would repeat the
+    // scan without a gain on a memory-bound pass.
+    let parts = rayon::current_num_threads().min(MAX_CORNER_PARTS).clamp(1, np.max(1));
     let mut pieces = Vec::with_capacity(parts);
     {
         use super::surface::take;
