@@ -37,6 +37,16 @@
 //!   side a to that of side b (the Hermite cubic of S₀ along it, its end tangents projected on
 //!   u), ℓ¹ = (2/3)|V − M|, so at sharpness 1 it is the quadratic B-spline (M_a, V, M_b) of the
 //!   crease polygon, as on an open boundary (§4.1); its sharpness is min(c_a, c_b);
+//! - **turning** (edges with an end of two cut edges): at sharpness 0 such a cut curve leaves F_e
+//!   along S₀'s own direction there (S₀'s derivative along the domain segment, in S₀'s plane
+//!   at F⁰) with lengths fitted to S₀ along the segment (least squares, parameters corrected to
+//!   the nearest curve points), so it lies on S₀ and the sectors tend to S₀ as c → 0. The two
+//!   ends of an edge then leave F_e in different directions, which keeps G1 across the halves
+//!   only while the halves are S₀'s (their tangents at F_e collinear). So over c ∈ [0, ¼] only
+//!   the cut curves turn, linearly, to u⁰ and the Hermite lengths ℓ⁰ (the halves, F_e and every
+//!   other quantity stay S₀'s), and over c ∈ [¼, 1] everything moves as above with
+//!   (c − ¼)/(1 − ¼) in place of c_e. Edges between vertices of three or more cut edges do not
+//!   turn (their spokes keep u⁰: fitted spokes folded a sector of the rook);
 //! - centre node X = X⁰ + w₃ (V − X⁰), X⁰ = S₀ at the domain centre; spoke X → F_e: C1 = X +
 //!   (1 − w₃)·(S₀′ along a domain ray)/3 + w₃ (M_e − V)/3, projected into S₀'s tangent plane at
 //!   X⁰ by the fraction 1 − w₃ (the spokes stay coplanar at X until V is a corner), C2 = F_e +
@@ -59,7 +69,8 @@
 //! every edge sharp is the cube. **Limit at 0:** for 0 < c ≤ 1 the surface moves continuously, but
 //! the sector split itself is not the unsplit patch: as c → 0 the sectors tend to a G1 surface
 //! that follows S₀ along its nodes and cut curves, not to S₀ exactly (the unsplit patches do;
-//! measured in tests/creases.rs). Sharpness exactly 0 takes none of these steps.
+//! measured in tests/creases.rs and by examples/crease_limit). Sharpness exactly 0 takes none of
+//! these steps.
 
 use crate::gb::Evaluate;
 use super::network::{end_d, side_end_scale, side_points, CurveNetwork, PatchLayout, SideUse};
@@ -148,10 +159,23 @@ fn cut_edges(mesh: &HalfEdgeMesh) -> (Vec<bool>, Vec<EdgeId>) {
     (cut, ignored)
 }
 
-/// Per cut edge: the node, the crossing direction (towards origin(h₀)) and the two halves.
+/// Per cut edge: the node, the crossing directions and the two halves.
 struct EdgeCut {
     f: DVec3,
-    u: DVec3,
+    /// The crossing direction at F_e towards origin(h₀) ([0]) and towards target(h₀) ([1]) at
+    /// the edge's sharpness (set once both ends' S₀ directions are known).
+    u: [DVec3; 2],
+    /// F⁰ = D_e(½).
+    f0: DVec3,
+    /// The edge direction projected into S₀'s tangent plane at F⁰, towards each end (u⁰).
+    u0: [DVec3; 2],
+    /// S₀'s direction at F⁰ along the cut curve of each end of two cut edges (`u0` at the
+    /// others; module doc).
+    ufit: [DVec3; 2],
+    /// The edge's [`Sharpness`].
+    sharp: Sharpness,
+    /// S₀'s tangent plane's normal at F⁰.
+    n0: DVec3,
     a: [DVec3; 4],
     b: [DVec3; 4],
     node: usize,
@@ -242,6 +266,91 @@ fn sector_cage(
         .collect()
 }
 
+/// The lengths (ℓ_a, ℓ_b) of the cubic [a, a + ℓ_a u_a, b + ℓ_b u_b, b] closest, in the least
+/// squares sense, to the points `samples` (t, point) at their parameters t; `None` when the
+/// normal equations are singular or a length comes out below 0.
+fn fit_lengths(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, samples: &[(f64, DVec3)]) -> Option<(f64, f64)> {
+    let (mut m00, mut m01, mut m11, mut r0, mut r1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(t, g) in samples {
+        let s = 1.0 - t;
+        let (b0, b1, b2, b3) = (s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
+        let rest = g - (b0 + b1) * a - (b2 + b3) * b;
+        let (x, y) = (b1 * ua, b2 * ub);
+        m00 += x.dot(x);
+        m01 += x.dot(y);
+        m11 += y.dot(y);
+        r0 += x.dot(rest);
+        r1 += y.dot(rest);
+    }
+    let det = m00 * m11 - m01 * m01;
+    if !(det > 1e-12 * m00 * m11) {
+        return None;
+    }
+    let (la, lb) = ((m11 * r0 - m01 * r1) / det, (m00 * r1 - m01 * r0) / det);
+    (la > 0.0 && lb > 0.0).then_some((la, lb))
+}
+
+/// The end lengths of the cubic [a, a + ℓ_a u_a, b + ℓ_b u_b, b] that follows the points
+/// `samples` (t, point) of a smooth surface (module doc: the new curves at sharpness 0): least
+/// squares ([`fit_lengths`]) with the samples' parameters moved to their nearest curve points
+/// (Newton steps on (B(t) − g)·B′(t)), six rounds. `None` when the first fit fails.
+fn fit_curve(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, mut samples: Vec<(f64, DVec3)>) -> Option<(f64, f64)> {
+    let mut l = fit_lengths(a, ua, b, ub, &samples)?;
+    for _ in 0..6 {
+        let c = [a, a + l.0 * ua, b + l.1 * ub, b];
+        let curve = crate::bezier::BezierCurve::new(c.to_vec()).expect("four control points");
+        for (t, g) in samples.iter_mut() {
+            for _ in 0..3 {
+                let d = curve.derivatives(*t, 2);
+                let f = (d[0] - *g).dot(d[1]);
+                let df = d[1].dot(d[1]) + (d[0] - *g).dot(d[2]);
+                if df > 0.0 {
+                    *t = (*t - f / df).clamp(0.0, 1.0);
+                }
+            }
+        }
+        match fit_lengths(a, ua, b, ub, &samples) {
+            Some(x) => l = x,
+            None => break,
+        }
+    }
+    Some(l)
+}
+
+/// Below this sharpness, the cut curves of vertices with two cut edges turn from S₀'s directions
+/// to the edge's (module doc): the first phase of [`Sharpness`].
+const TURN: f64 = 0.25;
+
+/// How an edge's sharpness c drives the geometry (module doc): `turn` ∈ [0, 1] moves the cut
+/// curves at F_e from S₀'s directions and fitted lengths to the edge direction's, `geom` moves
+/// everything else from S₀ to the sharp target. Edges with an end of two cut edges turn over
+/// c ∈ [0, TURN] (geom = 0 there) and then follow geom = (c − TURN)/(1 − TURN); other edges have
+/// turn = 1 and geom = c.
+#[derive(Clone, Copy)]
+struct Sharpness {
+    turn: f64,
+    geom: f64,
+}
+
+impl Sharpness {
+    fn new(c: f64, turns: bool) -> Self {
+        if turns {
+            Sharpness { turn: (c / TURN).min(1.0), geom: ((c - TURN) / (1.0 - TURN)).max(0.0) }
+        } else {
+            Sharpness { turn: 1.0, geom: c }
+        }
+    }
+
+    /// A length at F_e: `fit` (S₀'s) → `l0` (along the edge direction) → `l1` (sharp).
+    fn length(self, fit: f64, l0: f64, l1: f64) -> f64 {
+        if self.turn < 1.0 {
+            fit + self.turn * (l0 - fit)
+        } else {
+            l0 + self.geom * (l1 - l0)
+        }
+    }
+}
+
 fn lerp4(x: [DVec3; 4], y: [DVec3; 4], t: f64) -> [DVec3; 4] {
     [0, 1, 2, 3].map(|i| x[i] + t * (y[i] - x[i]))
 }
@@ -286,12 +395,16 @@ pub fn split_creases(
     }
     let mut out_cage: Vec<Vec<CageSector>> = cage.to_vec();
 
+    // Cut edges per vertex: edges with an end of two turn (`Sharpness`).
+    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
+
     // 1. Nodes and halves of every cut edge.
     let mut edge_cut: Vec<Option<EdgeCut>> = (0..mesh.n_edges()).map(|_| None).collect();
     for e in mesh.edges().filter(|e| cut[e.idx()]) {
         let h = mesh.edge_halfedge(e, 0);
         let (v, w) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
-        let ce = mesh.edge_crease(e);
+        let sharp = Sharpness::new(mesh.edge_crease(e), n_cut(mesh.origin(h)) == 2 || n_cut(mesh.target(h)) == 2);
+        let ce = sharp.geom;
         let d = net.curves[e.idx()];
         let (cr, cl) = (d[0], d[3]);
         // De Casteljau at ½.
@@ -303,16 +416,16 @@ pub fn split_creases(
         let b0 = [f0, q1, p23, d[3]];
         let a1 = [cr, p01, cr + 0.25 * (3.0 - k) * (m - cr), m];
         let b1 = [m, cl + 0.25 * (3.0 - k) * (m - cl), p23, cl];
-        // S₀'s tangent plane at F⁰: D_e′(½) and D_{0.5} (into the patch of origin(h)).
+        // S₀'s tangent plane at F⁰: D_e′(½) and D_{0.5} (into the patch of origin(h)). The
+        // crossing directions start as the edge's projected into it (kept where S₀'s own
+        // direction is degenerate, below).
         let n0 = (q1 - q0).cross(net.mid[e.idx()]).normalize_or_zero();
         let edge = v - w;
         let u0 = (edge - n0 * n0.dot(edge)).normalize_or_zero();
-        let u1 = edge.normalize_or_zero();
-        let u = (u0 + ce * (u1 - u0)).normalize_or_zero();
         let (a, b) = (lerp4(a0, a1, ce), lerp4(b0, b1, ce));
         let node = out.nodes.len();
         out.nodes.push(a[3]);
-        out.node_normals.push((b[1] - a[2]).cross(u).normalize_or(n0));
+        out.node_normals.push(n0);
         // A replaces D_e (curve e), B is new.
         out.curves[e.idx()] = a;
         out.curve_nodes[e.idx()] = [net.curve_nodes[e.idx()][0], node];
@@ -326,10 +439,61 @@ pub fn split_creases(
         out.end_scale.resize(out.curves.len() - 1, [1.0, 1.0]);
         out.end_scale[e.idx()] = [2.0, 1.0];
         out.end_scale.push([1.0, 2.0]);
-        edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u, a, b, node, b_curve });
+        edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u: [u0, -u0], f0, u0: [u0, -u0], ufit: [u0, -u0], sharp, n0, a, b, node, b_curve });
     }
 
-    // 2. The sectors of every vertex with cut edges.
+    // 2. The crossing directions at sharpness 0: at each end vertex V, S₀'s derivative at the
+    // side's midpoint along the straight domain line the new curve follows there (towards the
+    // other cut side's midpoint for k = 2, towards the centre for k ≥ 3), so that the cut curves
+    // and spokes leave F_e along S₀'s image of that line.
+    for v in mesh.vertices() {
+        let outg: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
+        let n = outg.len();
+        let js: Vec<usize> = (0..n).filter(|&j| cut[mesh.edge(outg[j]).idx()]).collect();
+        if js.len() != 2 {
+            continue;
+        }
+        let Some(patch @ Patch::Gb(_)) = smooth.patches.get(v.idx()) else { return None };
+        let Ok(dom) = Domain::regular(n) else { return None };
+        for (i, &j) in js.iter().enumerate() {
+            let mid = dom.side_point(j, 0.5);
+            let along = dom.side_point(js[1 - i], 0.5) - mid;
+            let d = patch.eval_derivs(mid * (1.0 - 1e-7), opts.weights);
+            let t = (d.su * along.x + d.sv * along.y).normalize_or_zero();
+            let h = outg[j];
+            let ec = edge_cut[mesh.edge(h).idx()].as_mut().expect("cut edges have nodes");
+            let end = (h.0 & 1) as usize; // 0: v = origin(h₀)
+            // In S₀'s plane at F⁰ exactly (the patch's derivative is, to G1's precision).
+            let t = (t - ec.n0 * ec.n0.dot(t)).normalize_or_zero();
+            if t.dot(ec.u0[end]) > 0.0 {
+                ec.ufit[end] = t;
+            }
+        }
+    }
+    // 3. The crossing directions at each end: from S₀'s (`ufit`) to u⁰ while the edge turns,
+    // then u = unit(u⁰ + geom (u¹ − u⁰)), u¹ the edge direction towards that end. While turning
+    // the halves are S₀'s (geom = 0) and every direction lies in S₀'s tangent plane at F⁰;
+    // after, the two ends' directions are opposite. The node's tangent plane is spanned by the
+    // halves' tangent and the mean crossing direction.
+    for e in mesh.edges().filter(|e| cut[e.idx()]) {
+        let h = mesh.edge_halfedge(e, 0);
+        let u1 = (mesh.position(mesh.origin(h)) - mesh.position(mesh.target(h))).normalize_or_zero();
+        let ec = edge_cut[e.idx()].as_mut().expect("cut edges have nodes");
+        let Sharpness { turn, geom } = ec.sharp;
+        let dir = |end: usize, to: DVec3| {
+            if turn < 1.0 {
+                (ec.ufit[end] + turn * (ec.u0[end] - ec.ufit[end])).normalize_or(ec.u0[end])
+            } else {
+                (ec.u0[end] + geom * (to - ec.u0[end])).normalize_or_zero()
+            }
+        };
+        let (uo, ut) = (dir(0, u1), dir(1, -u1));
+        let nn = (ec.b[1] - ec.a[2]).cross(uo - ut).normalize_or(ec.n0);
+        ec.u = [uo, ut];
+        out.node_normals[ec.node] = nn;
+    }
+
+    // 4. The sectors of every vertex with cut edges.
     for v in mesh.vertices() {
         let outg: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
         let n = outg.len();
@@ -350,6 +514,10 @@ pub fn split_creases(
         struct Side {
             f: DVec3,
             u: DVec3,
+            f0: DVec3,
+            u0: DVec3,
+            ufit: DVec3,
+            sharp: Sharpness,
             m: DVec3,
             node: usize,
             first: [DVec3; 4],
@@ -373,7 +541,7 @@ pub fn split_creases(
                         ec.b,
                         SideUse { curve: e.idx(), reversed: false },
                         SideUse { curve: ec.b_curve, reversed: false },
-                        ec.u,
+                        ec.u[0],
                     )
                 } else {
                     (
@@ -381,12 +549,16 @@ pub fn split_creases(
                         rev(ec.a),
                         SideUse { curve: ec.b_curve, reversed: true },
                         SideUse { curve: e.idx(), reversed: true },
-                        -ec.u,
+                        ec.u[1],
                     )
                 };
                 Side {
                     f: ec.f,
                     u,
+                    f0: ec.f0,
+                    u0: ec.u0[usize::from(!forward)],
+                    ufit: ec.ufit[usize::from(!forward)],
+                    sharp: ec.sharp,
                     m,
                     node: ec.node,
                     first,
@@ -404,9 +576,9 @@ pub fn split_creases(
         let ell0 = |s: &Side, along: DVec2| {
             let d = eval(inside(s.mid_uv));
             let t = d.su * along.x + d.sv * along.y;
-            (t.dot(s.u) / 3.0).max(0.05 * t.length() / 3.0)
+            (t.dot(s.u0) / 3.0).max(0.05 * t.length() / 3.0)
         };
-        let ell = |s: &Side, l0: f64, l1: f64| l0 + s.c * (l1 - l0);
+        let ell = |s: &Side, l0: f64, l1: f64| s.sharp.length(l0, l0, l1);
         // D at F_e of a curve leaving F_e (eq. 4.7 with the end scales, `end_d`), from the two
         // halves of side s: X of the second half (at its start) on the curve's left when
         // `second_left`, else X of the first half (at its end). The halves' scales are 1 at F_e
@@ -422,15 +594,20 @@ pub fn split_creases(
         if kc == 2 {
             let (sa, sb) = (&sides[0], &sides[1]);
             let seg = sb.mid_uv - sa.mid_uv;
-            let la = ell(sa, ell0(sa, seg), (2.0 / 3.0) * vp.distance(sa.m));
-            let lb = ell(sb, ell0(sb, -seg), (2.0 / 3.0) * vp.distance(sb.m));
+            // At sharpness 0 the cut curve follows S₀ along the straight domain segment: its end
+            // lengths fitted to S₀ there (the plain Hermite lengths if the fit fails).
+            let samples: Vec<(f64, DVec3)> = (1..8).map(|i| i as f64 / 8.0).map(|t| (t, eval(sa.mid_uv + t * seg).p)).collect();
+            let (l0a, l0b) = (ell0(sa, seg), ell0(sb, -seg));
+            let (fa, fb) = fit_curve(sa.f0, sa.ufit, sb.f0, sb.ufit, samples).unwrap_or((l0a, l0b));
+            let la = sa.sharp.length(fa, l0a, (2.0 / 3.0) * vp.distance(sa.m));
+            let lb = sb.sharp.length(fb, l0b, (2.0 / 3.0) * vp.distance(sb.m));
             let kcurve = [sa.f, sa.f + la * sa.u, sb.f + lb * sb.u, sb.f];
             // Left = sector 1 (runs F_a → F_b forward): at F_a it holds the first half of side a,
             // at F_b the second half of side b.
             let (d0, d1) = (d_at_f(&out, sa, false), d_at_f(&out, sb, true));
             out.curves.push(kcurve);
             out.curve_nodes.push([sa.node, sb.node]);
-            out.mid.push(mid_constraint(&kcurve, eval((sa.mid_uv + sb.mid_uv) / 2.0), d0, d1, sa.c.min(sb.c)));
+            out.mid.push(mid_constraint(&kcurve, eval((sa.mid_uv + sb.mid_uv) / 2.0), d0, d1, sa.sharp.geom.min(sb.sharp.geom)));
             out.crease.push(sa.c.min(sb.c));
             closing.push(vec![SideUse { curve: first_spoke, reversed: true }]);
             closing.push(vec![SideUse { curve: first_spoke, reversed: false }]);
@@ -481,7 +658,7 @@ pub fn split_creases(
                 let d1 = d_at_f(&out, s, true);
                 out.curves.push(spokes[i]);
                 out.curve_nodes.push([node, s.node]);
-                out.mid.push(mid_constraint(&spokes[i], eval(s.mid_uv / 2.0), d0, d1, s.c));
+                out.mid.push(mid_constraint(&spokes[i], eval(s.mid_uv / 2.0), d0, d1, s.sharp.geom));
                 out.crease.push(s.c);
             }
             for s in 0..kc {
