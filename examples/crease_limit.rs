@@ -1,8 +1,9 @@
 //! Where the dual crease split leaves the smooth surface as the sharpness tends to 0
-//! (docs/math.md#dual-creases): `cargo run --release --example crease_limit -- [MODEL.obj] [C]`.
+//! (docs/math.md#dual-creases): `[ALL=1] cargo run --release --example crease_limit -- [MODEL.obj] [C]`.
 //!
-//! Builds the dual surface of MODEL (default: the shared cube with its top loop sharp; a model
-//! with crease tags keeps its tagged edges, each at sharpness C, default 1e-9) and without crease
+//! Builds the dual surface of MODEL (default: the shared cube) with sharp edges at sharpness C
+//! (default 1e-9): a model's own crease tags, else the edges with both ends at z > 0 (the cube's
+//! top loop), or with `ALL=1` every edge (vertices of three cut edges, spokes); and without crease
 //! data (S₀), samples every patch of the creased surface on a grid of its domain and prints, per
 //! patch that moved, the largest distance to S₀'s fine tessellation and where it is (side,
 //! parameter along it, depth towards the centre). The largest of them is the step at c → 0.

@@ -447,9 +447,17 @@ fn dual_crease_sweep_is_continuous() {
     assert!(jump <= 0.03 && jump < full / 10.0, "sharpness 0 -> 1e-9 moved the surface {jump}");
     // G1 off the crease curves at every sharpness below 1, also while the cut curves turn from
     // S₀'s directions to the edge's (c < 0.25).
+    // Also where a turning edge has a spoke at its other end (the top and bottom loops and one
+    // vertical edge sharp: the vertical edge's ends have three cut edges).
+    let mixed = |[a, b]: [u32; 2]| {
+        let (pa, pb) = (base.positions[a as usize], base.positions[b as usize]);
+        pa.z * pb.z > 0.0 || (pa.x == pb.x && pa.y == pb.y && pa.x > 0.0 && pa.y > 0.0)
+    };
     for c in [1e-9, 0.1, 0.2, 0.5, 0.9] {
         let g1 = conv(c).report.max_g1_deg;
         assert!(g1 <= 1e-4, "sharpness {c}: G1 {g1}°");
+        let g1 = convert(&with_creases(base.clone(), mixed, c), &dual(), None).unwrap().report.max_g1_deg;
+        assert!(g1 <= 1e-4, "sharpness {c}, loops and a vertical edge: G1 {g1}°");
     }
 }
 
@@ -578,4 +586,3 @@ fn corners_with_smooth_edges_are_warned() {
     // Without crease data nothing is said.
     assert!(warned(&convert(&cube(), &topology(), None).unwrap()).is_empty());
 }
-

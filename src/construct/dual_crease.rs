@@ -30,12 +30,12 @@
 //!   fast as D_e's), so D stays S₀'s and the unsplit neighbours do not move as c → 0;
 //! - the crossing direction at F_e: u_e = unit(u⁰ + c_e (u¹ − u⁰)), u⁰ the edge direction
 //!   V − W projected into S₀'s tangent plane at F⁰ (spanned by D_e′(½) and D_{0.5}), u¹ =
-//!   unit(V − W). Every cut curve and spoke leaves F_e along ±u_e, so the two halves stay G1 at
-//!   F_e for every sharpness;
+//!   unit(V − W). Where nothing turns (below), every cut curve and spoke leaves F_e along ±u_e,
+//!   so the two halves stay G1 at F_e for every sharpness;
 //! - cut curve of V (k = 2), from F_a to F_b: C1 = F_a + ℓ_a u_a, C2 = F_b + ℓ_b u_b (u pointing
 //!   towards V); ℓ⁰ from S₀'s derivative along the straight domain segment from the midpoint of
 //!   side a to that of side b (the Hermite cubic of S₀ along it, its end tangents projected on
-//!   u), ℓ¹ = (2/3)|V − M|, so at sharpness 1 it is the quadratic B-spline (M_a, V, M_b) of the
+//!   u⁰), ℓ¹ = (2/3)|V − M|, so at sharpness 1 it is the quadratic B-spline (M_a, V, M_b) of the
 //!   crease polygon, as on an open boundary (§4.1); its sharpness is min(c_a, c_b);
 //! - **turning** (edges with an end of two cut edges): at sharpness 0 such a cut curve leaves F_e
 //!   along S₀'s own direction there (S₀'s derivative along the domain segment, in S₀'s plane
@@ -43,10 +43,12 @@
 //!   the nearest curve points), so it lies on S₀ and the sectors tend to S₀ as c → 0. The two
 //!   ends of an edge then leave F_e in different directions, which keeps G1 across the halves
 //!   only while the halves are S₀'s (their tangents at F_e collinear). So over c ∈ [0, ¼] only
-//!   the cut curves turn, linearly, to u⁰ and the Hermite lengths ℓ⁰ (the halves, F_e and every
-//!   other quantity stay S₀'s), and over c ∈ [¼, 1] everything moves as above with
-//!   (c − ¼)/(1 − ¼) in place of c_e. Edges between vertices of three or more cut edges do not
-//!   turn (their spokes keep u⁰: fitted spokes folded a sector of the rook);
+//!   the cut curves turn, linearly, to u⁰ and the Hermite lengths ℓ⁰ (F_e, the halves and their
+//!   D_{0.5} stay S₀'s; the corner weight w₃ at X and the crease weight that narrows the blends
+//!   keep the edges' own sharpness), and over c ∈ [¼, 1] everything else moves as above with
+//!   (c − ¼)/(1 − ¼) in place of c_e, after which both ends' directions are opposite again.
+//!   Edges between vertices of three or more cut edges do not turn (their spokes keep u⁰: fitted
+//!   spokes folded a sector of the rook);
 //! - centre node X = X⁰ + w₃ (V − X⁰), X⁰ = S₀ at the domain centre; spoke X → F_e: C1 = X +
 //!   (1 − w₃)·(S₀′ along a domain ray)/3 + w₃ (M_e − V)/3, projected into S₀'s tangent plane at
 //!   X⁰ by the fraction 1 − w₃ (the spokes stay coplanar at X until V is a corner), C2 = F_e +
@@ -102,6 +104,11 @@ impl Cuts {
     pub fn any(&self) -> bool {
         self.cut.iter().any(|&c| c)
     }
+
+    /// The number of cut edges at vertex `v` of `mesh`.
+    pub fn at(&self, mesh: &HalfEdgeMesh, v: VertexId) -> usize {
+        mesh.vertex_outgoing(v).filter(|&h| self.cut[mesh.edge(h).idx()]).count()
+    }
 }
 
 /// The cuts of `mesh` (module doc): its cut edges, and the sharp edges and corners left out.
@@ -114,9 +121,9 @@ pub fn cuts(mesh: &HalfEdgeMesh) -> Cuts {
             (mesh.origin(h), mesh.target(h))
         })
         .collect();
-    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
-    let ignored_corners = mesh.vertices().filter(|&v| mesh.vertex_crease(v) > 0.0 && n_cut(v) < 3).collect();
-    Cuts { cut, ignored_edges, ignored_corners }
+    let mut cuts = Cuts { cut, ignored_edges, ignored_corners: Vec::new() };
+    cuts.ignored_corners = mesh.vertices().filter(|&v| mesh.vertex_crease(v) > 0.0 && cuts.at(mesh, v) < 3).collect();
+    cuts
 }
 
 /// The cut edges of `mesh` (see the module doc): the 2-core of its interior sharp edges between
@@ -270,10 +277,11 @@ fn sector_cage(
 /// squares sense, to the points `samples` (t, point) at their parameters t; `None` when the
 /// normal equations are singular or a length comes out below 0.
 fn fit_lengths(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, samples: &[(f64, DVec3)]) -> Option<(f64, f64)> {
-    let (mut m00, mut m01, mut m11, mut r0, mut r1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut m00, mut m01, mut m11, mut r0, mut r1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for &(t, g) in samples {
-        let s = 1.0 - t;
-        let (b0, b1, b2, b3) = (s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
+        let mut bw = [0.0f64; 4];
+        crate::bezier::bernstein::bernstein_all_into(3, t, &mut bw);
+        let [b0, b1, b2, b3] = bw;
         let rest = g - (b0 + b1) * a - (b2 + b3) * b;
         let (x, y) = (b1 * ua, b2 * ub);
         m00 += x.dot(x);
@@ -287,7 +295,7 @@ fn fit_lengths(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, samples: &[(f64, DVec3)
         return None;
     }
     let (la, lb) = ((m11 * r0 - m01 * r1) / det, (m00 * r1 - m01 * r0) / det);
-    (la > 0.0 && lb > 0.0).then_some((la, lb))
+    (la > 0.0 && lb > 0.0 && la.is_finite() && lb.is_finite()).then_some((la, lb))
 }
 
 /// The end lengths of the cubic [a, a + ℓ_a u_a, b + ℓ_b u_b, b] that follows the points
@@ -297,8 +305,7 @@ fn fit_lengths(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, samples: &[(f64, DVec3)
 fn fit_curve(a: DVec3, ua: DVec3, b: DVec3, ub: DVec3, mut samples: Vec<(f64, DVec3)>) -> Option<(f64, f64)> {
     let mut l = fit_lengths(a, ua, b, ub, &samples)?;
     for _ in 0..6 {
-        let c = [a, a + l.0 * ua, b + l.1 * ub, b];
-        let curve = crate::bezier::BezierCurve::new(c.to_vec()).expect("four control points");
+        let Ok(curve) = crate::bezier::BezierCurve::new(vec![a, a + l.0 * ua, b + l.1 * ub, b]) else { break };
         for (t, g) in samples.iter_mut() {
             for _ in 0..3 {
                 let d = curve.derivatives(*t, 2);
@@ -351,6 +358,12 @@ impl Sharpness {
     }
 }
 
+/// A domain point a hair inside the patch from `uv` (towards the centre), where S₀'s derivatives
+/// at a side midpoint are taken.
+fn inside(uv: DVec2) -> DVec2 {
+    uv * (1.0 - 1e-7)
+}
+
 fn lerp4(x: [DVec3; 4], y: [DVec3; 4], t: f64) -> [DVec3; 4] {
     [0, 1, 2, 3].map(|i| x[i] + t * (y[i] - x[i]))
 }
@@ -395,15 +408,13 @@ pub fn split_creases(
     }
     let mut out_cage: Vec<Vec<CageSector>> = cage.to_vec();
 
-    // Cut edges per vertex: edges with an end of two turn (`Sharpness`).
-    let n_cut = |v: VertexId| mesh.vertex_outgoing(v).filter(|&h| cut[mesh.edge(h).idx()]).count();
-
     // 1. Nodes and halves of every cut edge.
     let mut edge_cut: Vec<Option<EdgeCut>> = (0..mesh.n_edges()).map(|_| None).collect();
     for e in mesh.edges().filter(|e| cut[e.idx()]) {
         let h = mesh.edge_halfedge(e, 0);
         let (v, w) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
-        let sharp = Sharpness::new(mesh.edge_crease(e), n_cut(mesh.origin(h)) == 2 || n_cut(mesh.target(h)) == 2);
+        // Edges with an end of exactly two cut edges (a cut curve there) turn (`Sharpness`).
+        let sharp = Sharpness::new(mesh.edge_crease(e), cuts.at(mesh, mesh.origin(h)) == 2 || cuts.at(mesh, mesh.target(h)) == 2);
         let ce = sharp.geom;
         let d = net.curves[e.idx()];
         let (cr, cl) = (d[0], d[3]);
@@ -425,7 +436,7 @@ pub fn split_creases(
         let (a, b) = (lerp4(a0, a1, ce), lerp4(b0, b1, ce));
         let node = out.nodes.len();
         out.nodes.push(a[3]);
-        out.node_normals.push(n0);
+        out.node_normals.push(n0); // set in step 3
         // A replaces D_e (curve e), B is new.
         out.curves[e.idx()] = a;
         out.curve_nodes[e.idx()] = [net.curve_nodes[e.idx()][0], node];
@@ -442,10 +453,10 @@ pub fn split_creases(
         edge_cut[e.idx()] = Some(EdgeCut { f: a[3], u: [u0, -u0], f0, u0: [u0, -u0], ufit: [u0, -u0], sharp, n0, a, b, node, b_curve });
     }
 
-    // 2. The crossing directions at sharpness 0: at each end vertex V, S₀'s derivative at the
-    // side's midpoint along the straight domain line the new curve follows there (towards the
-    // other cut side's midpoint for k = 2, towards the centre for k ≥ 3), so that the cut curves
-    // and spokes leave F_e along S₀'s image of that line.
+    // 2. S₀'s directions at F⁰ of the cut curves (vertices with exactly two cut edges): S₀'s
+    // derivative at the side's midpoint along the straight domain segment to the other cut
+    // side's midpoint, so that the cut curve leaves F_e along S₀'s image of that segment. Kept
+    // only where it points to V's side (the same side as u⁰); elsewhere `ufit` stays u⁰.
     for v in mesh.vertices() {
         let outg: Vec<HalfedgeId> = mesh.vertex_outgoing(v).collect();
         let n = outg.len();
@@ -458,7 +469,7 @@ pub fn split_creases(
         for (i, &j) in js.iter().enumerate() {
             let mid = dom.side_point(j, 0.5);
             let along = dom.side_point(js[1 - i], 0.5) - mid;
-            let d = patch.eval_derivs(mid * (1.0 - 1e-7), opts.weights);
+            let d = patch.eval_derivs(inside(mid), opts.weights);
             let t = (d.su * along.x + d.sv * along.y).normalize_or_zero();
             let h = outg[j];
             let ec = edge_cut[mesh.edge(h).idx()].as_mut().expect("cut edges have nodes");
@@ -570,9 +581,8 @@ pub fn split_creases(
                 }
             })
             .collect();
-        // ℓ at the F end of a curve leaving F along u towards the domain point `to`: S₀′ at the
-        // side midpoint (a hair inside) along the segment, projected on u, over 3.
-        let inside = |uv: DVec2| uv * (1.0 - 1e-7);
+        // ℓ⁰ at the F end of a curve leaving F towards the domain direction `along`: S₀′ at the
+        // side midpoint (a hair inside) along it, projected on u⁰, over 3.
         let ell0 = |s: &Side, along: DVec2| {
             let d = eval(inside(s.mid_uv));
             let t = d.su * along.x + d.sv * along.y;
@@ -596,9 +606,13 @@ pub fn split_creases(
             let seg = sb.mid_uv - sa.mid_uv;
             // At sharpness 0 the cut curve follows S₀ along the straight domain segment: its end
             // lengths fitted to S₀ there (the plain Hermite lengths if the fit fails).
-            let samples: Vec<(f64, DVec3)> = (1..8).map(|i| i as f64 / 8.0).map(|t| (t, eval(sa.mid_uv + t * seg).p)).collect();
             let (l0a, l0b) = (ell0(sa, seg), ell0(sb, -seg));
-            let (fa, fb) = fit_curve(sa.f0, sa.ufit, sb.f0, sb.ufit, samples).unwrap_or((l0a, l0b));
+            let turning = sa.sharp.turn < 1.0 || sb.sharp.turn < 1.0;
+            let fitted = turning.then(|| {
+                let samples = (1..8).map(|i| i as f64 / 8.0).map(|t| (t, eval(sa.mid_uv + t * seg).p)).collect();
+                fit_curve(sa.f0, sa.ufit, sb.f0, sb.ufit, samples)
+            });
+            let (fa, fb) = fitted.flatten().unwrap_or((l0a, l0b));
             let la = sa.sharp.length(fa, l0a, (2.0 / 3.0) * vp.distance(sa.m));
             let lb = sb.sharp.length(fb, l0b, (2.0 / 3.0) * vp.distance(sb.m));
             let kcurve = [sa.f, sa.f + la * sa.u, sb.f + lb * sb.u, sb.f];
