@@ -141,10 +141,12 @@ fn folds(name: &str, method: Method, middle: Middle) -> usize {
 /// With the fair D_{0.5} no public cage folds in more patches than with the seed's (the guard's
 /// promise, checked through the report): the car (both structures) and the bishop (dual). Before
 /// the side rule (docs/math.md#blend-side) the fair rule alone took the rook (dual) from 25 folded
-/// patches to 1 and the car (topology) from 4 to 0. The rook (dual) is not compared: its crease
+/// patches to 1 and the car (topology) from 4 to 0. The rook (dual) folds with neither: its crease
 /// sectors are built from the smooth surface (docs/math.md#dual-creases), which the fair rule
-/// changes outside the guard's reach; there the report names one sector (1051) with the fair rule
-/// and none with the seed's, and the sector does not turn over (examples/fold_truth.rs).
+/// changes outside the guard's reach, and one sector (1051) bent more than 90° against its
+/// ribbons' frame, which the report counted until the fold rule asked for a reversal between
+/// neighbouring normals (docs/math.md#fold-neighbours; it does not turn over, examples/fold_truth.rs).
+/// The car's two dual patches counted the same way are no longer counted either.
 #[test]
 fn fair_middle_folds_no_more_patches_than_the_seed_rule() {
     let cases = [
@@ -158,12 +160,11 @@ fn fair_middle_folds_no_more_patches_than_the_seed_rule() {
         seen.push(format!("{name} {method}: seed {seed}, fair {fair}"));
         assert!(fair <= seed, "{seen:?}");
     }
-    // The cases fold at all (so the comparison means something).
-    assert!(seen.iter().filter(|s| !s.contains("seed 0,")).count() >= 2, "{seen:?}");
-    // The rook (dual): no fold with the seed's rule; with the fair one at most the one sector
-    // the guard cannot see (doc above), so that it cannot get worse unnoticed.
+    // The bishop folds at all (so the comparison means something).
+    assert!(seen.iter().any(|s| !s.contains("seed 0,")), "{seen:?}");
+    // The rook (dual): no fold with either rule (doc above).
     let (seed, fair) = (folds("catmark_rook", Method::Dual, Middle::Seed), folds("catmark_rook", Method::Dual, Middle::Fair));
-    assert!(seed == 0 && fair <= 1, "rook dual: seed {seed}, fair {fair}");
+    assert!(seed == 0 && fair == 0, "rook dual: seed {seed}, fair {fair}");
 }
 
 /// Unguarded, the fair values fold two patches of the bishop's dual network (prepared cage,

@@ -9,12 +9,13 @@
 //!   s = c/(b + c), the foot of the sample on side i, and N̄ the unit mean of the ribbons' normals
 //!   at their midpoints, or the boundary's unit vector area where that is more than 60° away and
 //!   nearer to the patch's normal at its centre ([`crate::tessellate::fold::centre_reference`],
-//!   [`crate::tessellate::fold::blended_reference`], docs/math.md#folds, #fold-centre): the
-//!   parameterisation turned over, or the surface normal turned against the frame its ribbons
-//!   give it. Both are oriented alike (side i runs counter-clockwise, X points into the domain).
+//!   [`crate::tessellate::fold::blended_reference`], docs/math.md#folds, #fold-centre), and a
+//!   neighbouring sample's normal points the other way (n·n′ < 0, docs/math.md#fold-neighbours):
+//!   the parameterisation turned over. Both normals are oriented alike (side i runs
+//!   counter-clockwise, X points into the domain).
 //!   Every conversion applies this rule inside the tessellation pass to the samples it evaluates
 //!   anyway and, on every patch those samples do not clear
-//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose folded samples are added to
+//!   ([`crate::tessellate::fold::ClearTest`]), on a dense grid whose folded samples replace
 //!   theirs and whose worst point becomes the patch's site
 //!   ([`crate::tessellate::fold::dense_folds_of`], docs/math.md#fold-clearing; collected by
 //!   [`Folds::of_tessellation`]), and also counts flipped output triangles (geometric normal

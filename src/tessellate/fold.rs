@@ -5,7 +5,9 @@
 //! normal T × X of ribbon i at the foot s = c/(b + c) of the sample on side i, N̄ the patch's
 //! centre reference ([`centre_reference`]: the unit mean of its ribbons' normals at their
 //! midpoints, or the unit vector area of its boundary where that is more than 60° from the mean
-//! and nearer to the patch's normal at its centre).
+//! and nearer to the patch's normal at its centre), and one of its neighbours in the layout's
+//! triangles has a normal pointing the other way (n·n′ < 0, [`reversed_samples`]: a turnover
+//! reverses the normal across its fold line; a strong regular bend does not, docs/math.md#fold-neighbours).
 //!
 //! The tessellation's samples are too sparse to see a small fold (a Jacobian that turns over near
 //! a corner, inside one output face), so the pass runs in two steps (docs/math.md#fold-clearing):
@@ -13,7 +15,7 @@
 //! decides whether the patch is *cleared* ([`ClearTest`]); the patches that are not go, after the
 //! tessellation's evaluation, to [`dense_folds_of`]: the rule on the samples of a dense triangle
 //! layout through weight tables (or [`dense_folds`], the direct evaluator), whose folded samples
-//! are added and whose worst point becomes the patch's site.
+//! are the patch's count and whose worst point becomes the patch's site.
 //!
 //! Per layout, [`Sectors`] holds every sample's (i, s) once (it depends on the domain only); per
 //! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal_with`] (the normal of
@@ -344,6 +346,23 @@ pub fn dense_level(sampling: Sampling) -> usize {
 /// 60 and 120 steps).
 pub const DENSE_STEPS: usize = 16;
 
+/// Per sample (of `n`): whether one of its neighbours (the `edges` of the layout) has a normal
+/// pointing the other way, n·n′ < 0 (docs/math.md#folds: the second condition of a folded
+/// sample). Undefined (zero) normals reverse nothing.
+fn reversed_samples(n: usize, edges: impl Iterator<Item = (u32, u32)>, normal: impl Fn(u32) -> DVec3) -> Vec<bool> {
+    let mut reversed = vec![false; n];
+    for (i, j) in edges {
+        if normal(i).dot(normal(j)) < 0.0 {
+            for q in [i, j] {
+                if let Some(r) = reversed.get_mut(q as usize) {
+                    *r = true;
+                }
+            }
+        }
+    }
+    reversed
+}
+
 /// Applies the fold rule to the evaluated `points` of `patch` at the samples of `layout` with
 /// their `sectors`, and the [`ClearTest`]. Samples with an undefined normal (zero or non-finite,
 /// e.g. at a collapsed corner) and samples whose reference normal is undefined are skipped: the
@@ -362,6 +381,8 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
     let centre = centre_reference(ribbons, &mut binomials, || {
         sectors.centre_sample().and_then(|k| points.get(k)).map_or(DVec3::ZERO, |p| p.normal)
     });
+    let normal = |i: u32| points.get(i as usize).map_or(DVec3::ZERO, |p| p.normal);
+    let reversed = reversed_samples(points.len(), layout.triangles.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]), normal);
     for (k, (((&x, sp), &f), &a)) in layout.uv.iter().zip(points).zip(&sectors.foot).zip(&sectors.centre).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
             cleared = false;
@@ -376,7 +397,7 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
             continue;
         };
         cleared &= rel >= ClearTest::REFERENCE;
-        if rel < 0.0 {
+        if rel < 0.0 && reversed[k] {
             out.samples.push(k as u32);
             if rel < worst {
                 worst = rel;
@@ -389,7 +410,6 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
         cleared = points.iter().all(|p| p.jacobian >= ClearTest::JACOBIAN * mean) && mean > 0.0;
     }
     if cleared {
-        let normal = |i: u32| points.get(i as usize).map_or(DVec3::ZERO, |p| p.normal);
         let close = |a: u32, b: u32| normal(a).dot(normal(b)) >= ClearTest::NEIGHBOUR;
         cleared = layout.triangles.iter().all(|t| close(t[0], t[1]) && close(t[1], t[2]) && close(t[2], t[0]));
     }
@@ -447,13 +467,59 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
     let mut binomials = Binomials::default();
     let centre = centre_reference(ribbons, &mut binomials, || ev.unit_normal(domain.center(), form));
     let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
-    for (i, ribbon) in ribbons.iter().enumerate().take(n) {
+    // Grid point (a, b) of a domain triangle (c = level − a − b), in fold_sample_points' order.
+    let index = |a: usize, b: usize| a * (level + 1) - a * a.saturating_sub(1) / 2 + b;
+    let (n_ribbons, n_pts) = (ribbons.len().min(n), (level + 1) * (level + 2) / 2);
+    // Unit normals of every grid point of every triangle (zero where undefined).
+    let normals: Vec<Vec<DVec3>> = (0..n_ribbons)
+        .map(|i| {
+            fold_sample_points(&domain, i, level)
+                .iter()
+                .map(|&uv| {
+                    let jn = ev.jacobian_normal(uv, form);
+                    let scale = jn.length();
+                    if scale > 0.0 { jn / scale } else { DVec3::ZERO }
+                })
+                .collect()
+        })
+        .collect();
+    // The reversed ones among the grid's edges (directions (0, 1, −1), (1, 0, −1), (1, −1, 0) in
+    // (a, b, c)), then shared along the spokes (triangle i's b = 0 row is triangle i + 1's c = 0
+    // row) and at the centre, so each point has every neighbour the table layout gives it.
+    let mut reversed: Vec<Vec<bool>> = normals
+        .iter()
+        .map(|nm| {
+            let edges = (0..=level).flat_map(|a| (0..=(level - a)).map(move |b| (a, b))).flat_map(|(a, b)| {
+                let c = level - a - b;
+                let at = index(a, b) as u32;
+                [(c >= 1).then(|| (at, index(a, b + 1) as u32)), (c >= 1).then(|| (at, index(a + 1, b) as u32)), (b >= 1).then(|| (at, index(a + 1, b - 1) as u32))]
+                    .into_iter()
+                    .flatten()
+            });
+            reversed_samples(n_pts, edges, |k| nm[k as usize])
+        })
+        .collect();
+    for i in 0..n_ribbons {
+        let j = (i + 1) % n_ribbons;
+        for a in 0..=level {
+            let (ki, kj) = (index(a, 0), index(a, level - a));
+            let r = reversed[i][ki] || reversed[j][kj];
+            reversed[i][ki] = r;
+            reversed[j][kj] = r;
+        }
+    }
+    let centre_reversed = reversed.iter().any(|r| r[index(level, 0)]);
+    for r in &mut reversed {
+        r[index(level, 0)] = centre_reversed;
+    }
+    for (i, ribbon) in ribbons.iter().enumerate().take(n_ribbons) {
         let pts = fold_sample_points(&domain, i, level);
         let mut k = 0;
         for a in 0..=level {
             for b in 0..=(level - a) {
                 let c = level - a - b;
                 let uv = pts[k];
+                let (unit, rev) = (normals[i][k], reversed[i][k]);
                 k += 1;
                 // The b = 0 row (the spoke to v_i) is the next triangle's c = 0 row, and the
                 // centre is in every triangle: each is counted once (in triangle i + 1, and in
@@ -461,17 +527,15 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
                 if b == 0 && !(a == level && i == 0) {
                     continue;
                 }
-                let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
-                let foot = ribbon_normal_with(ribbon, s, &mut binomials);
-                let jn = ev.jacobian_normal(uv, form);
-                let scale = jn.length();
-                if !(scale > 0.0) {
+                if unit == DVec3::ZERO {
                     continue;
                 }
-                let Some(rel) = reference_dot(jn / scale, foot, centre, a as f64 / level as f64) else {
+                let s = if b + c == 0 { 0.5 } else { c as f64 / (b + c) as f64 };
+                let foot = ribbon_normal_with(ribbon, s, &mut binomials);
+                let Some(rel) = reference_dot(unit, foot, centre, a as f64 / level as f64) else {
                     continue;
                 };
-                if rel < 0.0 {
+                if rel < 0.0 && rev {
                     count += 1;
                     if rel < worst {
                         worst = rel;
@@ -620,7 +684,8 @@ mod tests {
     fn one_reference_normal_per_foot_gives_the_per_sample_verdicts() {
         // The dual cube with every central point moved 40 along x folds (as the sideways pulls
         // of tests/quality_validity.rs do); the verdicts per sample, with the reference normal
-        // evaluated for every sample, are those of patch_folds, folded or not.
+        // evaluated for every sample and the neighbour condition checked on the layout's
+        // triangles, are those of patch_folds, folded or not.
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/models/cube.obj");
         let mesh = crate::mesh::read_polymesh(path).unwrap().0;
         let mut folded = 0;
@@ -645,7 +710,18 @@ mod tests {
                     let centre = centre_reference(ribbons, &mut Binomials::default(), || {
                         sectors.centre_sample().map_or(DVec3::ZERO, |k| buf[k].normal)
                     });
+                    // Samples with a layout neighbour whose normal points the other way.
+                    let mut rev = vec![false; buf.len()];
+                    for t in &layout.triangles {
+                        for (x, y) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                            if buf[x as usize].normal.dot(buf[y as usize].normal) < 0.0 {
+                                rev[x as usize] = true;
+                                rev[y as usize] = true;
+                            }
+                        }
+                    }
                     let expected: Vec<u32> = (0..buf.len() as u32)
+                        .filter(|&k| rev[k as usize])
                         .filter(|&k| {
                             let (sp, (i, s)) = (&buf[k as usize], sectors.at[k as usize]);
                             let foot = ribbon_normal(&ribbons[i as usize], s);

@@ -609,11 +609,17 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Ok(());
     }
     let ids = &map.ids[base..map.offsets[p + 1]];
-    let folds = patch_folds(&surface.patches[p], sectors, layout, buf);
+    let mut folds = patch_folds(&surface.patches[p], sectors, layout, buf);
+    // A patch its samples do not clear goes to the dense pass after this one
+    // (`tessellate_checked`, [`dense_folds_of`]), which decides alone: its samples are twice as
+    // dense, and a reversal between neighbours (the fold rule's second condition) is only
+    // trusted where neighbours are close.
+    if !folds.cleared {
+        folds.samples.clear();
+        folds.worst = None;
+    }
     out.fold.samples = folds.samples.len();
     out.fold.worst = folds.worst;
-    // A patch its samples do not clear goes to the dense pass after this one
-    // (`tessellate_checked`, [`dense_folds_of`]).
     out.fold.dense = !folds.cleared;
     out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
@@ -730,7 +736,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         folded
     };
     // The dense pass on the patches the samples did not clear (docs/math.md#fold-clearing):
-    // its folded samples add to the patch's count, its worst point is the patch's site, and the
+    // its folded samples are the patch's count, its worst point is the patch's site, and the
     // output vertices around that point are marked (the star of the nearest sample).
     let mut folded = folded;
     let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
