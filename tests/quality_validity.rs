@@ -416,7 +416,7 @@ fn a_quad_torus_ignores_its_central_points_but_folds_with_its_ribbons() {
     // reference alone, whose second clause counted patches turned more than 90° against the frame
     // their ribbons give them without turning over; the side's own reference flagged all 48). The
     // reference sampler (neighbouring normals on 60 steps) sees the Jacobian change sign in patch
-    // 1 only; the other 3 have neighbouring normals reversed at the tessellation's 8 steps. No
+    // 1 only; the other 3 have neighbouring normals reversed at the dense pass's 16 steps. No
     // patch that turns over is missed.
     let flips: Vec<usize> =
         (0..ribbon_pulled.patches.len()).filter(|&p| fine::neighbour_normals(&ribbon_pulled.patches[p], form, 60).0 < 0.0).collect();

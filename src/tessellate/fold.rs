@@ -202,7 +202,7 @@ pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
 
 /// How far the unit normal `n` of a sample (centre weight a, foot normal `foot`) agrees with its
 /// frame: n·R with R = [`blended_reference`]; `None` where R is undefined. The sample is folded
-/// where this is negative.
+/// where this is negative and a neighbour's normal is reversed ([`reversed_samples`]).
 pub fn reference_dot(n: DVec3, foot: DVec3, centre: DVec3, a: f64) -> Option<f64> {
     let r = blended_reference(foot, centre, a);
     if r == DVec3::ZERO {
@@ -452,7 +452,10 @@ impl PatchEval<'_> {
 /// The fold rule on a dense grid of `patch`, evaluated directly with weight form `form`: in each
 /// domain triangle i of the regular n-gon the barycentric grid (a, b, c)/`level`
 /// ([`fold_sample_points`], the boundary row pulled 10⁻³ inside), a sample folded where
-/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot. Each sample is taken once: the
+/// (S_u × S_v)·R < 0 with R = [`blended_reference`] of its foot and a grid neighbour's normal is
+/// reversed ([`reversed_samples`]; the neighbours across the spokes and at the centre included,
+/// as the table layout has them; the boundary row, pulled inside differently from the table
+/// layout's, can differ by a sample). Each sample is taken once: the
 /// spoke c → v_i shared by triangles i and i + 1 in triangle i + 1 (its c = 0 row), the centre in
 /// triangle 0, so the samples are those of the table path's layout of the same level,
 /// 1 + n·level(level + 1)/2. Returns (folded samples, domain point of the worst). Samples whose

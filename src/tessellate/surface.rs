@@ -91,10 +91,10 @@ pub struct SurfaceMesh {
     /// Per vertex: largest angle (degrees) between the normals of two patches sharing the vertex;
     /// 0 inside patches and on open boundaries.
     pub g1_deviation_deg: Vec<f64>,
-    /// Per vertex: 1 where the vertex is folded (a folded sample of some patch, see
-    /// [`super::fold`]; for a fold the dense pass found between the samples, the vertices around
-    /// its worst point, [`super::fold::samples_around`]; or a vertex of a flipped triangle), else
-    /// 0 (all 0 for subdivision methods).
+    /// Per vertex: 1 where the vertex is folded (of a patch the dense pass finds folded: its
+    /// tessellation samples that the fold rule flags, see [`super::fold`], and the vertices
+    /// around the dense pass's worst point, [`super::fold::samples_around`]; or a vertex of a
+    /// flipped triangle), else 0 (all 0 for subdivision methods).
     pub fold: Vec<u8>,
     /// Per patch: the fold test's result on the tessellation samples (empty for subdivision).
     pub patch_folds: Vec<TessellationFolds>,
@@ -182,10 +182,10 @@ impl PatchLoops {
 /// The fold test's result for one patch on the samples of the tessellation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TessellationFolds {
-    /// Folded samples of the patch: of the tessellation (those shared with a neighbour counted
-    /// here too) and, when `dense`, of the dense pass.
+    /// Folded samples of the patch, counted by the dense pass (0 for a patch the tessellation's
+    /// samples clear: such a patch has no folded sample).
     pub samples: usize,
-    /// Domain point of the worst folded sample (the dense pass's when it found one).
+    /// Domain point of the dense pass's worst folded sample.
     pub worst: Option<glam::DVec2>,
     /// The tessellation's samples did not clear the patch ([`super::fold::ClearTest`]), so the
     /// dense pass ([`super::fold::dense_folds_of`]) decided it.
@@ -379,7 +379,8 @@ struct PatchOut<'a> {
     p: usize,
     o: VertexSlices<'a>,
     fold: &'a mut TessellationFolds,
-    /// Output vertices of the folded samples (set in `mesh.fold` after the pass).
+    /// Output vertices of the folded samples (set in `mesh.fold` after the dense pass, when it
+    /// finds the patch folded).
     folded: Vec<u32>,
 }
 
@@ -609,17 +610,12 @@ fn evaluate_patch<E: PatchEvaluator>(
         return Ok(());
     }
     let ids = &map.ids[base..map.offsets[p + 1]];
-    let mut folds = patch_folds(&surface.patches[p], sectors, layout, buf);
-    // A patch its samples do not clear goes to the dense pass after this one
-    // (`tessellate_checked`, [`dense_folds_of`]), which decides alone: its samples are twice as
-    // dense, and a reversal between neighbours (the fold rule's second condition) is only
-    // trusted where neighbours are close.
-    if !folds.cleared {
-        folds.samples.clear();
-        folds.worst = None;
-    }
-    out.fold.samples = folds.samples.len();
-    out.fold.worst = folds.worst;
+    let folds = patch_folds(&surface.patches[p], sectors, layout, buf);
+    // A cleared patch has no folded sample. One its samples do not clear goes to the dense pass
+    // after this one (`tessellate_checked`, [`dense_folds_of`]), which decides its count and site
+    // alone (its samples are twice as dense, and the reversal between neighbours that the fold
+    // rule asks for is only trusted where neighbours are close); these samples' folded ones are
+    // kept to mark the region when the dense pass finds a fold.
     out.fold.dense = !folds.cleared;
     out.folded = folds.samples.iter().map(|&s| ids[s as usize]).collect();
     Ok(())
@@ -715,7 +711,8 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     // Per vertex: how many patches contributed a valid normal.
     let mut weight = vec![0u16; nv];
     tick(&mut progress, setup(7))?;
-    let folded: Vec<u32> = {
+    // Per patch with folded samples: (patch, their output vertices).
+    let pending: Vec<(usize, Vec<u32>)> = {
         mesh.patch_folds = vec![TessellationFolds::default(); np];
         let (mut pieces, mut fold) = vertex_pieces(&map, &mut mesh, &mut weight, &mut boundary);
         tick(&mut progress, setup(8))?;
@@ -729,7 +726,7 @@ pub fn tessellate_checked<E: PatchEvaluator>(
                 .collect();
             outs.par_iter_mut()
                 .try_for_each_init(Vec::new, |buf, o| evaluate_patch(surface, evaluator, &with_sectors, &map, folds, buf, o))?;
-            folded.extend(outs.iter_mut().flat_map(|o| std::mem::take(&mut o.folded)));
+            folded.extend(outs.iter_mut().filter(|o| !o.folded.is_empty()).map(|o| (o.p, std::mem::take(&mut o.folded))));
             done = end;
             tick(&mut progress, SETUP + (DENSE - SETUP) * done as f32 / np.max(1) as f32)?;
         }
@@ -737,8 +734,9 @@ pub fn tessellate_checked<E: PatchEvaluator>(
     };
     // The dense pass on the patches the samples did not clear (docs/math.md#fold-clearing):
     // its folded samples are the patch's count, its worst point is the patch's site, and the
-    // output vertices around that point are marked (the star of the nearest sample).
-    let mut folded = folded;
+    // output vertices around that point are marked (the star of the nearest sample), with the
+    // tessellation's own folded samples of that patch.
+    let mut folded: Vec<u32> = Vec::new();
     let uncleared: Vec<usize> = mesh.patch_folds.iter().enumerate().filter(|(_, f)| f.dense).map(|(p, _)| p).collect();
     // It ticks from DENSE to EVALUATION in chunks of at most DENSE_CHUNK patches.
     if let Some(&first) = uncleared.first() {
@@ -748,12 +746,17 @@ pub fn tessellate_checked<E: PatchEvaluator>(
         let chunk = crate::progress::chunk_size(nu, DENSE_CHUNK);
         let found = dense_folds_of_ticked(surface, &uncleared, level, evaluator.weight_form(), chunk, &mut on_chunk)?;
         for (&p, (count, worst)) in uncleared.iter().zip(found) {
-            mesh.patch_folds[p].samples += count;
+            mesh.patch_folds[p].samples = count;
             let Some(at) = worst else { continue };
             mesh.patch_folds[p].worst = Some(at);
             let ids = &map.ids[map.offsets[p]..map.offsets[p + 1]];
             let layout = &with_sectors[&surface.patches[p].sides()].0;
             folded.extend(samples_around(layout, at).iter().map(|&s| ids[s as usize]));
+        }
+    }
+    for (p, vertices) in pending {
+        if mesh.patch_folds[p].samples > 0 {
+            folded.extend(vertices);
         }
     }
     for v in folded {
