@@ -360,7 +360,8 @@ pub struct GbsurfReport {
     pub valid: u32,
     /// 1 if the input cage is closed.
     pub input_closed: u32,
-    /// Patches with a fold (the surface normal turned against its ribbon's normal).
+    /// Patches with a fold (the parameterisation turns over: a sample's normal opposes its
+    /// reference and a neighbouring sample's normal is reversed) or a flipped output triangle.
     pub folds: u64,
     /// Fold sites listed (at most 10; see `gbsurf_report_fold_site`).
     pub fold_sites: u64,

@@ -1247,9 +1247,9 @@ pub unsafe extern "C" fn gbsurf_mesh_copy_g1_deviation(
     copy_array("gbsurf_mesh_copy_g1_deviation", result, |r| Ok(&r.mesh.g1_deviation_deg), buf, capacity, written)
 }
 
-/// View of the per-vertex fold flag: 1 where the vertex is a folded sample (its normal turned
-/// against its ribbon's normal) or a vertex of a flipped triangle, else 0 (all 0 for the
-/// subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
+/// View of the per-vertex fold flag: 1 where the vertex marks a fold (a folded sample of a patch
+/// that turns over, or a vertex around its worst point; docs/math.md#folds) or a vertex of a
+/// flipped triangle, else 0 (all 0 for the subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
 /// values.
 ///
 /// # Safety

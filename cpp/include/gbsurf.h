@@ -278,7 +278,8 @@ typedef struct {
   uint32_t valid;
   // 1 if the input cage is closed.
   uint32_t input_closed;
-  // Patches with a fold (the surface normal turned against its ribbon's normal).
+  // Patches with a fold (the parameterisation turns over: a sample's normal opposes its
+  // reference and a neighbouring sample's normal is reversed) or a flipped output triangle.
   uint64_t folds;
   // Fold sites listed (at most 10; see `gbsurf_report_fold_site`).
   uint64_t fold_sites;
@@ -783,14 +784,16 @@ uint32_t gbsurf_mesh_copy_g1_deviation(const GbsurfResult *result,
                                        size_t capacity,
                                        size_t *written);
 
-// View of the per-vertex fold flag: 1 where the vertex is a folded sample (its normal turned
-// against its ribbon's normal) or a vertex of a flipped triangle, else 0 (all 0 for the
-// subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
+// View of the per-vertex fold flag: 1 where the vertex marks a fold (a folded sample of a patch
+// that turns over, or a vertex around its worst point; docs/math.md#folds) or a vertex of a
+// flipped triangle, else 0 (all 0 for the subdivision methods); `*data` is valid until the handle is freed, `*len` is the number of
 // values.
 //
 // # Safety
 // `result` is a live handle or NULL; `data` and `len` are writable or NULL.
-uint32_t gbsurf_mesh_fold(const GbsurfResult *result, const uint8_t **data, size_t *len);
+uint32_t gbsurf_mesh_fold(const GbsurfResult *result,
+                          const uint8_t **data,
+                          size_t *len);
 
 // Copy-out variant of `gbsurf_mesh_fold`.
 //

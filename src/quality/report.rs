@@ -50,9 +50,10 @@ pub struct Report {
     pub input_faces: usize,
     /// Warnings collected on the way (dropped vertices, split faces, …).
     pub warnings: Vec<String>,
-    /// Patches that fold: a tessellation sample whose normal turns against its ribbon's normal,
-    /// or a flipped output triangle ([`crate::quality::validity::Folds::of_tessellation`]; 0 for
-    /// subdivision methods).
+    /// Patches that fold: the parameterisation turns over (a sample's normal opposes its
+    /// reference and a neighbouring sample's normal is reversed, docs/math.md#folds), or a flipped
+    /// output triangle ([`crate::quality::validity::Folds::of_tessellation`]; 0 for subdivision
+    /// methods).
     #[serde(default)]
     pub folds: usize,
     /// The first few folded patches (at most [`crate::quality::validity::MAX_FOLD_SITES`]) with
