@@ -472,12 +472,13 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
     let (mut count, mut worst, mut at) = (0usize, 0.0f64, None);
     // Grid point (a, b) of a domain triangle (c = level − a − b), in fold_sample_points' order.
     let index = |a: usize, b: usize| a * (level + 1) - a * a.saturating_sub(1) / 2 + b;
-    let (n_ribbons, n_pts) = (ribbons.len().min(n), (level + 1) * (level + 2) / 2);
-    // Unit normals of every grid point of every triangle (zero where undefined).
-    let normals: Vec<Vec<DVec3>> = (0..n_ribbons)
-        .map(|i| {
-            fold_sample_points(&domain, i, level)
-                .iter()
+    let n_pts = (level + 1) * (level + 2) / 2;
+    // The grid of every domain triangle and the unit normals at its points (zero where undefined).
+    let grids: Vec<Vec<DVec2>> = (0..n).map(|i| fold_sample_points(&domain, i, level)).collect();
+    let normals: Vec<Vec<DVec3>> = grids
+        .iter()
+        .map(|pts| {
+            pts.iter()
                 .map(|&uv| {
                     let jn = ev.jacobian_normal(uv, form);
                     let scale = jn.length();
@@ -502,8 +503,8 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
             reversed_samples(n_pts, edges, |k| nm[k as usize])
         })
         .collect();
-    for i in 0..n_ribbons {
-        let j = (i + 1) % n_ribbons;
+    for i in 0..n {
+        let j = (i + 1) % n;
         for a in 0..=level {
             let (ki, kj) = (index(a, 0), index(a, level - a));
             let r = reversed[i][ki] || reversed[j][kj];
@@ -515,8 +516,7 @@ pub fn dense_folds(patch: &Patch, level: usize, form: WeightForm) -> (usize, Opt
     for r in &mut reversed {
         r[index(level, 0)] = centre_reversed;
     }
-    for (i, ribbon) in ribbons.iter().enumerate().take(n_ribbons) {
-        let pts = fold_sample_points(&domain, i, level);
+    for ((i, ribbon), pts) in ribbons.iter().enumerate().zip(&grids) {
         let mut k = 0;
         for a in 0..=level {
             for b in 0..=(level - a) {
