@@ -131,6 +131,8 @@ fn assemble_middles(
     // Sides of patch p: flat index start[p] + i (one buffer per quantity for all sides).
     let mut start = Vec::with_capacity(np + 1);
     start.push(0usize);
+    // The patch of every side, by flat side index.
+    let mut side_patch: Vec<u32> = Vec::new();
     for (p, lay) in net.patches.iter().enumerate() {
         let n = lay.sides.len();
         if n < 3 {
@@ -166,6 +168,7 @@ fn assemble_middles(
             }
         }
         start.push(start[p] + n);
+        side_patch.extend(std::iter::repeat_n(p as u32, n));
     }
     for (c, (u, &count)) in uses.iter().zip(&use_count).enumerate() {
         match count {
@@ -181,20 +184,21 @@ fn assemble_middles(
         (use_count[c] == 2).then(|| if !u[0].2 { (u[0], u[1]) } else { (u[1], u[0]) })
     };
 
-    // Rows: rows[start[p] + i] = [row0, row1] of side i of patch p.
-    // Per patch in parallel, collected in patch order.
-    let mut rows: Vec<[[DVec3; 4]; 2]> = net
-        .patches
-        .par_iter()
-        .flat_map_iter(|lay| {
+    // Rows: rows[start[p] + i] = [row0, row1] of side i of patch p, per side in parallel: an
+    // indexed collect writes straight into the result (a flat_map over patches went through
+    // per-thread pieces and copies: 24 ms at 160k sides).
+    let mut rows: Vec<[[DVec3; 4]; 2]> = (0..start[np])
+        .into_par_iter()
+        .with_min_len(1 << 10)
+        .map(|k| {
+            let p = side_patch[k] as usize;
+            let (lay, i) = (&net.patches[p], k - start[p]);
             let n = lay.sides.len();
-            (0..n).map(move |i| {
-                let prev = side_points(net, lay.sides[(i + n - 1) % n]);
-                let next = side_points(net, lay.sides[(i + 1) % n]);
-                let t0 = lay.corner_twists[(i + n - 1) % n];
-                let t1 = lay.corner_twists[i];
-                [side_points(net, lay.sides[i]), [prev[2], t0, t1, next[1]]]
-            })
+            let prev = side_points(net, lay.sides[(i + n - 1) % n]);
+            let next = side_points(net, lay.sides[(i + 1) % n]);
+            let t0 = lay.corner_twists[(i + n - 1) % n];
+            let t1 = lay.corner_twists[i];
+            [side_points(net, lay.sides[i]), [prev[2], t0, t1, next[1]]]
         })
         .collect();
 
