@@ -43,6 +43,8 @@ pub struct Sectors {
     feet: Vec<(u32, f64)>,
     /// Per sample: the index of its (i, s) in `feet`.
     foot: Vec<u32>,
+    /// Per foot: its [`cubic_frame_weights`] (made once per layout, not once per patch).
+    foot_weights: Vec<[f64; 7]>,
 }
 
 impl Sectors {
@@ -112,7 +114,9 @@ impl Sectors {
                 })
             })
             .collect();
-        Sectors { at, centre, feet, foot }
+        let mut binomials = Binomials::default();
+        let foot_weights = feet.iter().map(|&(_, s)| cubic_frame_weights(s, &mut binomials)).collect();
+        Sectors { at, centre, feet, foot, foot_weights }
     }
 }
 
@@ -193,8 +197,10 @@ pub fn blended_reference(foot: DVec3, centre: DVec3, a: f64) -> DVec3 {
         return centre;
     }
     let r = (1.0 - a) * foot + a * centre;
-    if r.length() > MIN_FRAME_SIN {
-        r.normalize()
+    let len = r.length();
+    if len > MIN_FRAME_SIN {
+        // r.normalize() without computing the length again (the same value: r · (1/|r|)).
+        r * len.recip()
     } else {
         foot
     }
@@ -255,6 +261,9 @@ impl Binomials {
 /// (made once per degree): the same value.
 pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) -> DVec3 {
     let d = ribbon.degree;
+    if d == 3 {
+        return cubic_ribbon_normal(ribbon, &cubic_frame_weights(s, binomials));
+    }
     let (r0, r1) = (ribbon.row(0), ribbon.row(1));
     let u = 1.0 - s;
     // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
@@ -281,6 +290,37 @@ pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) ->
     reference_normal(t, x)
 }
 
+/// The weights of [`ribbon_normal_with`] for a cubic ribbon at s: B³_j(s), j = 0..3, then
+/// B²_j(s), j = 0..2, each binom · s^j · u^(n−j) with the same products in the same order as the
+/// general loop, so a patch can make them once per foot ([`Sectors`]) and get the same normals.
+pub fn cubic_frame_weights(s: f64, binomials: &mut Binomials) -> [f64; 7] {
+    let u = 1.0 - s;
+    let (sp, up) = ([1.0, s, s * s, s * s * s], [1.0, u, u * u, u * u * u]);
+    let (bd, bd1) = binomials.of(3);
+    let mut w = [0.0; 7];
+    for j in 0..=3 {
+        w[j] = bd[j] * sp[j] * up[3 - j];
+    }
+    for j in 0..3 {
+        w[4 + j] = bd1[j] * sp[j] * up[2 - j];
+    }
+    w
+}
+
+/// [`ribbon_normal_with`] of a cubic ribbon from its [`cubic_frame_weights`]:
+/// X = Σ w_j (P_{1,j} − P_{0,j}), T = Σ w_{4+j} (P_{0,j+1} − P_{0,j}), the unit T × X.
+pub fn cubic_ribbon_normal(ribbon: &Ribbon, w: &[f64; 7]) -> DVec3 {
+    let (r0, r1) = (ribbon.row(0), ribbon.row(1));
+    let (mut t, mut x) = (DVec3::ZERO, DVec3::ZERO);
+    for j in 0..=3 {
+        x += w[j] * (r1[j] - r0[j]);
+    }
+    for j in 0..3 {
+        t += w[4 + j] * (r0[j + 1] - r0[j]);
+    }
+    reference_normal(t, x)
+}
+
 /// Powers kept on the stack by [`ribbon_normal`] (degrees below it; the construction's are far
 /// below, higher ones take a heap buffer).
 const POWERS: usize = 33;
@@ -293,7 +333,10 @@ pub const MIN_FRAME_SIN: f64 = 1e-8;
 /// Unit T × X, or zero (undefined) when |T × X| ≤ [`MIN_FRAME_SIN`]·|T|·|X| or not finite.
 pub fn reference_normal(t: DVec3, x: DVec3) -> DVec3 {
     let n = t.cross(x);
-    if !(n.length() > MIN_FRAME_SIN * t.length() * x.length()) {
+    // Squared, so one square root (the normalisation's) per call: |T × X|² > s²·|T|²·|X|² is
+    // the test above (false for NaN, as is the unsquared one).
+    let len2 = n.length_squared();
+    if !(len2 > MIN_FRAME_SIN * MIN_FRAME_SIN * t.length_squared() * x.length_squared()) {
         return DVec3::ZERO;
     }
     n.normalize_or_zero()
@@ -377,7 +420,14 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
     let mut cleared = points.len() == layout.uv.len();
     // None: the sector names a missing ribbon.
     let mut binomials = Binomials::default();
-    let reference: Vec<Option<DVec3>> = sectors.feet.iter().map(|&(i, s)| ribbons.get(i as usize).map(|r| ribbon_normal_with(r, s, &mut binomials))).collect();
+    let reference: Vec<Option<DVec3>> = sectors
+        .feet
+        .iter()
+        .zip(&sectors.foot_weights)
+        .map(|(&(i, s), w)| {
+            ribbons.get(i as usize).map(|r| if r.degree == 3 { cubic_ribbon_normal(r, w) } else { ribbon_normal_with(r, s, &mut binomials) })
+        })
+        .collect();
     let centre = centre_reference(ribbons, &mut binomials, || {
         sectors.centre_sample().and_then(|k| points.get(k)).map_or(DVec3::ZERO, |p| p.normal)
     });
@@ -682,6 +732,54 @@ mod tests {
     use super::*;
     use crate::api::{convert_unchecked, ConvertOptions, Method};
     use crate::tessellate::evaluator::PatchEvaluator;
+
+    #[test]
+    fn cubic_frame_weights_give_the_general_ribbon_normal() {
+        // A cubic ribbon's normal through the per-foot weights equals (a) T × X summed with
+        // Bernstein values of crate::bezier, and (b) the general path's normal of the same
+        // ribbon elevated to degree 4 (row 0 elevated, row 1 − row 0 elevated: the same curve
+        // and the same cross direction up to a positive factor), at s = 0, 1 and in between.
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let elevate = |p: &[DVec3]| -> Vec<DVec3> {
+            let d = p.len() - 1;
+            (0..=d + 1)
+                .map(|j| {
+                    let a = j as f64 / (d + 1) as f64;
+                    let lo = if j > 0 { p[j - 1] } else { DVec3::ZERO };
+                    let hi = if j <= d { p[j] } else { DVec3::ZERO };
+                    a * lo + (1.0 - a) * hi
+                })
+                .collect()
+        };
+        let mut binomials = Binomials::default();
+        for _ in 0..200 {
+            let pts: Vec<DVec3> = (0..8).map(|_| DVec3::new(next(), next(), next())).collect();
+            let cubic = Ribbon::from_fn(3, 2, 4, |k, j| pts[4 * k + j]);
+            let (r0, r1) = (cubic.row(0).to_vec(), cubic.row(1).to_vec());
+            let diff: Vec<DVec3> = r1.iter().zip(&r0).map(|(a, b)| *a - *b).collect();
+            let (e0, ed) = (elevate(&r0), elevate(&diff));
+            let quartic = Ribbon::from_fn(4, 2, 5, |k, j| if k == 0 { e0[j] } else { e0[j] + ed[j] });
+            for s in [0.0, 1.0, 0.5, (next() + 1.0) / 2.0] {
+                let w = cubic_frame_weights(s, &mut binomials);
+                let fast = cubic_ribbon_normal(&cubic, &w);
+                assert_eq!(fast, ribbon_normal_with(&cubic, s, &mut binomials));
+                let b = |n: usize, j: usize| crate::bezier::bernstein::bernstein(n, j, s);
+                let x: DVec3 = (0..4).map(|j| b(3, j) * diff[j]).sum();
+                let t: DVec3 = (0..3).map(|j| b(2, j) * (r0[j + 1] - r0[j])).sum();
+                let direct = reference_normal(t, x);
+                let general = ribbon_normal_with(&quartic, s, &mut binomials);
+                if t.cross(x).length() < 1e-3 * t.length() * x.length() {
+                    continue; // a nearly degenerate frame amplifies rounding: not a test of the formula
+                }
+                crate::assert_near!(fast, direct, 1e-9);
+                crate::assert_near!(general, direct, 1e-9);
+            }
+        }
+    }
 
     #[test]
     fn one_reference_normal_per_foot_gives_the_per_sample_verdicts() {
