@@ -131,8 +131,10 @@ fn assemble_middles(
     // Sides of patch p: flat index start[p] + i (one buffer per quantity for all sides).
     let mut start = Vec::with_capacity(np + 1);
     start.push(0usize);
-    // The patch of every side, by flat side index.
-    let mut side_patch: Vec<u32> = Vec::new();
+    // The patch of every side, by flat side index (a table rather than a search of `start` per
+    // side, for the parallel rows below; patch counts stay far below u32::MAX under the memory
+    // limits).
+    let mut side_patch: Vec<u32> = Vec::with_capacity(np.saturating_mul(4));
     for (p, lay) in net.patches.iter().enumerate() {
         let n = lay.sides.len();
         if n < 3 {

@@ -18,8 +18,10 @@
 //! are the patch's count and whose worst point becomes the patch's site.
 //!
 //! Per layout, [`Sectors`] holds every sample's (i, s) once (it depends on the domain only); per
-//! patch, [`patch_folds`] evaluates the reference normals with [`ribbon_normal_with`] (the normal of
-//! [`crate::construct::check::ribbon_frame`], with the binomial coefficients made once per degree) and compares. The tessellation
+//! patch, [`patch_folds`] evaluates the reference normals (the normal of
+//! [`crate::construct::check::ribbon_frame`]) once per foot and compares: a cubic ribbon's from
+//! the foot's Bernstein weights, which [`Sectors`] makes once per layout ([`cubic_frame_weights`]),
+//! other degrees by [`ribbon_normal_with`] (binomial coefficients made once per degree). The tessellation
 //! runs it on the samples it has just evaluated, so the check costs no second evaluation.
 
 use super::evaluator::{GbSurfaceEvaluator, PatchEvaluator, SurfacePoint};
@@ -101,7 +103,8 @@ impl Sectors {
         Sectors::of_feet(at, weights)
     }
 
-    /// The sectors with their distinct feet (equal where the bits of s are).
+    /// The sectors with their distinct feet (equal where the bits of s are), and each foot's
+    /// cubic frame weights ([`cubic_frame_weights`]).
     fn of_feet(at: Vec<(u32, f64)>, centre: Vec<f64>) -> Sectors {
         let mut index: std::collections::HashMap<(u32, u64), u32> = std::collections::HashMap::new();
         let mut feet = Vec::new();
@@ -260,10 +263,25 @@ impl Binomials {
 /// [`ribbon_normal`] with the binomial coefficients of the ribbon's degree from `binomials`
 /// (made once per degree): the same value.
 pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) -> DVec3 {
-    let d = ribbon.degree;
-    if d == 3 {
+    if ribbon.degree == 3 {
         return cubic_ribbon_normal(ribbon, &cubic_frame_weights(s, binomials));
     }
+    general_ribbon_normal(ribbon, s, binomials)
+}
+
+/// The reference normal of `ribbon` at the foot s whose cubic weights are `w` (a foot of
+/// [`Sectors`]): from the weights for a cubic ribbon, else by [`ribbon_normal_with`].
+fn foot_normal(ribbon: &Ribbon, s: f64, w: &[f64; 7], binomials: &mut Binomials) -> DVec3 {
+    if ribbon.degree == 3 {
+        cubic_ribbon_normal(ribbon, w)
+    } else {
+        general_ribbon_normal(ribbon, s, binomials)
+    }
+}
+
+/// [`ribbon_normal_with`] for any degree d (the sums with the powers of s and 1 − s made once).
+fn general_ribbon_normal(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) -> DVec3 {
+    let d = ribbon.degree;
     let (r0, r1) = (ribbon.row(0), ribbon.row(1));
     let u = 1.0 - s;
     // The powers s^j and u^j, j ≤ d, once (each B^d_j and B^{d−1}_j is binom · s^j · u^(n−j)
@@ -293,7 +311,7 @@ pub fn ribbon_normal_with(ribbon: &Ribbon, s: f64, binomials: &mut Binomials) ->
 /// The weights of [`ribbon_normal_with`] for a cubic ribbon at s: B³_j(s), j = 0..3, then
 /// B²_j(s), j = 0..2, each binom · s^j · u^(n−j) with the same products in the same order as the
 /// general loop, so a patch can make them once per foot ([`Sectors`]) and get the same normals.
-pub fn cubic_frame_weights(s: f64, binomials: &mut Binomials) -> [f64; 7] {
+pub(crate) fn cubic_frame_weights(s: f64, binomials: &mut Binomials) -> [f64; 7] {
     let u = 1.0 - s;
     let (sp, up) = ([1.0, s, s * s, s * s * s], [1.0, u, u * u, u * u * u]);
     let (bd, bd1) = binomials.of(3);
@@ -308,8 +326,10 @@ pub fn cubic_frame_weights(s: f64, binomials: &mut Binomials) -> [f64; 7] {
 }
 
 /// [`ribbon_normal_with`] of a cubic ribbon from its [`cubic_frame_weights`]:
-/// X = Σ w_j (P_{1,j} − P_{0,j}), T = Σ w_{4+j} (P_{0,j+1} − P_{0,j}), the unit T × X.
-pub fn cubic_ribbon_normal(ribbon: &Ribbon, w: &[f64; 7]) -> DVec3 {
+/// X = Σ w_j (P_{1,j} − P_{0,j}), T = Σ w_{4+j} (P_{0,j+1} − P_{0,j}) (the factors d = 3 and 2
+/// of T and X left out: they do not change the direction), the unit T × X by
+/// [`reference_normal`] (zero where undefined).
+pub(crate) fn cubic_ribbon_normal(ribbon: &Ribbon, w: &[f64; 7]) -> DVec3 {
     let (r0, r1) = (ribbon.row(0), ribbon.row(1));
     let (mut t, mut x) = (DVec3::ZERO, DVec3::ZERO);
     for j in 0..=3 {
@@ -334,7 +354,8 @@ pub const MIN_FRAME_SIN: f64 = 1e-8;
 pub fn reference_normal(t: DVec3, x: DVec3) -> DVec3 {
     let n = t.cross(x);
     // Squared, so one square root (the normalisation's) per call: |T × X|² > s²·|T|²·|X|² is
-    // the test above (false for NaN, as is the unsquared one).
+    // the test above (false for NaN, as is the unsquared one; the same verdict except at
+    // rounding-level ties).
     let len2 = n.length_squared();
     if !(len2 > MIN_FRAME_SIN * MIN_FRAME_SIN * t.length_squared() * x.length_squared()) {
         return DVec3::ZERO;
@@ -425,7 +446,7 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
         .iter()
         .zip(&sectors.foot_weights)
         .map(|(&(i, s), w)| {
-            ribbons.get(i as usize).map(|r| if r.degree == 3 { cubic_ribbon_normal(r, w) } else { ribbon_normal_with(r, s, &mut binomials) })
+            ribbons.get(i as usize).map(|r| foot_normal(r, s, w, &mut binomials))
         })
         .collect();
     let centre = centre_reference(ribbons, &mut binomials, || {
@@ -766,7 +787,8 @@ mod tests {
             for s in [0.0, 1.0, 0.5, (next() + 1.0) / 2.0] {
                 let w = cubic_frame_weights(s, &mut binomials);
                 let fast = cubic_ribbon_normal(&cubic, &w);
-                assert_eq!(fast, ribbon_normal_with(&cubic, s, &mut binomials));
+                // Bit for bit the general loop's value at degree 3 (the weights are its products).
+                assert_eq!(fast, general_ribbon_normal(&cubic, s, &mut binomials));
                 let b = |n: usize, j: usize| crate::bezier::bernstein::bernstein(n, j, s);
                 let x: DVec3 = (0..4).map(|j| b(3, j) * diff[j]).sum();
                 let t: DVec3 = (0..3).map(|j| b(2, j) * (r0[j + 1] - r0[j])).sum();
