@@ -453,7 +453,9 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
         sectors.centre_sample().and_then(|k| points.get(k)).map_or(DVec3::ZERO, |p| p.normal)
     });
     let normal = |i: u32| points.get(i as usize).map_or(DVec3::ZERO, |p| p.normal);
-    let reversed = reversed_samples(points.len(), layout.triangles.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]), normal);
+    // Samples opposing their reference (k, n·R, domain point), in layout order: rare, so the
+    // neighbour condition is computed only when there are some.
+    let mut opposing: Vec<(usize, f64, DVec2)> = Vec::new();
     for (k, (((&x, sp), &f), &a)) in layout.uv.iter().zip(points).zip(&sectors.foot).zip(&sectors.centre).enumerate() {
         if sp.normal == DVec3::ZERO || !sp.normal.is_finite() {
             cleared = false;
@@ -468,7 +470,13 @@ pub fn patch_folds(patch: &Patch, sectors: &Sectors, layout: &SampleLayout, poin
             continue;
         };
         cleared &= rel >= ClearTest::REFERENCE;
-        if rel < 0.0 && reversed[k] {
+        if rel < 0.0 {
+            opposing.push((k, rel, x));
+        }
+    }
+    if !opposing.is_empty() {
+        let reversed = reversed_samples(points.len(), layout.triangles.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]), normal);
+        for (k, rel, x) in opposing.into_iter().filter(|&(k, _, _)| reversed[k]) {
             out.samples.push(k as u32);
             if rel < worst {
                 worst = rel;
