@@ -3,13 +3,13 @@
 //! direct evaluation ([`GbPatch::eval_derivs_with_form`] with a reused evaluator), for
 //! n = 3..8, d = 3 and 5, r = 16 and 64. Criterion measures each case briefly; a summary table
 //! with the table/direct ratio is printed at the end. The summary also gives the cost of the
-//! conversion's path: a table with second derivatives ([`GbTable::for_each_tile_derivs`]) giving
+//! conversion's path: a table with second derivatives ([`GbTable::for_each_sample_derivs`]) giving
 //! position, normal, mean and Gaussian curvature per point. "table" is the runtime-dispatched
 //! path (AVX2 + FMA where the CPU has them, in a portable build), "portable" the fallback
 //! ([`SimdPath::Portable`]).
 
 use criterion::{black_box, BenchmarkId, Criterion, Throughput};
-use gbsurf::gb::table::{ControlSoa, GbTable, SimdPath, TILE};
+use gbsurf::gb::table::{ControlSoa, GbTable, SimdPath};
 use gbsurf::gb::{GbPatch, Ribbon, WeightForm};
 use gbsurf::DVec3;
 use std::time::Duration;
@@ -109,18 +109,16 @@ fn main() {
                 });
                 let mib = table.memory_bytes() as f64 / (1 << 20) as f64;
                 let t2 = GbTable::with_second_derivatives(n, d, r, FORM).unwrap();
-                let mut curv = Vec::with_capacity(samples);
+                // Every sample is written once per pass: sized once, overwritten.
+                let mut curv = vec![(DVec3::ZERO, DVec3::ZERO, (0.0, 0.0)); samples];
                 let d2 = ns_per_point(samples, || {
-                    curv.clear();
-                    t2.for_each_tile_derivs(&ctrls[0], |k, frames, normals| {
-                        for (f, n) in frames.iter().zip(normals).take(samples - k * TILE) {
-                            let c = f.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
-                            curv.push((f.p, n.unwrap_or(DVec3::ZERO), c));
-                        }
+                    t2.for_each_sample_derivs(&ctrls[0], |s, f, n| {
+                        let c = f.curvature().map_or((0.0, 0.0), |c| (c.mean, c.gaussian));
+                        curv[s] = (f.p, n.unwrap_or(DVec3::ZERO), c);
                     });
                     black_box(&curv);
                 });
-                summary.push((n, d, r, samples, mib, t, tp, tb, dt, d2));
+                summary.push((n, d, r, samples, table.sector_count(), mib, t, tp, tb, dt, d2));
             }
         }
     }
@@ -129,10 +127,11 @@ fn main() {
     );
     println!("cpu = thread CPU time (per-core cost on a shared machine), wall = elapsed time");
     println!("table = runtime-dispatched path (AVX2 + FMA when the CPU has them), portable = SimdPath::Portable");
-    println!("  n  d   r samples  MiB  table cpu/wall  portable cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)  +curvature cpu/wall");
-    for (n, d, r, s, mib, t, tp, tb, dt, d2) in summary {
+    println!("sec = sectors the rows serve (n: sector rows, above gbsurf::gb::table::SECTOR_ROWS_ABOVE bytes; 1: rows for every sample)");
+    println!("  n  d   r samples sec  MiB  table cpu/wall  portable cpu/wall  batch16 cpu/wall  direct cpu/wall  direct/table direct/batch (cpu)  +curvature cpu/wall");
+    for (n, d, r, s, sec, mib, t, tp, tb, dt, d2) in summary {
         println!(
-            "{n:3} {d:2} {r:3} {s:7} {mib:5.1} {:7.1}/{:<7.1} {:8.1}/{:<8.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}  {:7.1}/{:<7.1}",
+            "{n:3} {d:2} {r:3} {s:7} {sec:3} {mib:5.1} {:7.1}/{:<7.1} {:8.1}/{:<8.1} {:7.1}/{:<8.1} {:7.1}/{:<8.1} {:8.1} {:12.1}  {:7.1}/{:<7.1}",
             t.1, t.0, tp.1, tp.0, tb.1, tb.0, dt.1, dt.0, dt.1 / t.1, dt.1 / tb.1, d2.1, d2.0
         );
     }

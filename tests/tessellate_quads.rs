@@ -263,3 +263,35 @@ proptest! {
         prop_assert!((total - area(&poly)).abs() <= 1e-12 * area(&poly).max(1.0));
     }
 }
+
+/// `SampleLayout::sector_samples`, which the weight tables rely on (one sector's rows serve
+/// all n): in both layouts the n sector lists and the centre are a partition of the samples,
+/// and sample j of sector m is sample j of sector 0 turned by 2πm/n about the centre.
+#[test]
+fn sectors_partition_the_samples_and_turn_into_each_other() {
+    for layout in [Layout::Triangles, Layout::Quads] {
+        for n in 3..=9 {
+            for r in 1..=6 {
+                let domain = gbsurf::gb::Domain::regular(n).unwrap();
+                let l = SampleLayout::for_domain(&domain, Sampling::new(layout, r)).unwrap();
+                let mut seen = vec![0u32; l.uv.len()];
+                seen[0] += 1;
+                let first = l.sector_samples(0);
+                let per = if layout == Layout::Quads { r * (r + 1) } else { r * (r + 1) / 2 };
+                assert_eq!(first.len(), per);
+                for m in 0..n {
+                    let list = l.sector_samples(m);
+                    assert_eq!(list.len(), per);
+                    let (s, c) = (std::f64::consts::TAU * m as f64 / n as f64).sin_cos();
+                    for (&g, &g0) in list.iter().zip(&first) {
+                        seen[g as usize] += 1;
+                        let p = l.uv[g0 as usize];
+                        let turned = gbsurf::DVec2::new(c * p.x - s * p.y, s * p.x + c * p.y);
+                        assert!((l.uv[g as usize] - turned).length() < 1e-14, "{layout:?} n {n} r {r} m {m}: {} vs {turned}", l.uv[g as usize]);
+                    }
+                }
+                assert!(seen.iter().all(|&k| k == 1), "{layout:?} n {n} r {r}: {seen:?}");
+            }
+        }
+    }
+}

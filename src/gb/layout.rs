@@ -488,6 +488,28 @@ impl SampleLayout {
         }
     }
 
+    /// The samples sector `sector` (mod n) owns, in an order that is the same for every sector:
+    /// the j-th sample of sector m is the j-th of sector 0 turned by 2πm/n about the centre (on
+    /// the regular domain, where the layout is n-fold symmetric). The centre belongs to no
+    /// sector; the n lists and the centre are a partition of the samples.
+    /// - triangles: sector i = the samples (ring m, side i, step t), m = 1..=r, t = 0..m (the
+    ///   spoke to domain vertex i − 1 included, the one to vertex i not): r(r+1)/2 samples;
+    /// - quads: sector i = the grid points (a, b) of [`SampleLayout::sector_index`] with
+    ///   a = 1..=r, b = 0..=r (the spoke to m_i included, the one to m_{i+1} not): r(r+1).
+    pub fn sector_samples(&self, sector: usize) -> Vec<u32> {
+        let r = self.resolution;
+        match self.layout {
+            Layout::Triangles => (1..=r)
+                .flat_map(|m| (0..m).map(move |t| (m, t)))
+                .map(|(m, t)| self.ring_index(m, sector, t) as u32)
+                .collect(),
+            Layout::Quads => (1..=r)
+                .flat_map(|a| (0..=r).map(move |b| (a, b)))
+                .map(|(a, b)| self.sector_index(sector, a, b) as u32)
+                .collect(),
+        }
+    }
+
     /// Index of sample (ring m, side i, step t), 0 ≤ t ≤ m, sides taken mod n; step m of side
     /// i is step 0 of side i+1. Ring 0 is the centre (index 0) whatever i and t.
     pub fn ring_index(&self, m: usize, side: usize, t: usize) -> usize {

@@ -20,6 +20,12 @@
 //! as triangles and keeping tables between patches or conversions belong to
 //! [`crate::tessellate`].
 //!
+//! A large [`GbTable`] (rows for every sample above [`SECTOR_ROWS_ABOVE`] bytes) holds rows for
+//! the centre and one sector only and serves all n sectors of the regular domain from them, by
+//! turning the control vector's side blocks and the resulting derivatives ([`Sectors`],
+//! docs/math.md#sector-tables): 1/n of the memory, and each tile of rows is read once for the n
+//! sectors. Results are reported per layout sample ([`WeightTable::for_each_sample_derivs`]).
+//!
 //! Optionally a table also holds the second derivatives ∂_uu w, ∂_uv w, ∂_vv w (same layout, a
 //! second array), for curvature: [`GbTable::with_second_derivatives`]. [`CgbTable`] is the same
 //! for ribbon-only (CGB) patches: for a fixed domain point and a fixed list of per-side (d_i,
@@ -171,12 +177,13 @@ impl SampleFrame {
     }
 }
 
-/// Tiled weight rows of a basis that is linear in its control points (see the module doc).
+/// Tiled weight rows of a basis that is linear in its control points (see the module doc), at
+/// the table's row samples ([`Sectors`]).
 #[derive(Clone, Debug)]
 struct Rows {
     /// Number of control points N.
     controls: usize,
-    /// Tiles of [`TILE`] samples (the last one padded with zero weights).
+    /// Tiles of [`TILE`] row samples (the last one padded with zero weights).
     tiles: usize,
     /// `first[((tile·N + c)·3 + q)·TILE + lane]`, q = 0, 1, 2 for w, ∂_u w, ∂_v w.
     first: Vec<f64>,
@@ -190,21 +197,23 @@ fn rows_bytes(samples: u128, controls: u128, second: bool) -> u128 {
 }
 
 impl Rows {
-    /// Rows from `basis(uv, w, w_u, w_v, second)` filling the weights of every control point;
-    /// `second` is `Some((w_uu, w_uv, w_vv))` when the second derivatives are wanted.
+    /// Rows at the domain points `uv` (row sample j at `uv[j]`, layout sample `ids[j]` for
+    /// errors) from `basis(uv, w, w_u, w_v, w_uu, w_uv, w_vv)` filling the weights of every
+    /// control point (the last three kept when `want_second`).
     fn build(
-        layout: &SampleLayout,
+        uv: &[DVec2],
+        ids: &[u32],
         controls: usize,
         want_second: bool,
         mut basis: impl FnMut(DVec2, [&mut [f64]; 6]),
     ) -> Result<Self, TableError> {
-        let samples = layout.uv.len();
+        let samples = uv.len();
         let tiles = samples.div_ceil(TILE);
         let len = tiles * TILE * 3 * controls;
         let mut first = vec![0.0; len];
         let mut second = if want_second { vec![0.0; len] } else { Vec::new() };
         let mut buf = vec![0.0; 6 * controls];
-        for (s, &uv) in layout.uv.iter().enumerate() {
+        for (s, &uv) in uv.iter().enumerate() {
             buf.fill(0.0);
             {
                 let (a, rest) = buf.split_at_mut(controls);
@@ -220,7 +229,8 @@ impl Rows {
                 for q in 0..6 {
                     let v = buf[q * controls + c];
                     if !v.is_finite() {
-                        return Err(TableError::NonFiniteWeight { sample: s, control: c });
+                        let sample = ids.get(s).map_or(s, |&g| g as usize);
+                        return Err(TableError::NonFiniteWeight { sample, control: c });
                     }
                     if q < 3 {
                         first[at + q * TILE] = v;
@@ -238,15 +248,19 @@ impl Rows {
         })
     }
 
-    /// Rows of a basis given as jets (value, first and second derivatives).
+    /// Rows of a basis given as jets (value, first and second derivatives), at the row samples
+    /// of `sectors` in `layout`.
     fn from_jets(
         layout: &SampleLayout,
+        sectors: &Sectors,
         controls: usize,
         want_second: bool,
         mut jets: impl FnMut(DVec2, &mut [Jet2]),
     ) -> Result<Self, TableError> {
+        let ids = &sectors.global[..sectors.local];
+        let uv: Vec<DVec2> = ids.iter().map(|&g| layout.uv[g as usize]).collect();
         let mut buf = vec![Jet2::ZERO; controls];
-        Self::build(layout, controls, want_second, |uv, [w, wu, wv, wuu, wuv, wvv]| {
+        Self::build(&uv, ids, controls, want_second, |uv, [w, wu, wv, wuu, wuv, wvv]| {
             buf.fill(Jet2::ZERO);
             jets(uv, &mut buf);
             for (m, j) in buf.iter().enumerate() {
@@ -362,14 +376,18 @@ fn half_sums(block: &[f64], ctrl: &ControlSoa, lane: usize) -> [[f64; 2]; 9] {
     acc.map(|v| v.to_array())
 }
 
-/// A dispatched pass over the tiles `tiles` of a table, for each tile over the control vectors
-/// `ctrls` (tile-major: each tile's weights are read from memory once for all of them): the
-/// first-derivative sums, the unit normals ([`SurfaceDerivs::normal_lanes`]: zero where
-/// undefined) and, with `second`, the sums of the second-derivative rows, handed to
-/// `emit(tile, control index, first, normals, second)`.
+/// A dispatched pass over the tiles of a table's rows, for each tile over the control vectors
+/// `ctrls` (tile-major: each tile's weights are read from memory once for all of them, and stay
+/// in the L1 cache while they serve every vector): the first-derivative sums, turned to the
+/// frame of sector `q mod turns.len()` for vector q ([`turn_first`]), the unit normals
+/// ([`SurfaceDerivs::normal_lanes`] of the turned derivatives: zero where undefined) and, with
+/// `second`, the turned sums of the second-derivative rows, handed to
+/// `emit(patch, samples, first, normals, second)` with the layout sample of each lane
+/// ([`Sectors::NONE`] for none; vector q is sector q mod k of patch q / k, k sectors;
+/// [`Sectors::global`]).
 struct TilePass<'a, F> {
     rows: &'a Rows,
-    tiles: std::ops::Range<usize>,
+    sectors: &'a Sectors,
     ctrls: &'a [ControlSoa],
     second: bool,
     emit: F,
@@ -378,50 +396,231 @@ struct TilePass<'a, F> {
 /// Unit normals of a tile's samples: `[axis][lane]`.
 type TileNormals = [[f64; TILE]; 3];
 
-impl<F: FnMut(usize, usize, &TileSums, &TileNormals, Option<&TileSums>)> WithSimd for TilePass<'_, F> {
+impl<F: FnMut(usize, &[u32], &TileSums, &TileNormals, Option<&TileSums>)> WithSimd for TilePass<'_, F> {
     type Output = ();
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, simd: S) {
-        let TilePass { rows, tiles, ctrls, second, mut emit } = self;
+        let TilePass { rows, sectors, ctrls, second, mut emit } = self;
         let second = if second { rows.second.as_deref() } else { None };
-        for t in tiles {
-            for (p, ctrl) in ctrls.iter().enumerate() {
-                let a = tile_sums(simd, rows.block(&rows.first, t), ctrl);
+        let (k, local) = (sectors.count.max(1), sectors.local);
+        for t in 0..rows.tiles {
+            let lanes = TILE.min(local.saturating_sub(t * TILE));
+            for (q, ctrl) in ctrls.iter().enumerate() {
+                let (p, m) = (q / k, q % k);
+                let turn = sectors.turns.get(m).copied().unwrap_or(NO_TURN);
+                let mut a = tile_sums(simd, rows.block(&rows.first, t), ctrl);
+                if turn != NO_TURN {
+                    turn_first(&mut a, turn);
+                }
                 let n = SurfaceDerivs::normal_lanes([&a[3], &a[4], &a[5]], [&a[6], &a[7], &a[8]]);
-                let b = second.map(|s| tile_sums(simd, rows.block(s, t), ctrl));
-                emit(t, p, &a, &n, b.as_ref());
+                let b = second.map(|s| {
+                    let mut b = tile_sums(simd, rows.block(s, t), ctrl);
+                    if turn != NO_TURN {
+                        turn_second(&mut b, turn);
+                    }
+                    b
+                });
+                let at = m * local + t * TILE;
+                emit(p, sectors.global.get(at..at + lanes).unwrap_or(&[]), &a, &n, b.as_ref());
             }
         }
     }
 }
 
-/// The frames of a tile's first-derivative sums.
+/// Above this many bytes of rows for every sample, a [`GbTable`] holds sector rows instead
+/// ([`Sectors`]): 1/n of the memory. Measured (min of 5 alternating runs, one thread, cubic,
+/// position and normal): sector rows are faster once whole rows stream from memory (n = 8,
+/// r = 64, 25 MiB of whole rows: 31 against 56 ns per point; in the conversion, the 26 MiB table
+/// of n = 4 at r = 64 with second derivatives: 6 % less CPU in the evaluation stage), the same
+/// at r = 16 (n = 3: 16.2 against 15.7 ns, n = 8: 30.4 both), and slower for tables that stay
+/// in the cache, where the padding of each sector's last tile, the turns and the per-patch
+/// turned control vectors weigh (n = 5, r = 4: 27.5 against 20.9 ns; with curvature, n = 4,
+/// r = 2: 79 against 66 ns; the conversion's evaluation stage with 1.7 and 6.7 MiB tables: 3–5 %
+/// more).
+pub const SECTOR_ROWS_ABOVE: u128 = 16 << 20;
+
+/// (cos, sin) of the zero turn.
+const NO_TURN: [f64; 2] = [1.0, 0.0];
+
+/// The first-derivative sums of a tile (rows q = 1, 2: S_u, S_v per coordinate) turned from
+/// sector 0's parameter frame to that of a sector turned by the angle φ with (c, s) = (cos φ,
+/// sin φ): S_u ← c·S_u − s·S_v, S_v ← s·S_u + c·S_v (docs/math.md#sector-tables).
 #[inline(always)]
-fn frames(a: &TileSums) -> [SampleFrame; TILE] {
-    std::array::from_fn(|l| SampleFrame {
-        position: DVec3::new(a[0][l], a[1][l], a[2][l]),
-        du: DVec3::new(a[3][l], a[4][l], a[5][l]),
-        dv: DVec3::new(a[6][l], a[7][l], a[8][l]),
-    })
+fn turn_first(a: &mut TileSums, [c, s]: [f64; 2]) {
+    for k in 0..3 {
+        for l in 0..TILE {
+            let (u, v) = (a[3 + k][l], a[6 + k][l]);
+            a[3 + k][l] = c * u - s * v;
+            a[6 + k][l] = s * u + c * v;
+        }
+    }
 }
 
-/// The derivatives of a tile's sums (second derivatives zero without `b`).
+/// The second-derivative sums of a tile (S_uu, S_uv, S_vv per coordinate) turned like
+/// [`turn_first`]: the Hessian H ← R H Rᵀ, i.e. S_uu ← c²·S_uu − 2cs·S_uv + s²·S_vv,
+/// S_uv ← cs·(S_uu − S_vv) + (c² − s²)·S_uv, S_vv ← s²·S_uu + 2cs·S_uv + c²·S_vv.
+#[inline(always)]
+fn turn_second(b: &mut TileSums, [c, s]: [f64; 2]) {
+    let (cc, ss, cs) = (c * c, s * s, c * s);
+    for k in 0..3 {
+        for l in 0..TILE {
+            let (uu, uv, vv) = (b[k][l], b[3 + k][l], b[6 + k][l]);
+            b[k][l] = cc * uu - 2.0 * cs * uv + ss * vv;
+            b[3 + k][l] = cs * (uu - vv) + (cc - ss) * uv;
+            b[6 + k][l] = ss * uu + 2.0 * cs * uv + cc * vv;
+        }
+    }
+}
+
+/// The table's row samples and the layout's (docs/math.md#sector-tables). On the regular
+/// n-gon the GB basis is n-fold symmetric: the weight of control point (side i, row k, column
+/// j) at the domain point R·x, R the turn by 2π/n, is that of (side i − 1, row k, column j) at
+/// x. A [`GbTable`] therefore holds rows only for the centre and the samples of sector 0
+/// ([`SampleLayout::sector_samples`]); sector m is evaluated with those rows and the control
+/// vector whose side blocks are turned back by m (side i reads side i + m), its derivatives
+/// then turned by 2πm/n. The n sectors of a patch share each tile of rows while it is in the
+/// L1 cache, and the table takes 1/n of the memory. A table without this symmetry (a CGB
+/// table) has one sector, the whole layout.
+#[derive(Clone, Debug)]
+struct Sectors {
+    /// Number of sectors (n for a symmetric table, 1 otherwise).
+    count: usize,
+    /// Control points before the side blocks (the GB centre).
+    head: usize,
+    /// Control points per side block.
+    per_side: usize,
+    /// Row samples: the centre and sector 0's samples (symmetric), or every layout sample.
+    local: usize,
+    /// `global[m·local + j]`: the layout sample of row sample j in sector m; [`Sectors::NONE`]
+    /// for the centre in sectors m ≥ 1 (it is sector 0's).
+    global: Vec<u32>,
+    /// Per layout sample: (sector, row sample).
+    local_of: Vec<(u32, u32)>,
+    /// Per sector m: (cos, sin) of its turn 2πm/n, exact at multiples of a quarter turn.
+    turns: Vec<[f64; 2]>,
+}
+
+impl Sectors {
+    const NONE: u32 = u32::MAX;
+
+    /// One sector, every sample a row sample.
+    fn whole(samples: usize) -> Self {
+        Sectors {
+            count: 1,
+            head: 0,
+            per_side: 0,
+            local: samples,
+            global: (0..samples as u32).collect(),
+            local_of: (0..samples as u32).map(|s| (0, s)).collect(),
+            turns: vec![NO_TURN],
+        }
+    }
+
+    /// The n sectors of a layout of the regular n-gon, for a basis whose control vector is
+    /// `head` points followed by n side blocks of `per_side` points.
+    fn symmetric(layout: &SampleLayout, head: usize, per_side: usize) -> Self {
+        let n = layout.sides;
+        let lists: Vec<Vec<u32>> = (0..n).map(|m| layout.sector_samples(m)).collect();
+        let local = 1 + lists.first().map_or(0, Vec::len);
+        let mut global = Vec::with_capacity(n * local);
+        let mut local_of = vec![(0, 0); layout.uv.len()];
+        for (m, list) in lists.iter().enumerate() {
+            global.push(if m == 0 { 0 } else { Self::NONE });
+            global.extend_from_slice(list);
+            for (j, &g) in list.iter().enumerate() {
+                local_of[g as usize] = (m as u32, j as u32 + 1);
+            }
+        }
+        let turns = (0..n).map(|m| Self::turn(m, n)).collect();
+        Sectors { count: n, head, per_side, local, global, local_of, turns }
+    }
+
+    /// (cos, sin) of 2πm/n; exact when 4m/n is an integer.
+    fn turn(m: usize, n: usize) -> [f64; 2] {
+        if (4 * m) % n == 0 {
+            [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]][(4 * m / n) % 4]
+        } else {
+            let (s, c) = (std::f64::consts::TAU * m as f64 / n as f64).sin_cos();
+            [c, s]
+        }
+    }
+
+    /// Row samples needed for `samples` layout samples of an n-gon: 1 + (samples − 1)/n when
+    /// `symmetric`.
+    fn local_count(samples: u128, n: u128, symmetric: bool) -> u128 {
+        if symmetric && n > 0 {
+            1 + samples.saturating_sub(1) / n
+        } else {
+            samples
+        }
+    }
+
+    /// Sector m's control vector into `out`: the head, then the side blocks turned back by m
+    /// (block i of `out` is block i + m mod n of `ctrl`); `ctrl` as it is for sector 0 or a
+    /// vector of another length (which the table's checks refuse elsewhere).
+    fn turn_controls(&self, ctrl: &ControlSoa, m: usize, out: &mut ControlSoa) {
+        let whole = self.head + self.count * self.per_side;
+        let split = self.head + (m % self.count.max(1)) * self.per_side;
+        for (o, c) in [(&mut out.x, &ctrl.x), (&mut out.y, &ctrl.y), (&mut out.z, &ctrl.z)] {
+            o.clear();
+            if c.len() != whole || split == self.head {
+                o.extend_from_slice(c);
+            } else {
+                o.extend_from_slice(&c[..self.head]);
+                o.extend_from_slice(&c[split..]);
+                o.extend_from_slice(&c[self.head..split]);
+            }
+        }
+    }
+}
+
+thread_local! {
+    /// Per thread: the sector control vectors of the patches being evaluated (reused, so a
+    /// pass allocates nothing once warm).
+    static SECTOR_CONTROLS: std::cell::RefCell<Vec<ControlSoa>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Calls `f(sample, derivatives, normal)` for the lanes of a tile that are samples. Out of line
+/// on purpose: with the caller's per-sample work (curvature: scalar divisions and square roots)
+/// inlined into the dispatched AVX2 pass, the conversion's path (`+curvature` in
+/// `benches/gb_eval.rs`) took 75–105 instead of 60 ns per point.
+#[inline(never)]
+fn emit_tile<F: FnMut(usize, &SurfaceDerivs, Option<DVec3>)>(
+    f: &mut F,
+    ids: &[u32],
+    derivs: &[SurfaceDerivs; TILE],
+    normals: &[Option<DVec3>; TILE],
+) {
+    for ((&g, d), &n) in ids.iter().zip(derivs).zip(normals) {
+        if g != Sectors::NONE {
+            f(g as usize, d, n);
+        }
+    }
+}
+
+/// Lane `l` of the sums rows `q..q + 3` (x, y, z) as a point.
+#[inline(always)]
+fn lane3(a: &TileSums, q: usize, l: usize) -> DVec3 {
+    DVec3::new(a[q][l], a[q + 1][l], a[q + 2][l])
+}
+
+/// The derivatives at every lane of a tile's sums (second derivatives zero without `b`).
 #[inline(always)]
 fn derivs(a: &TileSums, b: Option<&TileSums>) -> [SurfaceDerivs; TILE] {
     let b = b.copied().unwrap_or([[0.0; TILE]; 9]);
     std::array::from_fn(|l| SurfaceDerivs {
-        p: DVec3::new(a[0][l], a[1][l], a[2][l]),
-        su: DVec3::new(a[3][l], a[4][l], a[5][l]),
-        sv: DVec3::new(a[6][l], a[7][l], a[8][l]),
-        suu: DVec3::new(b[0][l], b[1][l], b[2][l]),
-        suv: DVec3::new(b[3][l], b[4][l], b[5][l]),
-        svv: DVec3::new(b[6][l], b[7][l], b[8][l]),
+        p: lane3(a, 0, l),
+        su: lane3(a, 3, l),
+        sv: lane3(a, 6, l),
+        suu: lane3(&b, 0, l),
+        suv: lane3(&b, 3, l),
+        svv: lane3(&b, 6, l),
     })
 }
 
 impl Rows {
-
+    /// Position and derivatives at row sample `s` (scalar; sector 0's frame).
     fn sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
         let (t, lane) = (s / TILE, s % TILE);
         let block = self.block(&self.first, t);
@@ -445,6 +644,7 @@ pub struct WeightTable {
     /// Samples and triangles.
     pub layout: SampleLayout,
     rows: Rows,
+    sectors: Sectors,
 }
 
 impl WeightTable {
@@ -458,14 +658,20 @@ impl WeightTable {
         self.rows.memory_bytes()
     }
 
-    /// Number of samples.
+    /// Number of samples (of the layout).
     pub fn sample_count(&self) -> usize {
         self.layout.uv.len()
     }
 
-    /// Number of tiles of [`TILE`] samples.
+    /// Number of tiles of [`TILE`] row samples (of sector 0 and the centre in a symmetric
+    /// table, [`GbTable`]; of the whole layout otherwise).
     pub fn tile_count(&self) -> usize {
         self.rows.tiles
+    }
+
+    /// Number of sectors the rows serve: n for a [`GbTable`], 1 for a [`CgbTable`].
+    pub fn sector_count(&self) -> usize {
+        self.sectors.count
     }
 
     /// True when the table holds the second derivatives.
@@ -473,87 +679,85 @@ impl WeightTable {
         self.rows.second.is_some()
     }
 
-    /// The weight, u- and v-derivative of flat control point `c` at sample `s` (tests only).
+    /// The weight, u- and v-derivative of flat control point `c` at row sample `s` (tests only).
     #[cfg(test)]
     fn weight(&self, s: usize, c: usize) -> [f64; 3] {
         self.rows.weight(s, c)
     }
 
-    /// Position and derivatives at the [`TILE`] samples of tile `t` (samples t·TILE..; lanes
-    /// past the last sample, and every lane of a tile past the last, are zero). `ctrl` must
-    /// come from the table's `controls_of`. For all tiles use [`WeightTable::eval_all`] or
-    /// [`WeightTable::for_each_tile`] (one CPU dispatch for the pass instead of one per tile).
-    #[inline]
-    pub fn eval_tile(&self, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
-        self.eval_tile_with(SimdPath::Detected, t, ctrl)
-    }
-
-    /// [`WeightTable::eval_tile`] on the code path `path`.
-    pub fn eval_tile_with(&self, path: SimdPath, t: usize, ctrl: &ControlSoa) -> [SampleFrame; TILE] {
-        let mut out = frames(&[[0.0; TILE]; 9]);
-        self.pass(path, t..t + 1, std::slice::from_ref(ctrl), false, |_, _, a, _, _| out = frames(a));
-        out
-    }
-
-    /// Position with first and second derivatives at the samples of tile `t` (second
-    /// derivatives zero unless the table has them).
-    #[inline]
-    pub fn eval_tile_derivs(&self, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
-        self.eval_tile_derivs_with(SimdPath::Detected, t, ctrl)
-    }
-
-    /// [`WeightTable::eval_tile_derivs`] on the code path `path`.
-    pub fn eval_tile_derivs_with(&self, path: SimdPath, t: usize, ctrl: &ControlSoa) -> [SurfaceDerivs; TILE] {
-        let mut out = derivs(&[[0.0; TILE]; 9], None);
-        self.pass(path, t..t + 1, std::slice::from_ref(ctrl), true, |_, _, a, _, b| out = derivs(a, b));
-        out
-    }
-
-    /// Calls `f(t, derivatives, normals)` for every tile t in order, with what
-    /// [`WeightTable::eval_tile_derivs`] gives and the unit normals (bit for bit
-    /// [`SurfaceDerivs::normal`] of those derivatives, computed 4 at a time), in one
+    /// Calls `f(s, derivatives, normal)` for every sample s of the layout (in the order of
+    /// the row tiles and sectors, each sample once), with the position, first and second
+    /// derivatives (second ones zero unless the table has them) and the unit normal (bit for
+    /// bit [`SurfaceDerivs::normal`] of those derivatives, computed 4 at a time), in one
     /// dispatched pass.
     #[inline]
-    pub fn for_each_tile_derivs(&self, ctrl: &ControlSoa, mut f: impl FnMut(usize, &[SurfaceDerivs; TILE], &[Option<DVec3>; TILE])) {
-        let tiles = 0..self.rows.tiles;
-        self.pass(SimdPath::Detected, tiles, std::slice::from_ref(ctrl), true, |t, _, a, n, b| {
+    pub fn for_each_sample_derivs(&self, ctrl: &ControlSoa, f: impl FnMut(usize, &SurfaceDerivs, Option<DVec3>)) {
+        self.for_each_sample_derivs_with(SimdPath::Detected, ctrl, f);
+    }
+
+    /// [`WeightTable::for_each_sample_derivs`] on the code path `path`.
+    #[inline]
+    pub fn for_each_sample_derivs_with(
+        &self,
+        path: SimdPath,
+        ctrl: &ControlSoa,
+        mut f: impl FnMut(usize, &SurfaceDerivs, Option<DVec3>),
+    ) {
+        self.pass(path, std::slice::from_ref(ctrl), true, |_, ids, a, n, b| {
             let normals = std::array::from_fn(|l| {
                 let v = DVec3::new(n[0][l], n[1][l], n[2][l]);
                 (v != DVec3::ZERO).then_some(v)
             });
-            f(t, &derivs(a, b), &normals)
+            emit_tile(&mut f, ids, &derivs(a, b), &normals)
         });
     }
 
-    /// Calls `f(t, frames)` for every tile t in order, with what [`WeightTable::eval_tile`]
-    /// gives, in one dispatched pass (as [`WeightTable::for_each_tile_derivs`]).
-    #[inline]
-    pub fn for_each_tile(&self, ctrl: &ControlSoa, mut f: impl FnMut(usize, &[SampleFrame; TILE])) {
-        let tiles = 0..self.rows.tiles;
-        self.pass(SimdPath::Detected, tiles, std::slice::from_ref(ctrl), false, |t, _, a, _, _| f(t, &frames(a)));
-    }
-
+    /// One dispatched pass over the rows for the control vectors `ctrls` (of patches), each
+    /// expanded into its sectors' vectors ([`Sectors::turn_controls`]): calls
+    /// `emit(patch, sample, lane, first, normals, second)` once per layout sample of each patch.
     #[inline]
     fn pass(
         &self,
         path: SimdPath,
-        tiles: std::ops::Range<usize>,
         ctrls: &[ControlSoa],
         second: bool,
-        emit: impl FnMut(usize, usize, &TileSums, &TileNormals, Option<&TileSums>),
+        emit: impl FnMut(usize, &[u32], &TileSums, &TileNormals, Option<&TileSums>),
     ) {
-        let tiles = tiles.start.min(self.rows.tiles)..tiles.end.min(self.rows.tiles);
-        Rows::run(path, TilePass { rows: &self.rows, tiles, ctrls, second, emit });
+        let sec = &self.sectors;
+        let k = sec.count.max(1);
+        if k == 1 {
+            return Rows::run(path, TilePass { rows: &self.rows, sectors: sec, ctrls, second, emit });
+        }
+        SECTOR_CONTROLS.with(|cell| {
+            // Taken out of the cell for the pass (so a nested pass finds it empty, not borrowed).
+            let mut all = cell.take();
+            all.resize_with(ctrls.len() * k, ControlSoa::default);
+            for (p, ctrl) in ctrls.iter().enumerate() {
+                for m in 0..k {
+                    sec.turn_controls(ctrl, m, &mut all[p * k + m]);
+                }
+            }
+            Rows::run(path, TilePass { rows: &self.rows, sectors: sec, ctrls: &all, second, emit });
+            cell.replace(all);
+        });
     }
 
-    /// Position and derivatives at sample `s` alone. For all samples use
-    /// [`WeightTable::eval_all`] (tile-wise, faster).
+    /// Position and derivatives at sample `s` alone (scalar). For all samples use
+    /// [`WeightTable::eval_all`] or [`WeightTable::for_each_sample_derivs`] (tile-wise, faster).
     pub fn eval_sample(&self, s: usize, ctrl: &ControlSoa) -> SampleFrame {
-        self.rows.sample(s, ctrl)
+        let sec = &self.sectors;
+        let Some(&(m, j)) = sec.local_of.get(s) else {
+            return SampleFrame { position: DVec3::ZERO, du: DVec3::ZERO, dv: DVec3::ZERO };
+        };
+        let mut turned = ControlSoa::default();
+        sec.turn_controls(ctrl, m as usize, &mut turned);
+        let f = self.rows.sample(j as usize, &turned);
+        let [cos, sin] = sec.turns.get(m as usize).copied().unwrap_or(NO_TURN);
+        SampleFrame { position: f.position, du: cos * f.du - sin * f.dv, dv: sin * f.du + cos * f.dv }
     }
 
-    /// Positions and unit normals at all samples, into `positions` and `normals` (cleared
-    /// first; no allocation once they have the capacity).
+    /// Positions and unit normals at all samples, into `positions` and `normals` (resized to
+    /// the sample count and overwritten; no allocation once they have the capacity).
     pub fn eval_all(&self, ctrl: &ControlSoa, positions: &mut Vec<DVec3>, normals: &mut Vec<DVec3>) {
         self.eval_all_with(SimdPath::Detected, ctrl, positions, normals);
     }
@@ -569,9 +773,9 @@ impl WeightTable {
         self.eval_batch_with(path, std::slice::from_ref(ctrl), std::slice::from_mut(positions), std::slice::from_mut(normals));
     }
 
-    /// Several patches at once, sample-major: each weight row is read once from memory and
-    /// applied to every patch (the way to go when the table is larger than the cache).
-    /// `positions[p]`, `normals[p]` receive patch p's samples.
+    /// Several patches at once, tile-major: each tile of weight rows is read once from memory
+    /// and applied to every patch (and sector). `positions[p]`, `normals[p]` receive patch p's
+    /// samples (zero normals where undefined).
     pub fn eval_batch(&self, ctrls: &[ControlSoa], positions: &mut [Vec<DVec3>], normals: &mut [Vec<DVec3>]) {
         self.eval_batch_with(SimdPath::Detected, ctrls, positions, normals);
     }
@@ -584,20 +788,20 @@ impl WeightTable {
         positions: &mut [Vec<DVec3>],
         normals: &mut [Vec<DVec3>],
     ) {
+        // The pass writes every sample once, so vectors of the right length are only
+        // overwritten (no clearing pass over memory the evaluation fills anyway).
         let samples = self.sample_count();
-        for (p, n) in positions.iter_mut().zip(normals.iter_mut()) {
-            p.clear();
-            n.clear();
-            p.reserve(samples);
-            n.reserve(samples);
+        for v in positions.iter_mut().chain(normals.iter_mut()) {
+            v.resize(samples, DVec3::ZERO);
         }
         let count = ctrls.len().min(positions.len()).min(normals.len());
-        let tiles = 0..self.rows.tiles;
-        self.pass(path, tiles, &ctrls[..count], false, |t, p, a, n, _| {
-            let (Some(pos), Some(nrm)) = (positions.get_mut(p), normals.get_mut(p)) else { return };
-            let lanes = TILE.min(samples - t * TILE);
-            pos.extend((0..lanes).map(|l| DVec3::new(a[0][l], a[1][l], a[2][l])));
-            nrm.extend((0..lanes).map(|l| DVec3::new(n[0][l], n[1][l], n[2][l])));
+        self.pass(path, &ctrls[..count], false, |p, ids, a, n, _| {
+            for (l, &g) in ids.iter().enumerate() {
+                if let (Some(pos), Some(nrm)) = (positions[p].get_mut(g as usize), normals[p].get_mut(g as usize)) {
+                    *pos = lane3(a, 0, l);
+                    *nrm = DVec3::new(n[0][l], n[1][l], n[2][l]);
+                }
+            }
         });
     }
 }
@@ -630,7 +834,7 @@ impl GbTable {
         resolution: impl Into<Sampling>,
         form: WeightForm,
     ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution.into(), form, false)
+        Self::build(sides, degree, resolution.into(), form, false, None)
     }
 
     /// As [`GbTable::new`], also with the second derivatives of the weights (for
@@ -641,25 +845,42 @@ impl GbTable {
         resolution: impl Into<Sampling>,
         form: WeightForm,
     ) -> Result<Self, TableError> {
-        Self::build(sides, degree, resolution.into(), form, true)
+        Self::build(sides, degree, resolution.into(), form, true, None)
     }
 
-    /// The bytes a table of (n, d, r) needs (with or without second derivatives).
-    pub fn bytes_needed(sides: usize, degree: usize, resolution: impl Into<Sampling>, second: bool) -> u128 {
+    /// Whether a table of (n, d, r) holds sector rows ([`Sectors`]): when rows for every sample
+    /// would take more than [`SECTOR_ROWS_ABOVE`] bytes.
+    fn uses_sectors(sides: usize, degree: usize, sampling: Sampling, second: bool) -> bool {
         let controls = GbBasis::len_for(sides, degree) as u128;
-        rows_bytes(resolution.into().sample_count(sides) as u128, controls, second)
+        rows_bytes(sampling.sample_count(sides) as u128, controls, second) > SECTOR_ROWS_ABOVE
     }
 
+    /// The bytes a table of (n, d, r) needs (with or without second derivatives): rows for
+    /// every sample, or for the centre and one sector's samples above [`SECTOR_ROWS_ABOVE`].
+    pub fn bytes_needed(sides: usize, degree: usize, resolution: impl Into<Sampling>, second: bool) -> u128 {
+        let sampling = resolution.into();
+        let controls = GbBasis::len_for(sides, degree) as u128;
+        let samples = sampling.sample_count(sides) as u128;
+        let sectors = Self::uses_sectors(sides, degree, sampling, second);
+        rows_bytes(Sectors::local_count(samples, sides as u128, sectors), controls, second)
+    }
+
+    /// The table; with sector rows when `sectors` says so, else as [`GbTable::uses_sectors`]
+    /// decides.
     fn build(
         sides: usize,
         degree: usize,
         sampling: Sampling,
         form: WeightForm,
         second: bool,
+        sectors: Option<bool>,
     ) -> Result<Self, TableError> {
         let resolution = sampling.resolution;
         let mut ev = GbBasisEvaluator::new(sides, degree)?;
-        let bytes = Self::bytes_needed(sides, degree, sampling, second);
+        let use_sectors = sectors.unwrap_or_else(|| Self::uses_sectors(sides, degree, sampling, second));
+        let controls = GbBasis::len_for(sides, degree) as u128;
+        let samples = sampling.sample_count(sides) as u128;
+        let bytes = rows_bytes(Sectors::local_count(samples, sides as u128, use_sectors), controls, second);
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides,
@@ -670,7 +891,13 @@ impl GbTable {
         }
         let layout = SampleLayout::for_domain(ev.domain(), sampling)?;
         let controls = ev.len();
-        let rows = Rows::from_jets(&layout, controls, second, |uv, jets| {
+        let sectors = if use_sectors {
+            // Control vector: the centre, then n side blocks of l·(d+1) points.
+            Sectors::symmetric(&layout, 1, (controls - 1) / sides)
+        } else {
+            Sectors::whole(layout.uv.len())
+        };
+        let rows = Rows::from_jets(&layout, &sectors, controls, second, |uv, jets| {
             // `jets` has the evaluator's length, so this cannot fail.
             let _ = ev.eval_into(uv, form, jets);
         })?;
@@ -678,7 +905,7 @@ impl GbTable {
             sides,
             degree,
             form,
-            table: WeightTable { layout, rows },
+            table: WeightTable { layout, rows, sectors },
         })
     }
 
@@ -743,14 +970,15 @@ impl CgbTable {
             });
         }
         let layout = SampleLayout::for_domain(ev.domain(), sampling)?;
-        let rows = Rows::from_jets(&layout, ev.len(), true, |uv, jets| {
+        let sectors = Sectors::whole(layout.uv.len());
+        let rows = Rows::from_jets(&layout, &sectors, ev.len(), true, |uv, jets| {
             // `jets` has the evaluator's length, so this cannot fail.
             let _ = ev.eval_into(uv, form, jets);
         })?;
         Ok(CgbTable {
             sides: sides.to_vec(),
             form,
-            table: WeightTable { layout, rows },
+            table: WeightTable { layout, rows, sectors },
         })
     }
 
@@ -780,7 +1008,19 @@ mod tests {
         let a = GbTable::new(5, 3, 4, WeightForm::Squared).unwrap();
         assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
         let tiles = SampleLayout::sample_count(5, 4).div_ceil(TILE);
+        assert_eq!((a.sector_count(), a.tile_count()), (1, tiles));
         assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles);
+        assert_eq!(GbTable::bytes_needed(5, 3, 4, false), a.memory_bytes() as u128);
+        // Sector rows: the centre and one sector, 1 + 4·5/2 = 11 samples, 3 tiles.
+        let b = GbTable::build(5, 3, 4.into(), WeightForm::Squared, false, Some(true)).unwrap();
+        assert_eq!((b.sector_count(), b.tile_count()), (5, 3));
+        assert_eq!(b.memory_bytes(), 41 * 3 * 8 * TILE * 3);
+        // Large tables take sector rows by themselves, and say so in bytes_needed.
+        let sampling = Sampling::new(super::super::layout::Layout::Quads, 40);
+        let big = GbTable::new(8, 3, sampling, WeightForm::Squared).unwrap();
+        assert_eq!(big.sector_count(), 8);
+        assert_eq!(GbTable::bytes_needed(8, 3, sampling, false), big.memory_bytes() as u128);
+        assert!(rows_bytes(sampling.sample_count(8) as u128, 65, false) > SECTOR_ROWS_ABOVE);
         let s = GbTable::with_second_derivatives(5, 3, 4, WeightForm::Squared).unwrap();
         assert!(s.has_second_derivatives() && !a.has_second_derivatives());
         assert_eq!(s.memory_bytes(), 2 * a.memory_bytes());
@@ -797,7 +1037,7 @@ mod tests {
     #[test]
     fn weights_sum_to_one_and_derivatives_to_zero() {
         let t = GbTable::new(6, 4, 5, WeightForm::Squared).unwrap();
-        for s in 0..t.sample_count() {
+        for s in 0..t.sectors.local {
             let sum = (0..t.control_count()).fold([0.0; 3], |a, c| {
                 let w = t.weight(s, c);
                 [a[0] + w[0], a[1] + w[1], a[2] + w[2]]
@@ -827,6 +1067,16 @@ mod tests {
             .collect()
     }
 
+    /// Every sample's derivatives and normal through [`WeightTable::for_each_sample_derivs_with`].
+    fn all_derivs(t: &WeightTable, path: SimdPath, ctrl: &ControlSoa) -> Vec<(SurfaceDerivs, Option<DVec3>)> {
+        let mut out = vec![None; t.sample_count()];
+        t.for_each_sample_derivs_with(path, ctrl, |s, d, n| {
+            assert!(out[s].is_none(), "sample {s} twice");
+            out[s] = Some((*d, n));
+        });
+        out.into_iter().enumerate().map(|(s, d)| d.unwrap_or_else(|| panic!("sample {s} missing"))).collect()
+    }
+
     fn assert_derivs(a: &SurfaceDerivs, b: &SurfaceDerivs) {
         for (x, y) in [(a.p, b.p), (a.su, b.su), (a.sv, b.sv), (a.suu, b.suu), (a.suv, b.suv), (a.svv, b.svv)] {
             assert_near!(x, y, 1e-10);
@@ -835,72 +1085,118 @@ mod tests {
 
     #[test]
     fn second_derivative_rows_match_direct_gb_evaluation() {
-        for form in [WeightForm::Squared, WeightForm::Linear] {
-            let t = GbTable::with_second_derivatives(5, 3, 4, form).unwrap();
+        for (form, sectors) in [(WeightForm::Squared, false), (WeightForm::Linear, false), (WeightForm::Squared, true)] {
+            let t = GbTable::build(5, 3, 4.into(), form, true, Some(sectors)).unwrap();
             let patch = GbPatch { ribbons: ribbons(&[3; 5], &[2; 5]), center: DVec3::new(0.1, 0.2, 1.3) };
             let ctrl = t.controls_of(&patch).unwrap();
             let mut fast = ControlSoa::default();
             fast.fill_gb(&patch);
             assert_eq!(fast, ctrl);
-            for s in 0..t.sample_count() {
-                let d = t.eval_tile_derivs(s / TILE, &ctrl)[s % TILE];
-                assert_derivs(&d, &patch.eval_derivs(t.layout.uv[s], form));
-                let f = t.eval_tile(s / TILE, &ctrl)[s % TILE];
-                assert_eq!((f.position, f.du, f.dv), (d.p, d.su, d.sv));
+            for (s, (d, n)) in all_derivs(&t, SimdPath::Detected, &ctrl).iter().enumerate() {
+                assert_derivs(d, &patch.eval_derivs(t.layout.uv[s], form));
+                assert_eq!(*n, d.normal());
+                let f = t.eval_sample(s, &ctrl);
+                for (x, y) in [(f.position, d.p), (f.du, d.su), (f.dv, d.sv)] {
+                    assert_near!(x, y, 1e-12);
+                }
             }
         }
         // Without second-derivative rows they read as zero.
         let t = GbTable::new(4, 3, 2, WeightForm::Squared).unwrap();
         let patch = GbPatch { ribbons: ribbons(&[3; 4], &[2; 4]), center: DVec3::Z };
-        let d = t.eval_tile_derivs(0, &t.controls_of(&patch).unwrap())[0];
-        assert_eq!((d.suu, d.suv, d.svv), (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO));
+        for (d, _) in all_derivs(&t, SimdPath::Detected, &t.controls_of(&patch).unwrap()) {
+            assert_eq!((d.suu, d.suv, d.svv), (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO));
+        }
     }
 
-    /// Both code paths against the plain sum Σ_c w_c·P_c over the table's weights: the portable
-    /// path bit for bit (multiply, then add, in control order: the kernel of builds without
-    /// runtime dispatch), the detected one (fused multiply-adds on AVX2 + FMA) within 1e-14 of
-    /// Σ_c |w_c|·|P_c|, the size of the terms summed.
+    /// The sector rows ([`Sectors`]) against direct evaluation at every sample of both layouts,
+    /// every n, several resolutions: the turned control vectors and the turned first and second
+    /// derivatives are those of the patch at the sample's own domain point.
+    #[test]
+    fn sector_rows_serve_every_sector_of_both_layouts() {
+        use super::super::layout::Layout;
+        for layout in [Layout::Triangles, Layout::Quads] {
+            for n in 3..=8 {
+                for r in [1, 2, 3, 5] {
+                    let t = GbTable::build(n, 3, Sampling::new(layout, r), WeightForm::Squared, true, Some(true)).unwrap();
+                    assert_eq!(t.sector_count(), n);
+                    let patch = GbPatch { ribbons: ribbons(&vec![3; n], &vec![2; n]), center: DVec3::new(0.1, -0.2, 1.1) };
+                    let ctrl = t.controls_of(&patch).unwrap();
+                    for path in [SimdPath::Detected, SimdPath::Portable] {
+                        for (s, (d, n)) in all_derivs(&t, path, &ctrl).iter().enumerate() {
+                            assert_derivs(d, &patch.eval_derivs(t.layout.uv[s], WeightForm::Squared));
+                            assert_eq!(*n, d.normal(), "{layout:?} r {r} s {s}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Both code paths against the plain sum Σ_c w_c·P_c over the table's weights (at the
+    /// sample's row sample, with its sector's control vector, then turned by the same
+    /// [`turn_first`] / [`turn_second`]): the portable path bit for bit (multiply, then add, in
+    /// control order: the kernel of builds without runtime dispatch), the detected one (fused
+    /// multiply-adds on AVX2 + FMA) within 1e-14 of Σ_c |w_c|·|P_c|, the size of the terms
+    /// summed.
     #[test]
     fn dispatched_and_portable_paths_agree_with_the_plain_sum() {
         for n in 3..=8 {
             for d in 3..=5 {
-                let t = GbTable::with_second_derivatives(n, d, 5, WeightForm::Squared).unwrap();
+                let t = GbTable::build(n, d, 5.into(), WeightForm::Squared, true, Some(n % 2 == 0)).unwrap();
                 let patch = GbPatch { ribbons: ribbons(&vec![d; n], &vec![d.div_ceil(2); n]), center: DVec3::new(0.1, 0.2, 1.3) };
                 let ctrl = t.controls_of(&patch).unwrap();
-                let pts: Vec<DVec3> = (0..ctrl.len()).map(|c| DVec3::new(ctrl.x[c], ctrl.y[c], ctrl.z[c])).collect();
                 let second = t.rows.second.as_deref().unwrap();
+                let fast = all_derivs(&t, SimdPath::Detected, &ctrl);
+                let portable = all_derivs(&t, SimdPath::Portable, &ctrl);
+                let mut turned = ControlSoa::default();
                 for s in 0..t.sample_count() {
-                    let (tile, lane) = (s / TILE, s % TILE);
-                    let fast = t.eval_tile_derivs_with(SimdPath::Detected, tile, &ctrl)[lane];
-                    let portable = t.eval_tile_derivs_with(SimdPath::Portable, tile, &ctrl)[lane];
-                    let got = |d: &SurfaceDerivs| [d.p, d.su, d.sv, d.suu, d.suv, d.svv];
-                    for (q, (f, p)) in got(&fast).into_iter().zip(got(&portable)).enumerate() {
+                    let (m, j) = t.sectors.local_of[s];
+                    let (tile, lane) = (j as usize / TILE, j as usize % TILE);
+                    t.sectors.turn_controls(&ctrl, m as usize, &mut turned);
+                    let pts: Vec<DVec3> = (0..turned.len()).map(|c| DVec3::new(turned.x[c], turned.y[c], turned.z[c])).collect();
+                    // Lane 0 of two tiles of sums: the plain sums, turned like the kernel's.
+                    let (mut a, mut b) = ([[0.0; TILE]; 9], [[0.0; TILE]; 9]);
+                    let mut size = [0.0; 6];
+                    for q in 0..6 {
                         let rows = if q < 3 { &t.rows.first } else { second };
                         let w = |c: usize| rows[((tile * t.control_count() + c) * 3 + q % 3) * TILE + lane];
-                        let (mut sum, mut size) = (DVec3::ZERO, 0.0);
+                        let mut sum = DVec3::ZERO;
                         for (c, pc) in pts.iter().enumerate() {
                             sum = DVec3::new(w(c) * pc.x + sum.x, w(c) * pc.y + sum.y, w(c) * pc.z + sum.z);
-                            size += w(c).abs() * pc.abs().max_element();
+                            size[q] += w(c).abs() * pc.abs().max_element();
                         }
-                        assert_eq!(p.to_array().map(f64::to_bits), sum.to_array().map(f64::to_bits), "n {n} d {d} s {s} q {q}");
+                        let out = if q < 3 { &mut a } else { &mut b };
+                        for (k, v) in sum.to_array().into_iter().enumerate() {
+                            out[3 * (q % 3) + k][0] = v;
+                        }
+                    }
+                    let turn = t.sectors.turns[m as usize];
+                    if turn != NO_TURN {
+                        turn_first(&mut a, turn);
+                        turn_second(&mut b, turn);
+                    }
+                    let plain = derivs(&a, Some(&b))[0];
+                    let got = |d: &SurfaceDerivs| [d.p, d.su, d.sv, d.suu, d.suv, d.svv];
+                    let (f, p) = (&fast[s].0, &portable[s].0);
+                    for (q, ((f, p), want)) in got(f).into_iter().zip(got(p)).zip(got(&plain)).enumerate() {
+                        assert_eq!(p.to_array().map(f64::to_bits), want.to_array().map(f64::to_bits), "n {n} d {d} s {s} q {q}");
+                        // The turn mixes S_u with S_v (S_uu, S_uv, S_vv): the bound takes the sizes of both.
+                        let size = if q == 0 || q == 3 && turn == NO_TURN { size[q] } else if q < 3 { size[1] + size[2] } else { 4.0 * (size[3] + size[4] + size[5]) };
                         assert!((f - p).abs().max_element() <= 1e-14 * size, "n {n} d {d} s {s} q {q}: {f} vs {p}");
                     }
-                    let n_fast = t.eval_tile_with(SimdPath::Detected, tile, &ctrl)[lane];
-                    assert_eq!((n_fast.position, n_fast.du, n_fast.dv), (fast.p, fast.su, fast.sv));
+                    // The normals are those of SurfaceDerivs::normal, on either path.
+                    assert_eq!((fast[s].1, portable[s].1), (f.normal(), p.normal()));
                 }
-                // eval_all: the normals are those of SurfaceDerivs::normal, on either path.
-                for path in [SimdPath::Detected, SimdPath::Portable] {
+                // eval_all: the same positions and normals, on either path.
+                for (path, all) in [(SimdPath::Detected, &fast), (SimdPath::Portable, &portable)] {
                     let (mut pos, mut nrm) = (Vec::new(), Vec::new());
                     t.eval_all_with(path, &ctrl, &mut pos, &mut nrm);
                     assert_eq!((pos.len(), nrm.len()), (t.sample_count(), t.sample_count()));
                     for s in 0..t.sample_count() {
-                        let d = t.eval_tile_derivs_with(path, s / TILE, &ctrl)[s % TILE];
-                        assert_eq!((pos[s], nrm[s]), (d.p, d.normal().unwrap_or(DVec3::ZERO)));
+                        assert_eq!((pos[s], nrm[s]), (all[s].0.p, all[s].1.unwrap_or(DVec3::ZERO)));
                     }
                 }
-                // Past the last tile: zeros, no panic.
-                let past = t.eval_tile_derivs(t.tile_count(), &ctrl);
-                assert!(past.iter().all(|d| d.p == DVec3::ZERO && d.svv == DVec3::ZERO));
             }
         }
     }
@@ -913,9 +1209,9 @@ mod tests {
         assert_eq!(t.control_count(), 8 + 10 + 4 + 18);
         let patch = CgbPatch { ribbons: ribbons(&degrees, &layers) };
         let ctrl = t.controls_of(&patch).unwrap();
-        for s in 0..t.sample_count() {
-            let d = t.eval_tile_derivs(s / TILE, &ctrl)[s % TILE];
-            assert_derivs(&d, &patch.eval_derivs(t.layout.uv[s], WeightForm::Squared));
+        assert_eq!(t.sector_count(), 1);
+        for (s, (d, _)) in all_derivs(&t, SimdPath::Detected, &ctrl).iter().enumerate() {
+            assert_derivs(d, &patch.eval_derivs(t.layout.uv[s], WeightForm::Squared));
         }
         let other = CgbPatch { ribbons: ribbons(&[3; 4], &[2; 4]) };
         assert!(matches!(t.controls_of(&other), Err(TableError::CgbMismatch { .. })));

@@ -7,7 +7,7 @@
 //! least-recently-used store of tables shared between conversions.
 
 use crate::construct::{Patch, Surface};
-use crate::gb::table::{CgbTable, ControlSoa, GbTable, TableError, TILE};
+use crate::gb::table::{CgbTable, ControlSoa, GbTable, TableError};
 use crate::gb::{Domain, SampleLayout, Sampling, SurfaceDerivs, WeightForm};
 use super::TessellateError;
 use glam::{DVec2, DVec3};
@@ -350,9 +350,11 @@ impl PatchEvaluator for GbSurfaceEvaluator {
             }
             // One dispatched pass (AVX2 + FMA where the CPU has them) for the sums and the
             // per-sample normal and curvature.
-            table.for_each_tile_derivs(&ctrl, |t, frames, normals| {
-                let lanes = samples - t * TILE;
-                out.extend(frames.iter().zip(normals).take(lanes).map(|(d, &n)| surface_point_with(d, n)));
+            out.resize(samples, SurfacePoint::default());
+            table.for_each_sample_derivs(&ctrl, |s, d, n| {
+                if let Some(o) = out.get_mut(s) {
+                    *o = surface_point_with(d, n);
+                }
             });
         });
     }
