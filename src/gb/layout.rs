@@ -492,7 +492,7 @@ impl SampleLayout {
     /// the j-th sample of sector m is the j-th of sector 0 turned by 2πm/n about the centre (on
     /// the regular domain, where the layout is n-fold symmetric). The centre belongs to no
     /// sector; the n lists and the centre are a partition of the samples.
-    /// - triangles: sector i = the samples (ring m, side i, step t), m = 1..=r, t = 0..m (the
+    /// - triangles: sector i = the samples (ring m, side i, step t), m = 1..=r, t = 0..=m−1 (the
     ///   spoke to domain vertex i − 1 included, the one to vertex i not): r(r+1)/2 samples;
     /// - quads: sector i = the grid points (a, b) of [`SampleLayout::sector_index`] with
     ///   a = 1..=r, b = 0..=r (the spoke to m_i included, the one to m_{i+1} not): r(r+1).

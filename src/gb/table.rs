@@ -476,12 +476,13 @@ fn turn_second(b: &mut TileSums, [c, s]: [f64; 2]) {
 /// The table's row samples and the layout's (docs/math.md#sector-tables). On the regular
 /// n-gon the GB basis is n-fold symmetric: the weight of control point (side i, row k, column
 /// j) at the domain point R·x, R the turn by 2π/n, is that of (side i − 1, row k, column j) at
-/// x. A [`GbTable`] therefore holds rows only for the centre and the samples of sector 0
+/// x. A large [`GbTable`] therefore holds rows only for the centre and the samples of sector 0
 /// ([`SampleLayout::sector_samples`]); sector m is evaluated with those rows and the control
 /// vector whose side blocks are turned back by m (side i reads side i + m), its derivatives
 /// then turned by 2πm/n. The n sectors of a patch share each tile of rows while it is in the
-/// L1 cache, and the table takes 1/n of the memory. A table without this symmetry (a CGB
-/// table) has one sector, the whole layout.
+/// L1 cache, and the table takes 1/n of the memory. "Large" means above [`SECTOR_ROWS_ABOVE`]
+/// bytes of rows for every sample; a smaller GbTable, and a table without this symmetry (a CGB
+/// table), has one sector, the whole layout.
 #[derive(Clone, Debug)]
 struct Sectors {
     /// Number of sectors (n for a symmetric table, 1 otherwise).
@@ -546,6 +547,18 @@ impl Sectors {
         }
     }
 
+    /// Bytes of the maps: 4 per entry of `global`, 8 per layout sample (`local_of`).
+    fn memory_bytes(&self) -> usize {
+        4 * self.global.len() + 8 * self.local_of.len()
+    }
+
+    /// [`Sectors::memory_bytes`] of a table of `samples` layout samples of an n-gon, with or
+    /// without sector rows.
+    fn bytes_for(samples: u128, n: u128, symmetric: bool) -> u128 {
+        let sectors = if symmetric { n } else { 1 };
+        4 * sectors * Self::local_count(samples, n, symmetric) + 8 * samples
+    }
+
     /// Row samples needed for `samples` layout samples of an n-gon: 1 + (samples − 1)/n when
     /// `symmetric`.
     fn local_count(samples: u128, n: u128, symmetric: bool) -> u128 {
@@ -574,6 +587,9 @@ impl Sectors {
         }
     }
 }
+
+/// Patches per pass of a table with sector rows (see [`WeightTable::eval_batch`]).
+const SECTOR_CHUNK: usize = 16;
 
 thread_local! {
     /// Per thread: the sector control vectors of the patches being evaluated (reused, so a
@@ -653,9 +669,10 @@ impl WeightTable {
         self.rows.controls
     }
 
-    /// Memory held by the weights, in bytes.
+    /// Memory held by the weights and the sample maps ([`Sectors`]), in bytes (the layout's
+    /// own arrays not counted).
     pub fn memory_bytes(&self) -> usize {
-        self.rows.memory_bytes()
+        self.rows.memory_bytes() + self.sectors.memory_bytes()
     }
 
     /// Number of samples (of the layout).
@@ -663,13 +680,14 @@ impl WeightTable {
         self.layout.uv.len()
     }
 
-    /// Number of tiles of [`TILE`] row samples (of sector 0 and the centre in a symmetric
-    /// table, [`GbTable`]; of the whole layout otherwise).
+    /// Number of tiles of [`TILE`] row samples (of sector 0 and the centre with sector rows; of
+    /// the whole layout otherwise).
     pub fn tile_count(&self) -> usize {
         self.rows.tiles
     }
 
-    /// Number of sectors the rows serve: n for a [`GbTable`], 1 for a [`CgbTable`].
+    /// Number of sectors the rows serve: n for a [`GbTable`] with sector rows (above
+    /// [`SECTOR_ROWS_ABOVE`]), else 1.
     pub fn sector_count(&self) -> usize {
         self.sectors.count
     }
@@ -689,7 +707,8 @@ impl WeightTable {
     /// the row tiles and sectors, each sample once), with the position, first and second
     /// derivatives (second ones zero unless the table has them) and the unit normal (bit for
     /// bit [`SurfaceDerivs::normal`] of those derivatives, computed 4 at a time), in one
-    /// dispatched pass.
+    /// dispatched pass. `ctrl` must come from the table's `controls_of` (another vector gives
+    /// unspecified values, without a panic).
     #[inline]
     pub fn for_each_sample_derivs(&self, ctrl: &ControlSoa, f: impl FnMut(usize, &SurfaceDerivs, Option<DVec3>)) {
         self.for_each_sample_derivs_with(SimdPath::Detected, ctrl, f);
@@ -714,7 +733,8 @@ impl WeightTable {
 
     /// One dispatched pass over the rows for the control vectors `ctrls` (of patches), each
     /// expanded into its sectors' vectors ([`Sectors::turn_controls`]): calls
-    /// `emit(patch, sample, lane, first, normals, second)` once per layout sample of each patch.
+    /// `emit(patch, samples, first, normals, second)` once per tile and sector of each patch,
+    /// `samples` the layout sample of each lane ([`Sectors::NONE`] for none).
     #[inline]
     fn pass(
         &self,
@@ -728,18 +748,23 @@ impl WeightTable {
         if k == 1 {
             return Rows::run(path, TilePass { rows: &self.rows, sectors: sec, ctrls, second, emit });
         }
-        SECTOR_CONTROLS.with(|cell| {
-            // Taken out of the cell for the pass (so a nested pass finds it empty, not borrowed).
-            let mut all = cell.take();
-            all.resize_with(ctrls.len() * k, ControlSoa::default);
-            for (p, ctrl) in ctrls.iter().enumerate() {
+        // Taken out of the thread's cell for the pass (a nested pass finds it empty, not
+        // borrowed; a thread being torn down uses a fresh Vec), put back afterwards. Patches
+        // go in chunks of SECTOR_CHUNK, so the scratch stays small and each tile's sweep over
+        // the chunk's sector vectors stays in the cache.
+        let mut all = SECTOR_CONTROLS.try_with(|c| c.take()).unwrap_or_default();
+        let mut emit = emit;
+        for (c, chunk) in ctrls.chunks(SECTOR_CHUNK).enumerate() {
+            all.resize_with(chunk.len() * k, ControlSoa::default);
+            for (p, ctrl) in chunk.iter().enumerate() {
                 for m in 0..k {
                     sec.turn_controls(ctrl, m, &mut all[p * k + m]);
                 }
             }
-            Rows::run(path, TilePass { rows: &self.rows, sectors: sec, ctrls: &all, second, emit });
-            cell.replace(all);
-        });
+            let emit = |p: usize, ids: &[u32], a: &TileSums, n: &TileNormals, b: Option<&TileSums>| emit(c * SECTOR_CHUNK + p, ids, a, n, b);
+            Rows::run(path, TilePass { rows: &self.rows, sectors: sec, ctrls: &all[..chunk.len() * k], second, emit });
+        }
+        let _ = SECTOR_CONTROLS.try_with(|c| c.replace(all));
     }
 
     /// Position and derivatives at sample `s` alone (scalar). For all samples use
@@ -749,15 +774,24 @@ impl WeightTable {
         let Some(&(m, j)) = sec.local_of.get(s) else {
             return SampleFrame { position: DVec3::ZERO, du: DVec3::ZERO, dv: DVec3::ZERO };
         };
+        if m == 0 {
+            return self.rows.sample(j as usize, ctrl);
+        }
         let mut turned = ControlSoa::default();
         sec.turn_controls(ctrl, m as usize, &mut turned);
         let f = self.rows.sample(j as usize, &turned);
-        let [cos, sin] = sec.turns.get(m as usize).copied().unwrap_or(NO_TURN);
-        SampleFrame { position: f.position, du: cos * f.du - sin * f.dv, dv: sin * f.du + cos * f.dv }
+        // The same turn as the tiles' (turn_first), on lane 0.
+        let mut a = [[0.0; TILE]; 9];
+        for (k, (u, v)) in f.du.to_array().into_iter().zip(f.dv.to_array()).enumerate() {
+            (a[3 + k][0], a[6 + k][0]) = (u, v);
+        }
+        turn_first(&mut a, sec.turns.get(m as usize).copied().unwrap_or(NO_TURN));
+        SampleFrame { position: f.position, du: lane3(&a, 3, 0), dv: lane3(&a, 6, 0) }
     }
 
     /// Positions and unit normals at all samples, into `positions` and `normals` (resized to
-    /// the sample count and overwritten; no allocation once they have the capacity).
+    /// the sample count and overwritten; no allocation once they have the capacity). `ctrl`
+    /// must come from the table's `controls_of`.
     pub fn eval_all(&self, ctrl: &ControlSoa, positions: &mut Vec<DVec3>, normals: &mut Vec<DVec3>) {
         self.eval_all_with(SimdPath::Detected, ctrl, positions, normals);
     }
@@ -791,10 +825,14 @@ impl WeightTable {
         // The pass writes every sample once, so vectors of the right length are only
         // overwritten (no clearing pass over memory the evaluation fills anyway).
         let samples = self.sample_count();
-        for v in positions.iter_mut().chain(normals.iter_mut()) {
-            v.resize(samples, DVec3::ZERO);
-        }
         let count = ctrls.len().min(positions.len()).min(normals.len());
+        for (k, v) in positions.iter_mut().enumerate().chain(normals.iter_mut().enumerate()) {
+            if k < count {
+                v.resize(samples, DVec3::ZERO);
+            } else {
+                v.clear();
+            }
+        }
         self.pass(path, &ctrls[..count], false, |p, ids, a, n, _| {
             for (l, &g) in ids.iter().enumerate() {
                 if let (Some(pos), Some(nrm)) = (positions[p].get_mut(g as usize), normals[p].get_mut(g as usize)) {
@@ -838,7 +876,7 @@ impl GbTable {
     }
 
     /// As [`GbTable::new`], also with the second derivatives of the weights (for
-    /// [`WeightTable::eval_tile_derivs`]: curvature). Twice the memory.
+    /// [`WeightTable::for_each_sample_derivs`]: curvature). Twice the memory.
     pub fn with_second_derivatives(
         sides: usize,
         degree: usize,
@@ -848,25 +886,28 @@ impl GbTable {
         Self::build(sides, degree, resolution.into(), form, true, None)
     }
 
-    /// Whether a table of (n, d, r) holds sector rows ([`Sectors`]): when rows for every sample
-    /// would take more than [`SECTOR_ROWS_ABOVE`] bytes.
-    fn uses_sectors(sides: usize, degree: usize, sampling: Sampling, second: bool) -> bool {
+    /// Whether a table of (n, d, r) holds sector rows ([`Sectors`]; `force` decides when
+    /// given, else: when rows for every sample would take more than [`SECTOR_ROWS_ABOVE`]
+    /// bytes), and the bytes it needs (rows and sample maps). `GbTable::new` and
+    /// `with_second_derivatives` may thus choose differently for one (n, d, r); their results
+    /// then differ by rounding.
+    fn plan(sides: usize, degree: usize, sampling: Sampling, second: bool, force: Option<bool>) -> (bool, u128) {
         let controls = GbBasis::len_for(sides, degree) as u128;
-        rows_bytes(sampling.sample_count(sides) as u128, controls, second) > SECTOR_ROWS_ABOVE
+        let samples = sampling.sample_count(sides) as u128;
+        let sectors = force.unwrap_or_else(|| rows_bytes(samples, controls, second) > SECTOR_ROWS_ABOVE);
+        let n = sides as u128;
+        let rows = rows_bytes(Sectors::local_count(samples, n, sectors), controls, second);
+        (sectors, rows + Sectors::bytes_for(samples, n, sectors))
     }
 
     /// The bytes a table of (n, d, r) needs (with or without second derivatives): rows for
-    /// every sample, or for the centre and one sector's samples above [`SECTOR_ROWS_ABOVE`].
+    /// every sample, or for the centre and one sector's samples above [`SECTOR_ROWS_ABOVE`],
+    /// and the sample maps ([`WeightTable::memory_bytes`]).
     pub fn bytes_needed(sides: usize, degree: usize, resolution: impl Into<Sampling>, second: bool) -> u128 {
-        let sampling = resolution.into();
-        let controls = GbBasis::len_for(sides, degree) as u128;
-        let samples = sampling.sample_count(sides) as u128;
-        let sectors = Self::uses_sectors(sides, degree, sampling, second);
-        rows_bytes(Sectors::local_count(samples, sides as u128, sectors), controls, second)
+        Self::plan(sides, degree, resolution.into(), second, None).1
     }
 
-    /// The table; with sector rows when `sectors` says so, else as [`GbTable::uses_sectors`]
-    /// decides.
+    /// The table; with sector rows when `sectors` says so, else as [`GbTable::plan`] decides.
     fn build(
         sides: usize,
         degree: usize,
@@ -877,10 +918,7 @@ impl GbTable {
     ) -> Result<Self, TableError> {
         let resolution = sampling.resolution;
         let mut ev = GbBasisEvaluator::new(sides, degree)?;
-        let use_sectors = sectors.unwrap_or_else(|| Self::uses_sectors(sides, degree, sampling, second));
-        let controls = GbBasis::len_for(sides, degree) as u128;
-        let samples = sampling.sample_count(sides) as u128;
-        let bytes = rows_bytes(Sectors::local_count(samples, sides as u128, use_sectors), controls, second);
+        let (use_sectors, bytes) = Self::plan(sides, degree, sampling, second, sectors);
         if bytes > MAX_TABLE_BYTES {
             return Err(TableError::TooLarge {
                 n: sides,
@@ -950,7 +988,8 @@ impl CgbTable {
     /// The bytes a CGB table of `sides` at resolution r needs.
     pub fn bytes_needed(sides: &[(usize, usize)], resolution: impl Into<Sampling>) -> u128 {
         let controls: u128 = sides.iter().map(|&(d, l)| (l * (d + 1)) as u128).sum();
-        rows_bytes(resolution.into().sample_count(sides.len()) as u128, controls, true)
+        let samples = resolution.into().sample_count(sides.len()) as u128;
+        rows_bytes(samples, controls, true) + Sectors::bytes_for(samples, sides.len() as u128, false)
     }
 
     /// Builds the table (with second derivatives).
@@ -1009,12 +1048,13 @@ mod tests {
         assert_eq!(a.control_count(), 1 + 5 * 2 * 4);
         let tiles = SampleLayout::sample_count(5, 4).div_ceil(TILE);
         assert_eq!((a.sector_count(), a.tile_count()), (1, tiles));
-        assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles);
+        let samples = SampleLayout::sample_count(5, 4);
+        assert_eq!(a.memory_bytes(), 41 * 3 * 8 * TILE * tiles + 12 * samples);
         assert_eq!(GbTable::bytes_needed(5, 3, 4, false), a.memory_bytes() as u128);
         // Sector rows: the centre and one sector, 1 + 4·5/2 = 11 samples, 3 tiles.
         let b = GbTable::build(5, 3, 4.into(), WeightForm::Squared, false, Some(true)).unwrap();
         assert_eq!((b.sector_count(), b.tile_count()), (5, 3));
-        assert_eq!(b.memory_bytes(), 41 * 3 * 8 * TILE * 3);
+        assert_eq!(b.memory_bytes(), 41 * 3 * 8 * TILE * 3 + 4 * 5 * 11 + 8 * samples);
         // Large tables take sector rows by themselves, and say so in bytes_needed.
         let sampling = Sampling::new(super::super::layout::Layout::Quads, 40);
         let big = GbTable::new(8, 3, sampling, WeightForm::Squared).unwrap();
@@ -1023,7 +1063,9 @@ mod tests {
         assert!(rows_bytes(sampling.sample_count(8) as u128, 65, false) > SECTOR_ROWS_ABOVE);
         let s = GbTable::with_second_derivatives(5, 3, 4, WeightForm::Squared).unwrap();
         assert!(s.has_second_derivatives() && !a.has_second_derivatives());
-        assert_eq!(s.memory_bytes(), 2 * a.memory_bytes());
+        assert_eq!(s.memory_bytes() - 12 * 51, 2 * (a.memory_bytes() - 12 * 51));
+        // Exact turns at quarter and half turns.
+        assert_eq!((Sectors::turn(1, 4), Sectors::turn(3, 6), Sectors::turn(6, 8)), ([0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]));
         assert!(matches!(
             GbTable::new(2, 3, 4, WeightForm::Squared),
             Err(TableError::Patch(_))
@@ -1118,14 +1160,31 @@ mod tests {
         for layout in [Layout::Triangles, Layout::Quads] {
             for n in 3..=8 {
                 for r in [1, 2, 3, 5] {
-                    let t = GbTable::build(n, 3, Sampling::new(layout, r), WeightForm::Squared, true, Some(true)).unwrap();
+                    let (d, form) = [(3, WeightForm::Squared), (2, WeightForm::Squared), (4, WeightForm::Linear), (5, WeightForm::Squared)][(n + r) % 4];
+                    let t = GbTable::build(n, d, Sampling::new(layout, r), form, true, Some(true)).unwrap();
                     assert_eq!(t.sector_count(), n);
-                    let patch = GbPatch { ribbons: ribbons(&vec![3; n], &vec![2; n]), center: DVec3::new(0.1, -0.2, 1.1) };
+                    let l = d.div_ceil(2);
+                    let patch = GbPatch { ribbons: ribbons(&vec![d; n], &vec![l; n]), center: DVec3::new(0.1, -0.2, 1.1) };
                     let ctrl = t.controls_of(&patch).unwrap();
                     for path in [SimdPath::Detected, SimdPath::Portable] {
-                        for (s, (d, n)) in all_derivs(&t, path, &ctrl).iter().enumerate() {
-                            assert_derivs(d, &patch.eval_derivs(t.layout.uv[s], WeightForm::Squared));
-                            assert_eq!(*n, d.normal(), "{layout:?} r {r} s {s}");
+                        for (s, (dv, nv)) in all_derivs(&t, path, &ctrl).iter().enumerate() {
+                            assert_derivs(dv, &patch.eval_derivs(t.layout.uv[s], form));
+                            assert_eq!(*nv, dv.normal(), "{layout:?} r {r} s {s}");
+                            let f = t.eval_sample(s, &ctrl);
+                            assert_near!(f.du, dv.su, 1e-12);
+                        }
+                    }
+                    // Several patches at once (more than one chunk of SECTOR_CHUNK): each its own.
+                    let patches: Vec<GbPatch> = (0..SECTOR_CHUNK + 3)
+                        .map(|k| GbPatch { center: DVec3::new(0.1 * k as f64, -0.2, 1.1), ..patch.clone() })
+                        .collect();
+                    let ctrls: Vec<ControlSoa> = patches.iter().map(|p| t.controls_of(p).unwrap()).collect();
+                    let (mut pos, mut nrm) = (vec![Vec::new(); ctrls.len() + 1], vec![Vec::new(); ctrls.len()]);
+                    t.eval_batch(&ctrls, &mut pos, &mut nrm);
+                    assert!(pos[ctrls.len()].is_empty());
+                    for (k, p) in patches.iter().enumerate() {
+                        for (s, &uv) in t.layout.uv.iter().enumerate() {
+                            assert_near!(pos[k][s], p.eval(uv, form), 1e-10);
                         }
                     }
                 }
