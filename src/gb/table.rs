@@ -413,6 +413,10 @@ impl<F: FnMut(usize, &[u32], &TileSums, &TileNormals, Option<&TileSums>)> WithSi
                 if turn != NO_TURN {
                     turn_first(&mut a, turn);
                 }
+                // The normals before the second sums: with those sums taken first, the first
+                // ones are spilled while the 16 AVX registers serve the second kernel, and the
+                // conversion's path (`+curvature` in benches/gb_eval.rs) took 75–105 instead of
+                // 60–65 ns per point.
                 let n = SurfaceDerivs::normal_lanes([&a[3], &a[4], &a[5]], [&a[6], &a[7], &a[8]]);
                 let b = second.map(|s| {
                     let mut b = tile_sums(simd, rows.block(s, t), ctrl);
@@ -597,24 +601,6 @@ thread_local! {
     static SECTOR_CONTROLS: std::cell::RefCell<Vec<ControlSoa>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Calls `f(sample, derivatives, normal)` for the lanes of a tile that are samples. Out of line
-/// on purpose: with the caller's per-sample work (curvature: scalar divisions and square roots)
-/// inlined into the dispatched AVX2 pass, the conversion's path (`+curvature` in
-/// `benches/gb_eval.rs`) took 75–105 instead of 60 ns per point.
-#[inline(never)]
-fn emit_tile<F: FnMut(usize, &SurfaceDerivs, Option<DVec3>)>(
-    f: &mut F,
-    ids: &[u32],
-    derivs: &[SurfaceDerivs; TILE],
-    normals: &[Option<DVec3>; TILE],
-) {
-    for ((&g, d), &n) in ids.iter().zip(derivs).zip(normals) {
-        if g != Sectors::NONE {
-            f(g as usize, d, n);
-        }
-    }
-}
-
 /// Lane `l` of the sums rows `q..q + 3` (x, y, z) as a point.
 #[inline(always)]
 fn lane3(a: &TileSums, q: usize, l: usize) -> DVec3 {
@@ -723,11 +709,15 @@ impl WeightTable {
         mut f: impl FnMut(usize, &SurfaceDerivs, Option<DVec3>),
     ) {
         self.pass(path, std::slice::from_ref(ctrl), true, |_, ids, a, n, b| {
-            let normals = std::array::from_fn(|l| {
+            let normals: [Option<DVec3>; TILE] = std::array::from_fn(|l| {
                 let v = DVec3::new(n[0][l], n[1][l], n[2][l]);
                 (v != DVec3::ZERO).then_some(v)
             });
-            emit_tile(&mut f, ids, &derivs(a, b), &normals)
+            for ((&g, d), &n) in ids.iter().zip(&derivs(a, b)).zip(&normals) {
+                if g != Sectors::NONE {
+                    f(g as usize, d, n);
+                }
+            }
         });
     }
 

@@ -40,7 +40,8 @@ pub trait PatchEvaluator: Sync {
     }
     /// The weight form the patches are evaluated with (the fold pass's dense grids use it too).
     fn weight_form(&self) -> WeightForm;
-    /// Evaluates patch `index` of `surface` at every sample of `layout` into `out` (cleared first).
+    /// Evaluates patch `index` of `surface` at every sample of `layout` into `out`, replacing its
+    /// contents (empty when the patch cannot be evaluated).
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>);
 }
 
@@ -317,12 +318,10 @@ impl PatchEvaluator for GbSurfaceEvaluator {
     }
 
     fn evaluate(&self, surface: &Surface, index: usize, layout: &SampleLayout, out: &mut Vec<SurfacePoint>) {
-        out.clear();
-        let (Some(&id), Some(patch)) = (self.which.get(index), surface.patches.get(index)) else { return };
-        let Some(evaluation) = self.evaluations.get(id as usize) else { return };
+        let (Some(&id), Some(patch)) = (self.which.get(index), surface.patches.get(index)) else { return out.clear() };
+        let Some(evaluation) = self.evaluations.get(id as usize) else { return out.clear() };
         let samples = layout.uv.len();
-        out.reserve(samples);
-        CONTROLS.with(|cell| {
+        let filled = CONTROLS.with(|cell| {
             let mut ctrl = cell.borrow_mut();
             let table = match (evaluation, patch) {
                 (Evaluation::Table(Table::Gb(t)), Patch::Gb(g)) => {
@@ -334,29 +333,36 @@ impl PatchEvaluator for GbSurfaceEvaluator {
                     &***t
                 }
                 (Evaluation::Direct, Patch::Gb(g)) => {
-                    let Ok(mut ev) = g.evaluator() else { return };
+                    let Ok(mut ev) = g.evaluator() else { return false };
+                    out.clear();
                     out.extend(layout.uv.iter().map(|&uv| surface_point(&g.eval_derivs_with_form(&mut ev, uv, self.form))));
-                    return;
+                    return true;
                 }
                 (Evaluation::Direct, Patch::Cgb(c)) => {
-                    let Ok(mut ev) = c.evaluator() else { return };
+                    let Ok(mut ev) = c.evaluator() else { return false };
+                    out.clear();
                     out.extend(layout.uv.iter().map(|&uv| surface_point(&c.eval_derivs_with(&mut ev, uv, self.form))));
-                    return;
+                    return true;
                 }
-                _ => return,
+                _ => return false,
             };
             if ctrl.len() != table.control_count() || table.sample_count() != samples {
-                return;
+                return false;
             }
             // One dispatched pass (AVX2 + FMA where the CPU has them) for the sums and the
-            // per-sample normal and curvature.
+            // per-sample normal and curvature. It writes every sample once, so a buffer of the
+            // right length (the caller's, reused from the previous patch) is only overwritten.
             out.resize(samples, SurfacePoint::default());
             table.for_each_sample_derivs(&ctrl, |s, d, n| {
                 if let Some(o) = out.get_mut(s) {
                     *o = surface_point_with(d, n);
                 }
             });
+            true
         });
+        if !filled {
+            out.clear();
+        }
     }
 }
 
